@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages magenc needs, only those that are missing.
+# Runs as root on a fresh machine (as ./run.sh and ./test.sh do); idempotent.
+set -euo pipefail
+PKGS=(
+  build-essential cmake pkg-config
+  libeigen3-dev            # linear algebra, sparse solvers
+  libomp-dev               # OpenMP (g++ uses libgomp; kept for clang builds)
+  libvtk9-dev              # VTK XML writers/readers
+  libtet1.5-dev            # TetGen tetrahedral mesher
+  catch2                   # unit tests (2.13)
+  libcli11-dev             # command-line parsing
+  libtomlplusplus-dev      # TOML configuration
+  nlohmann-json3-dev       # JSON (solve.json)
+  libbenchmark-dev         # Google Benchmark (bench target)
+  gnuplot-nox              # plots (PNG via pngcairo)
+)
+if [ "${MAGENC_WITH_PARAVIEW:-1}" = 1 ]; then
+  PKGS+=(python3-paraview)   # pvpython/pvbatch for the ParaView state tests
+fi
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install_deps: installing ${missing[*]}"
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,23 @@
+#include "errors.hpp"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+namespace magenc {
+
+int run_main(const std::string& program, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const InputError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const ComputeError& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace magenc

@@ -1,0 +1,27 @@
+// Error types and the common main() wrapper.
+#pragma once
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace magenc {
+
+// Bad user input (config value, CLI flag, input file). The message is one line
+// that names the input and its allowed range; executables exit with code 2.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A computation that failed for a reason other than input (mesher failure,
+// solver not converging, NaN in a result). Executables exit with code 3.
+class ComputeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Runs body() and turns exceptions into a one-line message on stderr and a
+// non-zero exit code: InputError -> 2, ComputeError -> 3, anything else -> 1.
+int run_main(const std::string& program, const std::function<int()>& body);
+
+}  // namespace magenc

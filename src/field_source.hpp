@@ -1,0 +1,30 @@
+// Field sources: anything that gives the magnet's flux density B (tesla) at a
+// point in the magnet frame (mm). The probe-path layers only see this.
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+
+namespace magenc {
+
+using Vec3 = Eigen::Vector3d;
+
+class FieldSource {
+ public:
+  virtual ~FieldSource() = default;
+  // Short identifier written into tables: "linear", "analytic", "grid", "fem".
+  virtual std::string name() const = 0;
+  // B [T] at p_mm (magnet frame, mm). Throws InputError when p lies outside
+  // the region the source can serve (never extrapolates silently).
+  virtual Vec3 B_T(const Vec3& p_mm) const = 0;
+  // Bz only; sources may override with a cheaper kernel.
+  virtual double Bz_T(const Vec3& p_mm) const { return B_T(p_mm).z(); }
+  // Batch evaluation: p_mm is 3xN (mm), returns 3xN (T). Parallel (OpenMP).
+  virtual Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
+  // Batch Bz: p_mm 3xN -> N values (T). Parallel (OpenMP).
+  virtual Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const;
+};
+
+using FieldSourcePtr = std::shared_ptr<const FieldSource>;
+
+}  // namespace magenc

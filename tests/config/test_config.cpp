@@ -1,0 +1,55 @@
+#include <catch2/catch.hpp>
+
+#include "config.hpp"
+#include "errors.hpp"
+
+using namespace magenc;
+
+TEST_CASE("defaults match physics.md", "[config]") {
+  Config c(common_keys());
+  CHECK(c.real("magnet.radius_mm") == 2.0);
+  CHECK(c.real("magnet.height_mm") == 4.0);
+  CHECK(c.real("magnet.br_T") == 1.2);
+  CHECK(c.real("magnet.mu_r") == 1.05);
+  CHECK(c.real("sensor.plane_height_mm") == 2.55);
+  CHECK(c.real("sensor.r0_mm") == 2.4);
+  CHECK(c.str("sensor.array") == "two");
+  CHECK(c.integer("sensor.steps") == 3600);
+}
+
+TEST_CASE("toml and --set override in order", "[config]") {
+  Config c(common_keys());
+  c.load_toml_string("[magnet]\nradius_mm = 3\n[sensor]\narray = \"diff4\"\n");
+  CHECK(c.real("magnet.radius_mm") == 3.0);
+  CHECK(c.str("sensor.array") == "diff4");
+  c.set("magnet.radius_mm=2.5");
+  CHECK(c.real("magnet.radius_mm") == 2.5);
+  // Round trip through the echoed TOML.
+  Config d(common_keys());
+  d.load_toml_string(c.to_toml());
+  CHECK(d.real("magnet.radius_mm") == 2.5);
+  CHECK(d.str("sensor.array") == "diff4");
+}
+
+TEST_CASE("bad input is rejected with the key and range named", "[config][bad-input]") {
+  Config c(common_keys());
+  auto msg = [&](auto&& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(msg([&] { c.set("magnet.radius_mm=-1"); }),
+             Catch::Contains("magnet.radius_mm") && Catch::Contains("(0, 1000] mm"));
+  CHECK_THAT(msg([&] { c.set("magnet.radius_mm=nan"); }), Catch::Contains("magnet.radius_mm"));
+  CHECK_THAT(msg([&] { c.set("sensor.steps=8"); }), Catch::Contains("sensor.steps"));
+  CHECK_THAT(msg([&] { c.set("sensor.bogus=1"); }), Catch::Contains("unknown configuration key"));
+  CHECK_THAT(msg([&] { c.load_toml_string("[magnet\nradius_mm = 2"); }), Catch::Contains("malformed TOML"));
+  CHECK_THAT(msg([&] { c.load_toml_string("[magnet]\nheight_mm = 0\n"); }),
+             Catch::Contains("magnet.height_mm"));
+  CHECK_THAT(msg([&] { c.load_toml_string("[magnet]\nradius = 2\n"); }),
+             Catch::Contains("unknown configuration key 'magnet.radius'"));
+  CHECK_THAT(msg([&] { c.set("magnet.br_T=abc"); }), Catch::Contains("magnet.br_T"));
+}
