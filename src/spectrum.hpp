@@ -1,0 +1,38 @@
+// Angle error and its Fourier spectrum (physics.md, the study's convention):
+//   eps(theta) = wrap(phi - theta) into (-180, 180] deg, M uniform samples,
+//   eps = a0 + sum_{n=1..8} a_n cos(n theta) + b_n sin(n theta),
+//   a0 = mean, a_n = (2/M) sum eps cos, b_n = (2/M) sum eps sin,
+//   c_n = hypot(a_n, b_n), c_0 = a0; pp = max - min.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace magenc {
+
+inline constexpr int kHarmonics = 8;
+
+struct Spectrum {
+  double a0_deg = 0;
+  std::array<double, kHarmonics + 1> a_deg{};  // a_deg[n], n = 1..8 (a_deg[0] unused = a0)
+  std::array<double, kHarmonics + 1> b_deg{};  // b_deg[n], n = 1..8
+  std::array<double, kHarmonics + 1> c_deg{};  // c_deg[n] = hypot(a_n, b_n); c_deg[0] = a0
+  double pp_deg = 0;                           // peak-to-peak of eps
+
+  // Value of a spectra-table column by name: "a0_deg", "a3_deg", "b2_deg",
+  // "c1_deg", "pp_deg". Throws std::invalid_argument for an unknown name.
+  double column(const std::string& name) const;
+};
+
+// Wrap an angle difference into (-180, 180] degrees.
+double wrap_deg(double a_deg);
+
+// Spectrum of eps sampled at theta_m = 2*pi*m/M, m = 0..M-1 (eps in degrees).
+Spectrum spectrum_of(const Eigen::VectorXd& eps_deg);
+
+// The spectra-table coefficient columns in order: a0..a8, b1..b8, c1..c8, pp.
+const std::vector<std::string>& spectrum_columns();
+
+}  // namespace magenc
