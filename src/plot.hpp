@@ -1,6 +1,11 @@
 // Plots as PNG files, drawn by gnuplot (Debian gnuplot-nox, pngcairo terminal).
 // Each plot writes three files side by side: NAME.png, NAME.gp (the script)
-// and NAME.dat (the data), so a person can re-run or tweak it.
+// and NAME.dat (the data), so a person can re-run or tweak it
+// (`cd DIR && gnuplot NAME.gp`).
+//
+// Texts (titles, labels, legend entries) are gnuplot "enhanced" text: '_' and
+// '^' make sub/superscripts, {/Symbol q} is theta. Pass literal text through
+// plot_literal() when it may contain those characters (e.g. "c3_deg").
 #pragma once
 #include <filesystem>
 #include <string>
@@ -9,7 +14,7 @@
 namespace magenc {
 
 struct PlotSeries {
-  std::string title;           // legend entry
+  std::string title;           // legend entry (empty: no entry)
   std::vector<double> x, y;    // same length
   std::string style = "lines"; // gnuplot style: "lines", "points", "linespoints", "boxes", "impulses"
   std::string extra;           // extra gnuplot "with" options, e.g. "lw 2 dt 2"
@@ -21,6 +26,10 @@ struct PlotPanel {
   std::string ylabel;  // with unit, e.g. "angle error [deg]"
   std::vector<PlotSeries> series;
   bool logx = false, logy = false;
+  // Extra gnuplot commands issued before this panel's plot command (after the
+  // panel's defaults), e.g. "set xtics 1", "set yrange [0:*]",
+  // "set boxwidth 0.2". Settings are reset between panels.
+  std::vector<std::string> commands;
 };
 
 struct PlotSpec {
@@ -30,7 +39,14 @@ struct PlotSpec {
   int width_px = 1000, height_px = 700;
 };
 
-// Writes dir/name.{png,gp,dat}. Throws ComputeError if gnuplot fails or is missing.
+// Escapes enhanced-text control characters (_ ^ @ & ~ { }) so s prints literally.
+std::string plot_literal(const std::string& s);
+
+// Writes dir/name.{png,gp,dat}. Series with no points are drawn as empty
+// legend entries; non-finite y values are gaps. Throws InputError for a name
+// that is not a plain file name or series with x/y of different lengths.
+// Runs `gnuplot NAME.gp` in dir; throws ComputeError (with gnuplot's last
+// message) if gnuplot is missing, fails, or leaves no PNG.
 void write_plot(const std::filesystem::path& dir, const std::string& name, const PlotSpec& spec);
 
 }  // namespace magenc
