@@ -35,11 +35,11 @@ bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
   return std::hypot(p.x(), p.y()) <= magnet_.radius_mm && std::abs(p.z()) <= magnet_.top_z_mm();
 }
 
-const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_mm) const {
+const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_mm, bool bz_only) const {
   const double R = magnet_.radius_mm, half = magnet_.top_z_mm();
   const double t1 = z_mm - half, t2 = z_mm + half;
-  // Distance (in z) to the nearer face plane, 0 beside the magnet's slab.
-  const double tmin = (t1 * t2 >= 0) ? std::min(std::abs(t1), std::abs(t2)) : 0.0;
+  // Distance (in z) to the nearer face plane; 0 beside the slab for B_x, B_y (pole at rho = 0).
+  const double tmin = (bz_only || t1 * t2 >= 0) ? std::min(std::abs(t1), std::abs(t2)) : 0.0;
   if (!(r_mm > 0)) return tables_.front();  // on the axis: integrand ~ constant * cos(phi')
   const double c = (r_mm * r_mm + R * R + tmin * tmin) / (2.0 * r_mm * R);
   const double a = std::acosh(std::max(c, 1.0));
@@ -50,15 +50,15 @@ const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_m
   return tables_.back();
 }
 
-int AnalyticField::nodes_at(const Vec3& p) const {
-  return table_for(std::hypot(p.x(), p.y()), p.z()).n;
+int AnalyticField::nodes_at(const Vec3& p, bool bz_only) const {
+  return table_for(std::hypot(p.x(), p.y()), p.z(), bz_only).n;
 }
 
 double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double t1sq = t1 * t1, t2sq = t2 * t2;
-  const NodeTable& tab = table_for(std::hypot(x, y), z);
+  const NodeTable& tab = table_for(std::hypot(x, y), z, true);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
@@ -80,7 +80,7 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double a1 = std::abs(t1), a2 = std::abs(t2);
   const double t1sq = t1 * t1, t2sq = t2 * t2;
-  const NodeTable& tab = table_for(std::hypot(x, y), z);
+  const NodeTable& tab = table_for(std::hypot(x, y), z, false);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;

@@ -19,7 +19,8 @@
 // Node count: the integrand is analytic in phi' in a strip of half-width a
 // about the real axis, where a = acosh((r^2 + R^2 + t_min^2)/(2 r R)) is set by
 // the nearest complex zero of rho^2 + t^2 (t_min = min |t_i| above/below the
-// slab, 0 beside it), r the point's distance from the axis. The midpoint rule
+// slab, 0 beside it, where B_x, B_y have a pole at rho = 0; B_z alone has no
+// pole, so its t_min is min |t_i| everywhere), r the point's distance from the axis. The midpoint rule
 // then errs like exp(-N*a); N is the smallest tabulated count with
 // N*a >= kQuadratureExponent (+ log(r/R) for the far-field cancellation),
 // capped at kMaxNodes (points within ~1 um of a rim circle get less accuracy).
@@ -44,8 +45,9 @@ class AnalyticField final : public FieldSource {
 
   // True when p_mm lies inside the magnet or on its surface (r <= R, |z| <= L/2).
   bool inside_or_on_magnet(const Vec3& p_mm) const;
-  // Number of midpoint nodes the quadrature uses at p_mm (for tests/benchmarks).
-  int nodes_at(const Vec3& p_mm) const;
+  // Number of midpoint nodes the quadrature uses at p_mm for B (bz_only:
+  // for B_z alone); for tests and benchmarks.
+  int nodes_at(const Vec3& p_mm, bool bz_only = false) const;
 
   static constexpr double kQuadratureExponent = 36.0;  // exp(-36) ~ 2e-16
   static constexpr int kMinNodes = 16;
@@ -57,7 +59,9 @@ class AnalyticField final : public FieldSource {
     int n = 0;
     std::vector<double> cos_phi, sin_phi;
   };
-  const NodeTable& table_for(double r_mm, double z_mm) const;
+  // Node table for a point at distance r_mm from the axis and height z_mm;
+  // bz_only: only B_z is wanted (no rho = 0 pole beside the magnet).
+  const NodeTable& table_for(double r_mm, double z_mm, bool bz_only) const;
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;

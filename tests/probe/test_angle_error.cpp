@@ -1,0 +1,147 @@
+// Probe-path pipeline (src/mounting.*, probe_array.*, angle_error.*) on the
+// exact field: ideal mounts give no error, magnetization direction gives a
+// constant offset (including the wrap at +-180), symmetries of physics.md,
+// and input validation.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "analytic_field.hpp"
+#include "angle_error.hpp"
+#include "errors.hpp"
+#include "units.hpp"
+
+using namespace magenc;
+
+namespace {
+
+ProbeSetup setup_for(const std::string& array, double r0_mm = 2.4, int steps = 3600) {
+  ProbeSetup s;
+  s.array = ProbeArray::parse(array);
+  s.r0_mm = r0_mm;
+  s.plane_z_mm = 4.55;  // L/2 + h of the study magnet
+  s.steps = steps;
+  return s;
+}
+
+Mount mount(double sx, double sy, double dx, double dy, double dz = 0) {
+  Mount m;
+  m.sx_mm = sx;
+  m.sy_mm = sy;
+  m.dx_mm = dx;
+  m.dy_mm = dy;
+  m.dz_mm = dz;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("probe positions follow q = Rot(-theta)(p + s) - d", "[probe][mounting]") {
+  const Mount m = mount(0.1, -0.2, 0.05, 0.07, 0.3);
+  const double th = deg_to_rad(30.0);
+  const Eigen::Vector3d q = probe_position_mm(m, 2.4, 0.0, th, 4.55);
+  CHECK(q.x() == Approx(std::cos(th) * 2.5 + std::sin(th) * (-0.2) - 0.05).epsilon(1e-15));
+  CHECK(q.y() == Approx(-std::sin(th) * 2.5 + std::cos(th) * (-0.2) - 0.07).epsilon(1e-15));
+  CHECK(q.z() == Approx(4.85).epsilon(1e-15));
+  // probe_paths_mm: column m*K + k is probe k at theta_m.
+  const ProbeSetup s = setup_for("diff4", 2.4, 16);
+  const Eigen::Matrix3Xd P = probe_paths_mm(s, m);
+  REQUIRE(P.cols() == 64);
+  const Eigen::Vector3d q32 = probe_position_mm(m, 0.0, -2.4, 2.0 * kPi * 3 / 16, 4.55);
+  CHECK((P.col(3 * 4 + 3) - q32).norm() < 1e-14);
+}
+
+TEST_CASE("probe arrays parse with the documented weights", "[probe][array]") {
+  const ProbeArray two = ProbeArray::parse("two"), d4 = ProbeArray::parse("diff4"), r8 = ProbeArray::parse("ring:8");
+  CHECK(two.size() == 2);
+  CHECK(d4.w_cos == std::vector<double>{1, 0, -1, 0});
+  REQUIRE(r8.size() == 8);
+  CHECK(r8.angle_deg[3] == 135.0);
+  CHECK(r8.w_sin[2] == Approx(1.0));
+  for (const char* bad : {"three", "ring:", "ring:2", "ring:1025", "ring:8x", "ring:-4", "Two", ""})
+    CHECK_THROWS_AS(ProbeArray::parse(bad), InputError);
+}
+
+TEST_CASE("ideal mount on the exact field: no error", "[probe][analytic]") {
+  // Bz on a circle about the axis is exactly proportional to cos(angle), so
+  // the only error left is quadrature/round-off (~1e-12 relative -> ~1e-10 deg).
+  const AnalyticField f{Magnet{}};
+  for (const char* arr : {"two", "diff4", "ring:8"}) {
+    const Spectrum s = error_spectrum(f, setup_for(arr), Mount{});
+    CAPTURE(arr, s.pp_deg);
+    CHECK(std::abs(s.a0_deg) < 1e-9);
+    for (int n = 1; n <= kHarmonics; ++n) CHECK(s.c_deg[n] < 1e-9);
+    CHECK(s.pp_deg < 1e-9);
+  }
+}
+
+TEST_CASE("magnetization direction gives a constant offset, wrapped into (-180, 180]", "[probe][analytic]") {
+  // M0 rotated by alpha: Bz at magnet-frame azimuth psi ~ cos(psi - alpha); probe k
+  // sits at psi = b_k - theta, so phi = theta + alpha and eps = wrap(alpha).
+  for (double alpha : {30.0, -100.0, 180.0, 200.0}) {
+    Magnet m;
+    m.magnetization_deg = alpha;
+    const AnalyticField f(m);
+    const Spectrum s = error_spectrum(f, setup_for("ring:8", 2.4, 360), Mount{});
+    CAPTURE(alpha, s.a0_deg, s.pp_deg);
+    CHECK(s.a0_deg == Approx(wrap_deg(alpha)).margin(1e-9));
+    CHECK(s.pp_deg < 1e-9);
+  }
+}
+
+TEST_CASE("exact field: sy mirrors sx, and physics.md's harmonic signatures", "[probe][analytic]") {
+  const AnalyticField f{Magnet{}};
+  const ProbeSetup two = setup_for("two");
+  SECTION("static y mirrors static x: a0 flips, a2 same, b2 flips") {
+    const Spectrum x = error_spectrum(f, two, mount(0.1, 0, 0, 0)), y = error_spectrum(f, two, mount(0, 0.1, 0, 0));
+    CAPTURE(x.a0_deg, x.a_deg[2], x.b_deg[2], y.a0_deg, y.a_deg[2], y.b_deg[2]);
+    CHECK(y.a0_deg == Approx(-x.a0_deg).epsilon(1e-9));
+    CHECK(y.a_deg[2] == Approx(x.a_deg[2]).epsilon(1e-9));
+    CHECK(y.b_deg[2] == Approx(-x.b_deg[2]).epsilon(1e-9));
+    CHECK(x.c_deg[2] > 10 * x.c_deg[4]);  // DC and 2nd dominate, a little 4th
+    CHECK(x.c_deg[1] < 1e-9);
+  }
+  SECTION("dynamic x with `two`: 1st harmonic and a 3rd of similar size") {
+    const Spectrum s = error_spectrum(f, two, mount(0, 0, 0.1, 0));
+    CAPTURE(s.c_deg[1], s.c_deg[3]);
+    CHECK(s.c_deg[3] > 0.1 * s.c_deg[1]);
+    CHECK(s.c_deg[3] < s.c_deg[1]);
+  }
+  SECTION("dynamic x with diff4: 1st harmonic cancels, 4th appears") {
+    const Spectrum s = error_spectrum(f, setup_for("diff4"), mount(0, 0, 0.1, 0));
+    CAPTURE(s.c_deg[1], s.c_deg[4]);
+    CHECK(s.c_deg[1] < 1e-9);
+    CHECK(s.c_deg[4] > 1e-4);
+  }
+  SECTION("dz alone changes nothing") {
+    const Spectrum s = error_spectrum(f, two, mount(0, 0, 0, 0, 0.3));
+    CHECK(s.pp_deg < 1e-9);
+  }
+}
+
+TEST_CASE("angle_error rejects invalid setups", "[probe][validation]") {
+  const AnalyticField f{Magnet{}};
+  const LinearField lin;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two", 0.0), Mount{}), InputError);
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two", -1.0), Mount{}), InputError);
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two", nan), Mount{}), InputError);
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two", 2.4, 15), Mount{}), InputError);
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two"), mount(nan, 0, 0, 0)), InputError);
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two"), mount(0, 0, 0, 0, nan)), InputError);
+  // |s| + |d| >= r0: the probe circle no longer surrounds the axis (degenerate).
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two"), mount(1.5, 0, 0, 0.9)), InputError);
+  CHECK_NOTHROW(angle_error(lin, setup_for("two"), mount(1.2, 0, 0, 0.9)));
+  Mount tilted;
+  tilted.tilt_x_deg = 1.0;
+  CHECK_THROWS_AS(angle_error(lin, setup_for("two"), tilted), InputError);
+  // Exact field: a path inside the magnet's volume is rejected. dz = -3 puts the
+  // plane at z = 1.55 mm, within the magnet's height; r0 = 2.4 stays outside R = 2 ...
+  CHECK_NOTHROW(angle_error(f, setup_for("two", 2.4, 64), mount(0, 0, 0, 0, -3.0)));
+  // ... but with 0.5 mm dynamic eccentricity a probe comes within 1.9 mm of the axis.
+  CHECK_THROWS_AS(angle_error(f, setup_for("two", 2.4, 64), mount(0, 0, 0.5, 0, -3.0)), InputError);
+  CHECK_THROWS_AS(angle_error(f, setup_for("two", 1.5, 64), mount(0, 0, 0, 0, -3.0)), InputError);
+  // The same geometry with the plane above the magnet is fine.
+  CHECK_NOTHROW(angle_error(f, setup_for("two", 1.5, 64), Mount{}));
+}

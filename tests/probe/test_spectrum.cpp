@@ -1,0 +1,88 @@
+// Spectrum layer (src/spectrum.*): wrap into (-180, 180], exact recovery of
+// synthetic trigonometric signals, peak-to-peak, column names.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "spectrum.hpp"
+#include "units.hpp"
+
+using namespace magenc;
+
+TEST_CASE("wrap_deg maps into (-180, 180]", "[probe][spectrum]") {
+  CHECK(wrap_deg(0.0) == 0.0);
+  CHECK(wrap_deg(180.0) == 180.0);
+  CHECK(wrap_deg(-180.0) == 180.0);
+  CHECK(wrap_deg(540.0) == 180.0);
+  CHECK(wrap_deg(190.0) == Approx(-170.0).epsilon(1e-14));
+  CHECK(wrap_deg(-190.0) == Approx(170.0).epsilon(1e-14));
+  CHECK(wrap_deg(359.5) == Approx(-0.5).epsilon(1e-12));
+  CHECK(wrap_deg(-720.25) == Approx(-0.25).epsilon(1e-12));
+  CHECK(wrap_deg(1e6 + 0.5) == Approx(wrap_deg(std::fmod(1e6, 360.0) + 0.5)).epsilon(1e-12));
+}
+
+TEST_CASE("spectrum recovers a synthetic signal exactly", "[probe][spectrum]") {
+  // eps = a0 + sum a_n cos + b_n sin for n = 1..8 with arbitrary coefficients:
+  // the discrete sums are exact for M > 16, up to round-off (~1e-14 deg).
+  const int M = GENERATE(17, 100, 3600);
+  Spectrum want;
+  want.a0_deg = 0.37;
+  for (int n = 1; n <= kHarmonics; ++n) {
+    want.a_deg[n] = 0.1 * n - 0.35;
+    want.b_deg[n] = 0.05 * n * n - 0.8;
+  }
+  Eigen::VectorXd eps(M);
+  for (int m = 0; m < M; ++m) {
+    const double th = 2.0 * kPi * m / M;
+    double e = want.a0_deg;
+    for (int n = 1; n <= kHarmonics; ++n) e += want.a_deg[n] * std::cos(n * th) + want.b_deg[n] * std::sin(n * th);
+    eps[m] = e;
+  }
+  const Spectrum got = spectrum_of(eps);
+  CAPTURE(M);
+  CHECK(got.a0_deg == Approx(want.a0_deg).margin(1e-12));
+  CHECK(got.c_deg[0] == got.a0_deg);
+  for (int n = 1; n <= kHarmonics; ++n) {
+    CAPTURE(n);
+    CHECK(got.a_deg[n] == Approx(want.a_deg[n]).margin(1e-12));
+    CHECK(got.b_deg[n] == Approx(want.b_deg[n]).margin(1e-12));
+    CHECK(got.c_deg[n] == Approx(std::hypot(want.a_deg[n], want.b_deg[n])).margin(1e-12));
+  }
+  CHECK(got.pp_deg == Approx(eps.maxCoeff() - eps.minCoeff()).margin(1e-15));
+}
+
+TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][spectrum]") {
+  // phi - theta for a true error eps = 0.4 sin(3 theta) - 0.2, computed from an
+  // angle that runs over many turns: raw differences jump by multiples of 360,
+  // wrap_deg must restore eps exactly.
+  const int M = 720;
+  Eigen::VectorXd wrapped(M);
+  for (int m = 0; m < M; ++m) {
+    const double th_deg = 360.0 * m / M;
+    const double eps = 0.4 * std::sin(3 * deg_to_rad(th_deg)) - 0.2;
+    const double phi_deg = rad_to_deg(std::atan2(std::sin(deg_to_rad(th_deg + eps)), std::cos(deg_to_rad(th_deg + eps))));
+    wrapped[m] = wrap_deg(phi_deg - th_deg + 720.0 * (m % 3));  // add whole turns
+  }
+  const Spectrum s = spectrum_of(wrapped);
+  CHECK(s.a0_deg == Approx(-0.2).margin(1e-12));
+  CHECK(s.b_deg[3] == Approx(0.4).margin(1e-12));
+  CHECK(s.a_deg[3] == Approx(0.0).margin(1e-12));
+  CHECK(s.c_deg[1] < 1e-12);
+  CHECK(s.pp_deg == Approx(0.8).margin(1e-12));
+}
+
+TEST_CASE("spectrum columns follow interfaces.md", "[probe][spectrum]") {
+  const auto& cols = spectrum_columns();
+  REQUIRE(cols.size() == 1 + 3 * kHarmonics + 1);
+  CHECK(cols.front() == "a0_deg");
+  CHECK(cols[1] == "a1_deg");
+  CHECK(cols[8] == "a8_deg");
+  CHECK(cols[9] == "b1_deg");
+  CHECK(cols[17] == "c1_deg");
+  CHECK(cols.back() == "pp_deg");
+  Spectrum s;
+  s.b_deg[5] = 1.5;
+  CHECK(s.column("b5_deg") == 1.5);
+  CHECK_THROWS_AS(s.column("b9_deg"), std::invalid_argument);
+  CHECK_THROWS_AS(s.column("d1_deg"), std::invalid_argument);
+}
