@@ -1,0 +1,167 @@
+#include "fe_solution.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unordered_map>
+
+#include "element.hpp"
+#include "errors.hpp"
+
+namespace magenc::fem {
+
+Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
+  const TetGeometry g = tet_geometry(points_mm, cell_dofs.col(c).head<4>());
+  Eigen::Matrix<double, 3, 10> G;
+  basis_gradients(order, g, L, G);
+  Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+  const int nd = dofs_per_cell(order);
+  for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
+  return -mu_r[c] * grad + br_T.col(c);
+}
+
+double FeSolution::psi_in_cell(int c, const Eigen::Vector4d& L) const {
+  double N[10];
+  basis_values(order, L, N);
+  double v = 0;
+  for (int i = 0; i < dofs_per_cell(order); ++i) v += psi_Tmm[cell_dofs(i, c)] * N[i];
+  return v;
+}
+
+PointLocator::PointLocator(const Eigen::Matrix3Xd& nodes, const Eigen::MatrixXi& cells) : nodes_(nodes) {
+  const int nt = static_cast<int>(cells.cols());
+  tets_ = cells.topRows(4);
+  // 1. Face neighbours.
+  neighbour_.setConstant(4, nt, -1);
+  static const int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  struct Hash {
+    size_t operator()(const std::array<int, 3>& k) const {
+      return (static_cast<size_t>(k[0]) * 73856093u) ^ (static_cast<size_t>(k[1]) * 19349663u) ^
+             (static_cast<size_t>(k[2]) * 83492791u);
+    }
+  };
+  std::unordered_map<std::array<int, 3>, std::pair<int, int>, Hash> open;
+  open.reserve(static_cast<size_t>(nt) * 2);
+  for (int t = 0; t < nt; ++t)
+    for (int k = 0; k < 4; ++k) {
+      std::array<int, 3> f{tets_(kFace[k][0], t), tets_(kFace[k][1], t), tets_(kFace[k][2], t)};
+      std::sort(f.begin(), f.end());
+      auto it = open.find(f);
+      if (it == open.end()) {
+        open.emplace(f, std::make_pair(t, k));
+      } else {
+        neighbour_(k, t) = it->second.first;
+        neighbour_(it->second.second, it->second.first) = t;
+        open.erase(it);
+      }
+    }
+  // 2. Bucket grid of centroids (about 2 cells per bucket).
+  Eigen::Matrix3Xd cen(3, nt);
+  for (int t = 0; t < nt; ++t)
+    cen.col(t) = 0.25 * (nodes.col(tets_(0, t)) + nodes.col(tets_(1, t)) + nodes.col(tets_(2, t)) + nodes.col(tets_(3, t)));
+  lo_ = nodes.rowwise().minCoeff();
+  const Eigen::Vector3d hi = nodes.rowwise().maxCoeff();
+  const Eigen::Vector3d ext = (hi - lo_).cwiseMax(1e-9);
+  const double per_axis = std::cbrt(std::max(1.0, nt / 2.0) / (ext.prod() / std::pow(ext.maxCoeff(), 3)));
+  for (int d = 0; d < 3; ++d) dims_[d] = std::clamp(static_cast<int>(per_axis * ext[d] / ext.maxCoeff()), 1, 400);
+  cell_size_ = ext.cwiseQuotient(dims_.cast<double>());
+  const long nb = static_cast<long>(dims_.prod());
+  std::vector<int> bucket_of(static_cast<size_t>(nt));
+  bucket_start_.assign(static_cast<size_t>(nb) + 1, 0);
+  for (int t = 0; t < nt; ++t) {
+    Eigen::Vector3i ijk;
+    for (int d = 0; d < 3; ++d)
+      ijk[d] = std::clamp(static_cast<int>((cen(d, t) - lo_[d]) / cell_size_[d]), 0, dims_[d] - 1);
+    bucket_of[static_cast<size_t>(t)] = (ijk[2] * dims_[1] + ijk[1]) * dims_[0] + ijk[0];
+    bucket_start_[static_cast<size_t>(bucket_of[static_cast<size_t>(t)]) + 1]++;
+  }
+  for (long b = 0; b < nb; ++b) bucket_start_[static_cast<size_t>(b) + 1] += bucket_start_[static_cast<size_t>(b)];
+  bucket_cells_.resize(static_cast<size_t>(nt));
+  std::vector<int> fill(bucket_start_.begin(), bucket_start_.end() - 1);
+  for (int t = 0; t < nt; ++t) bucket_cells_[static_cast<size_t>(fill[static_cast<size_t>(bucket_of[static_cast<size_t>(t)])]++)] = t;
+}
+
+int PointLocator::start_near(const Eigen::Vector3d& p) const {
+  Eigen::Vector3i c;
+  for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<int>(std::floor((p[d] - lo_[d]) / cell_size_[d])), 0, dims_[d] - 1);
+  // Search growing shells of buckets until one holds a cell.
+  for (int ring = 0; ring < std::max({dims_[0], dims_[1], dims_[2]}); ++ring) {
+    for (int k = c[2] - ring; k <= c[2] + ring; ++k)
+      for (int j = c[1] - ring; j <= c[1] + ring; ++j)
+        for (int i = c[0] - ring; i <= c[0] + ring; ++i) {
+          if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) continue;
+          if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != ring) continue;
+          const int b = (k * dims_[1] + j) * dims_[0] + i;
+          if (bucket_start_[static_cast<size_t>(b)] < bucket_start_[static_cast<size_t>(b) + 1])
+            return bucket_cells_[static_cast<size_t>(bucket_start_[static_cast<size_t>(b)])];
+        }
+  }
+  return 0;
+}
+
+std::optional<PointLocator::Hit> PointLocator::locate(const Eigen::Vector3d& p, int start_cell) const {
+  const double tol = -1e-10;
+  int t = start_cell >= 0 ? start_cell : start_near(p);
+  const int nt = static_cast<int>(tets_.cols());
+  for (int step = 0; step < 100000; ++step) {
+    const TetGeometry g = tet_geometry(nodes_, tets_.col(t));
+    const Eigen::Vector4d L = barycentric(g, p);
+    int k;
+    const double m = L.minCoeff(&k);
+    if (m >= tol) return Hit{t, L};
+    const int next = neighbour_(k, t);
+    if (next < 0) {
+      // Left through a boundary face: the mesh (a ball) is convex, so p is outside.
+      return std::nullopt;
+    }
+    t = next;
+  }
+  // Walk did not terminate (degenerate cycle): brute force.
+  for (int c = 0; c < nt; ++c) {
+    const Eigen::Vector4d L = barycentric(tet_geometry(nodes_, tets_.col(c)), p);
+    if (L.minCoeff() >= tol) return Hit{c, L};
+  }
+  return std::nullopt;
+}
+
+FieldEvaluator::FieldEvaluator(FeSolution solution)
+    : sol_(std::move(solution)), locator_(sol_.points_mm, sol_.cell_dofs) {}
+
+std::optional<Eigen::Vector3d> FieldEvaluator::B_T(const Eigen::Vector3d& p) const {
+  auto hit = locator_.locate(p);
+  if (!hit) return std::nullopt;
+  return sol_.B_in_cell(hit->cell, hit->L);
+}
+
+Eigen::Matrix3Xd FieldEvaluator::B_T(const Eigen::Matrix3Xd& p) const {
+  Eigen::Matrix3Xd B(3, p.cols());
+  long bad = -1;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    auto b = B_T(Eigen::Vector3d(p.col(i)));
+    if (b) {
+      B.col(i) = *b;
+    } else {
+      B.col(i).setConstant(std::nan(""));
+#pragma omp critical
+      if (bad < 0 || i < bad) bad = static_cast<long>(i);
+    }
+  }
+  if (bad >= 0) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "point (%g, %g, %g) mm lies outside the FE mesh", p(0, bad), p(1, bad), p(2, bad));
+    throw InputError(buf);
+  }
+  return B;
+}
+
+Eigen::Matrix3Xd FieldEvaluator::B_cell_centroids() const {
+  Eigen::Matrix3Xd B(3, sol_.num_cells());
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < sol_.num_cells(); ++c) B.col(c) = sol_.B_in_cell(c, Eigen::Vector4d::Constant(0.25));
+  return B;
+}
+
+}  // namespace magenc::fem

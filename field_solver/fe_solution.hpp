@@ -1,0 +1,70 @@
+// A finite-element solution psi with everything needed to evaluate B at any
+// point: dof nodes, cells, per-cell material; plus fast point location.
+#pragma once
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace magenc::fem {
+
+struct FeSolution {
+  int order = 1;                 // Lagrange order (1 or 2)
+  Eigen::Matrix3Xd points_mm;    // 3 x num_dofs dof nodes (mm): vertices, P2 edge midpoints
+  Eigen::MatrixXi cell_dofs;     // (4|10) x n_cells dof ids, VTK order (first 4 = vertices)
+  Eigen::VectorXd psi_Tmm;       // num_dofs scalar potential psi = mu0*phi_m (T*mm)
+  Eigen::VectorXi region;        // n_cells region ids (mesh.hpp)
+  Eigen::VectorXd mu_r;          // n_cells relative permeability
+  Eigen::Matrix3Xd br_T;         // 3 x n_cells remanence vector Br = mu0*M0 (T), 0 outside magnets
+
+  int num_cells() const { return static_cast<int>(cell_dofs.cols()); }
+  // B (T) in cell c at barycentric point L: mu_r*(-grad psi) + Br.
+  Eigen::Vector3d B_in_cell(int c, const Eigen::Vector4d& L) const;
+  // psi (T*mm) in cell c at barycentric point L.
+  double psi_in_cell(int c, const Eigen::Vector4d& L) const;
+};
+
+// Point location in a tetrahedral mesh: a uniform bucket grid of cell
+// centroids gives a nearby start cell, then a visibility walk across faces
+// (neighbour opposite the most negative barycentric coordinate) reaches the
+// containing cell. O(n) memory; walks are a few steps.
+class PointLocator {
+ public:
+  // nodes: 3 x n vertices (mm); tets: first 4 rows of cell_dofs (vertex ids).
+  PointLocator(const Eigen::Matrix3Xd& nodes, const Eigen::MatrixXi& cells);
+  struct Hit {
+    int cell;
+    Eigen::Vector4d L;  // barycentric coordinates in that cell
+  };
+  // The cell containing p (mm) within a tolerance, or nullopt outside the mesh.
+  std::optional<Hit> locate(const Eigen::Vector3d& p_mm, int start_cell = -1) const;
+
+ private:
+  int start_near(const Eigen::Vector3d& p) const;
+  const Eigen::Matrix3Xd& nodes_;
+  Eigen::Matrix4Xi tets_;       // vertex ids
+  Eigen::Matrix4Xi neighbour_;  // cell across the face opposite vertex k, -1 on the boundary
+  Eigen::Vector3d lo_, cell_size_;
+  Eigen::Vector3i dims_;
+  std::vector<int> bucket_start_, bucket_cells_;  // CSR: cells whose centroid lies in each bucket
+};
+
+// B from a solution at points, with locate + evaluate.
+class FieldEvaluator {
+ public:
+  explicit FieldEvaluator(FeSolution solution);
+  FieldEvaluator(const FieldEvaluator&) = delete;  // the locator refers to sol_
+  FieldEvaluator& operator=(const FieldEvaluator&) = delete;
+  const FeSolution& solution() const { return sol_; }
+  // B (T) at p (mm); nullopt outside the mesh.
+  std::optional<Eigen::Vector3d> B_T(const Eigen::Vector3d& p_mm) const;
+  // B at 3xN points (parallel); throws InputError naming the first point outside the mesh.
+  Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
+  // B at every cell centroid (3 x n_cells).
+  Eigen::Matrix3Xd B_cell_centroids() const;
+
+ private:
+  FeSolution sol_;
+  PointLocator locator_;
+};
+
+}  // namespace magenc::fem

@@ -1,0 +1,112 @@
+#include "fem_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "errors.hpp"
+
+namespace magenc::fem {
+
+std::vector<KeySpec> fem_keys() {
+  return {
+      int_key("mesh.segments", 96, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
+      bool_key("mesh.equal_area", true, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
+      real_key("mesh.h_magnet_mm", 0.4, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
+      real_key("mesh.h_zone_mm", 0.4, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
+      real_key("mesh.h_air_mm", 12.0, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
+      real_key("mesh.outer_radius_mm", 60.0, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
+      int_key("mesh.sphere_subdivisions", 3, 1, 6, "icosphere level of the faceted truncation sphere"),
+      real_key("mesh.zone_half_width_mm", 5.5, 0, 1000, "mm", "refinement zone half width in x and y", true),
+      real_key("mesh.zone_half_height_mm", 1.0, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
+      real_key("mesh.quality_ratio", 1.4, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
+      real_key("mesh.min_dihedral_deg", 18.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
+      string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
+      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner"),
+      real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
+      int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
+      int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
+      int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
+      real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
+      real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to"),
+      real_key("grid.plane_step_mm", 0.05, 0, 100, "mm", "plane grid spacing", true),
+      real_key("grid.box_xy_min_mm", -4.0, -1000, 1000, "mm", "box grid: x and y from"),
+      real_key("grid.box_xy_max_mm", 4.0, -1000, 1000, "mm", "box grid: x and y to"),
+      real_key("grid.box_z_below_mm", 0.5, 0, 1000, "mm", "box grid: from z_s minus this"),
+      real_key("grid.box_z_above_mm", 0.5, 0, 1000, "mm", "box grid: to z_s plus this"),
+      real_key("grid.box_step_mm", 0.05, 0, 100, "mm", "box grid spacing (x, y and z)", true),
+      bool_key("shaft.enabled", false, "add a coaxial soft-magnetic cylinder under the magnet"),
+      real_key("shaft.radius_mm", 3.0, 0, 1000, "mm", "shaft radius", true),
+      real_key("shaft.length_mm", 10.0, 0, 1000, "mm", "shaft length", true),
+      real_key("shaft.gap_mm", 1.0, 0, 1000, "mm", "gap between the magnet's bottom face and the shaft", true),
+      real_key("shaft.mu_r", 1000.0, 1, 1e6, "", "relative permeability of the shaft"),
+  };
+}
+
+std::vector<KeySpec> solve_field_schema() { return merge_schemas(common_keys(), fem_keys()); }
+
+FemSettings fem_settings_from_config(const Config& cfg) {
+  FemSettings s;
+  DomainSpec& d = s.domain;
+  d.magnet = Magnet::from_config(cfg);
+  s.plane_z_mm = sensing_plane_z_mm(cfg);
+  const double top = 0.5 * d.magnet.height_mm, h = cfg.real("sensor.plane_height_mm");
+  MeshSpec& m = d.mesh;
+  m.segments = static_cast<int>(cfg.integer("mesh.segments"));
+  m.equal_area = cfg.flag("mesh.equal_area");
+  m.h_magnet_mm = cfg.real("mesh.h_magnet_mm");
+  m.h_zone_mm = cfg.real("mesh.h_zone_mm");
+  m.h_air_mm = cfg.real("mesh.h_air_mm");
+  m.outer_radius_mm = cfg.real("mesh.outer_radius_mm");
+  m.sphere_subdivisions = static_cast<int>(cfg.integer("mesh.sphere_subdivisions"));
+  m.mesher.radius_edge_ratio = cfg.real("mesh.quality_ratio");
+  m.mesher.min_dihedral_deg = cfg.real("mesh.min_dihedral_deg");
+  // Refinement zone: z_s +- half height, but never closer to the magnet than h/2.
+  d.zone.half_width_mm = cfg.real("mesh.zone_half_width_mm");
+  d.zone.z_min_mm = std::max(s.plane_z_mm - cfg.real("mesh.zone_half_height_mm"), top + 0.5 * h);
+  d.zone.z_max_mm = s.plane_z_mm + cfg.real("mesh.zone_half_height_mm");
+  d.shaft.enabled = cfg.flag("shaft.enabled");
+  d.shaft.radius_mm = cfg.real("shaft.radius_mm");
+  d.shaft.length_mm = cfg.real("shaft.length_mm");
+  d.shaft.gap_mm = cfg.real("shaft.gap_mm");
+  d.shaft.mu_r = cfg.real("shaft.mu_r");
+  d.validate();
+
+  SolverOptions& o = s.solver;
+  o.order = static_cast<int>(cfg.integer("fem.order"));
+  o.robin = cfg.str("fem.boundary") == "robin";
+  o.preconditioner = cfg.str("fem.preconditioner");
+  o.tolerance = cfg.real("fem.tolerance");
+  o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));
+  o.threads = static_cast<int>(cfg.integer("fem.threads"));
+  o.progress_every = static_cast<int>(cfg.integer("fem.progress_every"));
+
+  // Grids.
+  const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");
+  if (!(pmax > pmin))
+    throw InputError("grid.plane_max_mm = " + std::to_string(pmax) + " must be > grid.plane_min_mm = " + std::to_string(pmin));
+  const double ps = cfg.real("grid.plane_step_mm");
+  s.plane = GridSpec::from_range({pmin, pmin, s.plane_z_mm}, {pmax, pmax, s.plane_z_mm}, {ps, ps, 1.0});
+  const double bmin = cfg.real("grid.box_xy_min_mm"), bmax = cfg.real("grid.box_xy_max_mm");
+  if (!(bmax > bmin))
+    throw InputError("grid.box_xy_max_mm = " + std::to_string(bmax) + " must be > grid.box_xy_min_mm = " + std::to_string(bmin));
+  const double bs = cfg.real("grid.box_step_mm");
+  const double z0 = s.plane_z_mm - cfg.real("grid.box_z_below_mm"), z1 = s.plane_z_mm + cfg.real("grid.box_z_above_mm");
+  s.box = GridSpec::from_range({bmin, bmin, z0}, {bmax, bmax, z1}, {bs, bs, bs});
+  // Both grids must lie well inside the truncation sphere (inscribed polyhedron).
+  auto check_inside = [&](const GridSpec& g, const char* what) {
+    const Eigen::Vector3d lo = g.origin_mm, hi = g.origin_mm + g.step_mm.cwiseProduct((g.dims.array() - 1).cast<double>().matrix());
+    const double far = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();
+    if (far >= 0.9 * m.outer_radius_mm)
+      throw InputError(std::string(what) + " reaches " + std::to_string(far) +
+                       " mm from the origin, outside the domain: mesh.outer_radius_mm = " + std::to_string(m.outer_radius_mm) +
+                       " must be > " + std::to_string(far / 0.9) + " mm");
+    if (g.num_points() > 200'000'000L) throw InputError(std::string(what) + " has too many points (> 2e8): increase its step");
+  };
+  check_inside(s.plane, "grid plane");
+  check_inside(s.box, "grid box");
+  return s;
+}
+
+}  // namespace magenc::fem

@@ -1,0 +1,23 @@
+#include "fem_field.hpp"
+
+#include <cstdio>
+
+#include "errors.hpp"
+#include "vtk_io.hpp"
+
+namespace magenc {
+
+FemField::FemField(const std::filesystem::path& dir)
+    : evaluator_(std::make_unique<fem::FieldEvaluator>(fem::read_solution_vtu(dir / "mesh.vtu"))) {}
+
+Vec3 FemField::B_T(const Vec3& p) const {
+  auto b = evaluator_->B_T(p);
+  if (!b) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "fem field: point (%g, %g, %g) mm lies outside the FE mesh", p.x(), p.y(), p.z());
+    throw InputError(buf);
+  }
+  return *b;
+}
+
+}  // namespace magenc

@@ -1,0 +1,80 @@
+#include "field_outputs.hpp"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "errors.hpp"
+#include "magenc_version.hpp"
+#include "vtk_io.hpp"
+
+namespace magenc::fem {
+
+double peak_rss_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss in KiB on Linux
+}
+
+void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s, const MagnetostaticSolver& solver,
+                         const std::string& config_json) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // 1. Grids: B from the FE solution at every grid point.
+  const Eigen::Matrix3Xd B_plane = solver.evaluator().B_T(s.plane.points());
+  const Eigen::Matrix3Xd B_box = solver.evaluator().B_T(s.box.points());
+  if (!B_plane.allFinite() || !B_box.allFinite()) throw ComputeError("B on the grids contains NaN");
+  // 2. VTK files.
+  write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell());
+  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true);
+  write_grid_vti(dir / "box.vti", s.box, B_box, false);
+  const double t_out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // 3. solve.json.
+  const SolveStats& st = solver.stats();
+  const DomainSpec& d = s.domain;
+  nlohmann::json j;
+  j["elements"] = st.elements;
+  j["nodes"] = st.nodes;
+  j["dofs"] = st.dofs;
+  j["nonzeros"] = st.nonzeros;
+  j["order"] = st.order;
+  j["iterations"] = st.iterations;
+  j["residual"] = st.residual;
+  j["preconditioner"] = solver.options().preconditioner;
+  j["tolerance"] = solver.options().tolerance;
+  j["t_mesh_s"] = st.t_mesh_s;
+  j["t_setup_s"] = st.t_setup_s;
+  j["t_assemble_s"] = st.t_assemble_s;
+  j["t_solve_s"] = st.t_solve_s;
+  j["t_post_s"] = st.t_post_s;
+  j["t_output_s"] = t_out;
+  j["t_total_s"] = st.t_total_s + t_out;
+  j["threads"] = st.threads;
+  j["peak_rss_mib"] = peak_rss_mib();
+  j["git_revision"] = kGitRevision;
+  j["magnet"] = {{"radius_mm", d.magnet.radius_mm}, {"height_mm", d.magnet.height_mm}, {"br_T", d.magnet.br_T},
+                 {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg}};
+  j["domain"] = {{"outer_radius_mm", d.mesh.outer_radius_mm},
+                 {"boundary", solver.options().robin ? "robin" : "dirichlet"},
+                 {"segments", d.mesh.segments},
+                 {"equal_area", d.mesh.equal_area},
+                 {"polygon_radius_mm", polygon_radius(d.magnet.radius_mm, d.mesh.segments, d.mesh.equal_area)},
+                 {"h_magnet_mm", d.mesh.h_magnet_mm},
+                 {"h_zone_mm", d.mesh.h_zone_mm},
+                 {"h_air_mm", d.mesh.h_air_mm},
+                 {"zone", {{"half_width_mm", d.zone.half_width_mm}, {"z_min_mm", d.zone.z_min_mm}, {"z_max_mm", d.zone.z_max_mm}}},
+                 {"shaft", {{"enabled", d.shaft.enabled}, {"radius_mm", d.shaft.radius_mm}, {"length_mm", d.shaft.length_mm},
+                            {"gap_mm", d.shaft.gap_mm}, {"mu_r", d.shaft.mu_r}}}};
+  j["plane_z_mm"] = s.plane_z_mm;
+  j["plane_grid"] = {{"origin_mm", {s.plane.origin_mm[0], s.plane.origin_mm[1], s.plane.origin_mm[2]}},
+                     {"step_mm", s.plane.step_mm[0]}, {"dims", {s.plane.dims[0], s.plane.dims[1]}}};
+  j["box_grid"] = {{"origin_mm", {s.box.origin_mm[0], s.box.origin_mm[1], s.box.origin_mm[2]}},
+                   {"step_mm", s.box.step_mm[0]}, {"dims", {s.box.dims[0], s.box.dims[1], s.box.dims[2]}}};
+  j["config"] = nlohmann::json::parse(config_json);
+  std::ofstream out(dir / "solve.json");
+  out << j.dump(2) << "\n";
+  if (!out) throw ComputeError("cannot write " + (dir / "solve.json").string());
+}
+
+}  // namespace magenc::fem

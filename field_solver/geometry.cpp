@@ -1,0 +1,209 @@
+#include "geometry.hpp"
+
+#include <Eigen/Dense>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "errors.hpp"
+#include "units.hpp"
+
+namespace magenc::fem {
+namespace {
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// Unit icosphere: icosahedron refined `level` times by edge midpoints.
+void unit_icosphere(int level, std::vector<Eigen::Vector3d>& v, std::vector<std::array<int, 3>>& f) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+       {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : v) p.normalize();
+  f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+       {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+       {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < level; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      int id = static_cast<int>(v.size()) - 1;
+      mid[key] = id;
+      return id;
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& tri : f) {
+      int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      g.push_back({tri[0], a, c});
+      g.push_back({tri[1], b, a});
+      g.push_back({tri[2], c, b});
+      g.push_back({a, b, c});
+    }
+    f.swap(g);
+  }
+}
+
+// Adds a faceted sphere (centre c, radius r) to the PLC. With equal_volume the
+// vertices are pushed out so the polyhedron's volume is 4/3 pi r^3.
+void add_sphere(Plc& plc, const Eigen::Vector3d& c, double r, int level, bool equal_volume) {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::array<int, 3>> f;
+  unit_icosphere(level, v, f);
+  double scale = 1.0;
+  if (equal_volume) {
+    double vol = 0;
+    for (const auto& tri : f) vol += v[tri[0]].dot(v[tri[1]].cross(v[tri[2]])) / 6.0;
+    scale = std::cbrt((4.0 / 3.0) * kPi / vol);
+  }
+  const int base = static_cast<int>(plc.points.size());
+  for (const auto& p : v) plc.add_point(c + r * scale * p);
+  for (const auto& tri : f) plc.facets.push_back({{base + tri[0], base + tri[1], base + tri[2]}});
+}
+
+// Adds a z-axis cylinder (polygon radius rp, N segments, z0 < z1).
+void add_cylinder(Plc& plc, double rp, int N, double z0, double z1) {
+  const int base = static_cast<int>(plc.points.size());
+  for (int k = 0; k < N; ++k) {
+    double a = 2.0 * kPi * k / N;
+    plc.add_point({rp * std::cos(a), rp * std::sin(a), z0});
+  }
+  for (int k = 0; k < N; ++k) {
+    double a = 2.0 * kPi * k / N;
+    plc.add_point({rp * std::cos(a), rp * std::sin(a), z1});
+  }
+  Plc::Facet bottom, top;
+  for (int k = 0; k < N; ++k) {
+    bottom.polygon.push_back(base + k);
+    top.polygon.push_back(base + N + k);
+    int k1 = (k + 1) % N;
+    plc.facets.push_back({{base + k, base + k1, base + N + k1, base + N + k}});
+  }
+  plc.facets.push_back(bottom);
+  plc.facets.push_back(top);
+}
+
+void add_box(Plc& plc, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const int b = static_cast<int>(plc.points.size());
+  for (int k = 0; k < 8; ++k)
+    plc.add_point({(k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()});
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+  for (const auto& q : quads) plc.facets.push_back({{b + q[0], b + q[1], b + q[2], b + q[3]}});
+}
+
+void require_positive(const char* key, double v, const char* unit) {
+  if (!(std::isfinite(v) && v > 0))
+    throw InputError(std::string(key) + " = " + num(v) + " is out of range: allowed > 0 " + unit);
+}
+
+}  // namespace
+
+double tet_volume_for_edge(double h_mm) { return h_mm * h_mm * h_mm / (6.0 * std::sqrt(2.0)); }
+
+double polygon_radius(double R_mm, int segments, bool equal_area) {
+  if (!equal_area) return R_mm;
+  const double t = 2.0 * kPi / segments;
+  return R_mm * std::sqrt(t / std::sin(t));
+}
+
+double DomainSpec::mu_r(int region) const {
+  switch (region) {
+    case kRegionMagnet: return magnet.mu_r;
+    case kRegionShaft: return shaft.mu_r;
+    default: return 1.0;
+  }
+}
+
+void DomainSpec::validate() const {
+  magnet.validate();
+  const MeshSpec& m = mesh;
+  if (m.segments < 8 || m.segments > 4096)
+    throw InputError("mesh.segments = " + std::to_string(m.segments) + " is out of range: allowed [8, 4096]");
+  if (m.sphere_subdivisions < 1 || m.sphere_subdivisions > 6)
+    throw InputError("mesh.sphere_subdivisions = " + std::to_string(m.sphere_subdivisions) +
+                     " is out of range: allowed [1, 6]");
+  require_positive("mesh.h_magnet_mm", m.h_magnet_mm, "mm");
+  require_positive("mesh.h_zone_mm", m.h_zone_mm, "mm");
+  require_positive("mesh.h_air_mm", m.h_air_mm, "mm");
+  require_positive("mesh.outer_radius_mm", m.outer_radius_mm, "mm");
+  const double R = magnet.radius_mm, L = magnet.height_mm;
+  const double rp = polygon_radius(R, m.segments, m.equal_area);
+  // Farthest magnet point from the origin must be well inside the truncation sphere.
+  const double magnet_extent = shape == MagnetShape::Sphere ? R : std::hypot(rp, 0.5 * L);
+  if (m.outer_radius_mm < 2.0 * magnet_extent)
+    throw InputError("mesh.outer_radius_mm = " + num(m.outer_radius_mm) +
+                     " is out of range: must be >= 2x the magnet's extent (" + num(2.0 * magnet_extent) +
+                     " mm; >= 10x recommended)");
+  const double top = shape == MagnetShape::Sphere ? R : 0.5 * L;
+  if (zone.enabled) {
+    require_positive("mesh.zone_half_width_mm", zone.half_width_mm, "mm");
+    if (!(zone.z_max_mm > zone.z_min_mm))
+      throw InputError("refinement zone is empty: z_max = " + num(zone.z_max_mm) + " <= z_min = " + num(zone.z_min_mm));
+    if (!(zone.z_min_mm > top))
+      throw InputError("refinement zone bottom z = " + num(zone.z_min_mm) + " mm touches the magnet (top face at " +
+                       num(top) + " mm): sensor.plane_height_mm must be > 0");
+    const double corner = Eigen::Vector3d(zone.half_width_mm, zone.half_width_mm,
+                                          std::max(std::abs(zone.z_min_mm), std::abs(zone.z_max_mm))).norm();
+    if (corner >= 0.9 * m.outer_radius_mm)
+      throw InputError("refinement zone (corner at " + num(corner) + " mm from the origin) reaches the truncation sphere: "
+                       "mesh.outer_radius_mm = " + num(m.outer_radius_mm) + " must be > " + num(corner / 0.9) + " mm");
+  }
+  if (shaft.enabled) {
+    require_positive("shaft.radius_mm", shaft.radius_mm, "mm");
+    require_positive("shaft.length_mm", shaft.length_mm, "mm");
+    require_positive("shaft.gap_mm", shaft.gap_mm, "mm");
+    if (!(std::isfinite(shaft.mu_r) && shaft.mu_r >= 1))
+      throw InputError("shaft.mu_r = " + num(shaft.mu_r) + " is out of range: allowed [1, 1e6]");
+    const double z_far = -top - shaft.gap_mm - shaft.length_mm;
+    const double ext = std::hypot(polygon_radius(shaft.radius_mm, m.segments, m.equal_area), z_far);
+    if (ext >= 0.9 * m.outer_radius_mm)
+      throw InputError("shaft reaches the truncation sphere (" + num(ext) + " mm from the origin): mesh.outer_radius_mm = " +
+                       num(m.outer_radius_mm) + " must be > " + num(ext / 0.9) + " mm");
+  }
+}
+
+Plc build_plc(const DomainSpec& spec) {
+  spec.validate();
+  const MeshSpec& m = spec.mesh;
+  const double R = spec.magnet.radius_mm, L = spec.magnet.height_mm;
+  Plc plc;
+  // 1. Truncation sphere (air region seed just inside it).
+  add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false);
+  // 2. Magnet.
+  double top = 0.5 * L;
+  if (spec.shape == MagnetShape::Cylinder) {
+    add_cylinder(plc, polygon_radius(R, m.segments, m.equal_area), m.segments, -0.5 * L, 0.5 * L);
+  } else {
+    add_sphere(plc, Eigen::Vector3d::Zero(), R, m.sphere_subdivisions, m.equal_area);
+    top = R;
+  }
+  plc.regions.push_back({Eigen::Vector3d(0, 0, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
+  // 3. Refinement zone around the sensing plane.
+  if (spec.zone.enabled) {
+    const double w = spec.zone.half_width_mm;
+    add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
+    plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm)), kRegionZone,
+                           tet_volume_for_edge(m.h_zone_mm)});
+  }
+  // 4. Shaft below the magnet.
+  double z_seed_air = 0.5 * (m.outer_radius_mm + top);  // on the axis above the magnet... unless the zone is there
+  if (spec.shaft.enabled) {
+    const double z1 = -top - spec.shaft.gap_mm, z0 = z1 - spec.shaft.length_mm;
+    add_cylinder(plc, polygon_radius(spec.shaft.radius_mm, m.segments, m.equal_area), m.segments, z0, z1);
+    plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
+  }
+  // Air seed: a point near the truncation sphere on the -x axis, outside everything else.
+  (void)z_seed_air;
+  plc.regions.push_back({Eigen::Vector3d(-0.95 * m.outer_radius_mm, 0, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
+  return plc;
+}
+
+TetMesh mesh_domain(const DomainSpec& spec) { return tetrahedralize_plc(build_plc(spec), spec.mesh.mesher); }
+
+}  // namespace magenc::fem

@@ -1,0 +1,71 @@
+// Geometry of the magnetostatic problem: the magnet, air out to a truncation
+// sphere, a refinement zone around the sensing plane and optional extra
+// regions (a soft-magnetic shaft under the magnet). Builds the PLC that the
+// mesher adapter turns into tets. Magnet frame, all lengths in mm.
+#pragma once
+#include "magnet.hpp"
+#include "mesh.hpp"
+#include "tetgen_mesher.hpp"
+
+namespace magenc::fem {
+
+enum class MagnetShape { Cylinder, Sphere };  // Sphere: radius = magnet.radius_mm (validation case)
+
+// Refinement zone: the box [-half_width, half_width]^2 x [z_min, z_max] (mm) of air
+// meshed with the zone's edge length.
+struct ZoneSpec {
+  bool enabled = true;
+  double half_width_mm = 5.5;
+  double z_min_mm = 3.55;  // must lie above the magnet's top face
+  double z_max_mm = 5.55;
+};
+
+// Optional coaxial cylinder below the magnet (e.g. a steel shaft).
+struct ShaftSpec {
+  bool enabled = false;
+  double radius_mm = 3.0;  // > 0
+  double length_mm = 10.0; // > 0
+  double gap_mm = 1.0;     // > 0: distance from the magnet's bottom face to the shaft's top
+  double mu_r = 1000.0;    // relative permeability (>= 1)
+};
+
+struct MeshSpec {
+  int segments = 96;          // polygon segments around every curved (cylindrical) face
+  bool equal_area = true;     // polygon radius scaled so the cross-section area (sphere: volume) is exact
+  double h_magnet_mm = 0.35;  // target edge length in the magnet (and shaft)
+  double h_zone_mm = 0.35;    // target edge length in the refinement zone
+  double h_air_mm = 10.0;     // maximum edge length in the far air
+  double outer_radius_mm = 60.0;  // truncation sphere radius
+  int sphere_subdivisions = 3;    // icosphere level of the faceted outer sphere (and sphere magnets: +1)
+  MesherOptions mesher;
+};
+
+struct DomainSpec {
+  Magnet magnet;
+  MagnetShape shape = MagnetShape::Cylinder;
+  ZoneSpec zone;
+  ShaftSpec shaft;
+  MeshSpec mesh;
+
+  // Throws InputError naming the offending key for degenerate or overlapping
+  // geometry (non-positive sizes, zone touching the magnet, anything outside
+  // the truncation sphere).
+  void validate() const;
+  // Relative permeability of a region id.
+  double mu_r(int region) const;
+};
+
+// Max volume (mm^3) of a regular tet with edge h (mm): h^3/(6 sqrt 2).
+double tet_volume_for_edge(double h_mm);
+
+// Radius (mm) of the N-gon vertices: R itself, or with equal_area the radius
+// whose N-gon has area pi R^2: R*sqrt(t/sin t), t = 2 pi/N.
+double polygon_radius(double R_mm, int segments, bool equal_area);
+
+// The PLC of the whole domain (closed facets + region seeds).
+Plc build_plc(const DomainSpec& spec);
+
+// Mesh the domain: build_plc + tetrahedralize_plc.
+TetMesh mesh_domain(const DomainSpec& spec);
+
+}  // namespace magenc::fem

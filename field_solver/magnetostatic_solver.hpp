@@ -1,0 +1,82 @@
+// Magnetostatic FEM for a permanent magnet (total scalar potential).
+//
+// PDE (scaled units, units.hpp: psi = mu0*phi_m in T*mm, Br = mu0*M0 in T):
+//   -div(mu_r grad psi) = -div(Br)   in the ball Omega of radius R_out,
+//   B = mu_r*(-grad psi) + Br        (Br = 0 outside the magnet),
+// Boundary: dipole Robin condition d psi/dn = -2 psi/r on |x| = R_out
+// (or psi = 0 with robin = false).
+// Discretization: Lagrange P1 or P2 tetrahedra on a TetGen mesh (regions
+// magnet / air / refinement zone / shaft), weak form
+//   Int mu_r grad psi . grad v + Int_Gamma (2/r) psi v = Int_magnet Br . grad v,
+// Jacobi- or incomplete-Cholesky-preconditioned CG (Eigen).
+// Sample: build/bin/solve_field --set fem.order=2 --out output/field
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+
+#include "assembly.hpp"
+#include "fe_solution.hpp"
+#include "fe_space.hpp"
+#include "geometry.hpp"
+
+namespace magenc::fem {
+
+struct SolverOptions {
+  int order = 2;                          // Lagrange order, 1 or 2
+  bool robin = true;                      // dipole Robin condition; false: psi = 0 on the sphere
+  std::string preconditioner = "jacobi";  // "jacobi" (parallel) or "ichol" (serial)
+  double tolerance = 1e-10;               // CG stop: |f - K psi| / |f| below this
+  int max_iterations = 20000;             // CG iteration cap (ComputeError when reached)
+  int threads = 0;                        // OpenMP threads (0: omp_get_max_threads)
+  int progress_every = 500;               // stderr progress line every N CG iterations (0: quiet)
+};
+
+// What a solve cost and reached.
+struct SolveStats {
+  long nodes = 0, elements = 0, boundary_faces = 0, dofs = 0, nonzeros = 0;
+  int order = 0, threads = 0;
+  long iterations = 0;
+  double residual = 0;  // relative residual reported by CG
+  double t_mesh_s = 0, t_setup_s = 0, t_assemble_s = 0, t_solve_s = 0, t_post_s = 0, t_total_s = 0;
+};
+
+class MagnetostaticSolver {
+ public:
+  MagnetostaticSolver(DomainSpec domain, SolverOptions options);
+  // make_mesh -> setup_system -> assemble_system -> solve -> compute_cell_fields.
+  void run();
+
+  const DomainSpec& domain() const { return domain_; }
+  const SolverOptions& options() const { return options_; }
+  const TetMesh& mesh() const { return mesh_; }
+  const SolveStats& stats() const { return stats_; }
+  // Solution with materials (valid after run()).
+  const FeSolution& solution() const { return evaluator_->solution(); }
+  // Point evaluation of B (valid after run()).
+  const FieldEvaluator& evaluator() const { return *evaluator_; }
+  // B (T) at cell centroids, 3 x n_cells (valid after run()).
+  const Eigen::Matrix3Xd& B_cell() const { return B_cell_; }
+
+ private:
+  void make_mesh();
+  void setup_system();
+  void assemble_system();
+  void solve();
+  void compute_cell_fields();
+
+  DomainSpec domain_;
+  SolverOptions options_;
+  TetMesh mesh_;                           // tets, region ids, outer boundary faces (mm)
+  std::unique_ptr<FeSpace> space_;         // P1/P2 dofs on mesh_
+  Eigen::VectorXd mu_r_cell_;              // relative permeability per cell
+  Eigen::Matrix3Xd br_cell_;               // remanence Br per cell (T), 0 outside the magnet
+  SparseMatrix K_;                         // stiffness + Robin (dofs x dofs, 1/mm*mm^3 scaled: mm)
+  Eigen::VectorXd f_;                      // load Int Br . grad v (T*mm^2)
+  Eigen::VectorXd psi_;                    // solution psi at dofs (T*mm)
+  std::unique_ptr<FieldEvaluator> evaluator_;
+  Eigen::Matrix3Xd B_cell_;                // B at centroids (T)
+  SolveStats stats_;
+};
+
+}  // namespace magenc::fem

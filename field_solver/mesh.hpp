@@ -1,0 +1,54 @@
+// Plain mesh data shared by the mesher adapter and the FEM: a piecewise linear
+// complex (PLC, the mesher's input) and a tetrahedral mesh (its output).
+// All coordinates in mm (units.hpp). No mesher types leak out of here.
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+namespace magenc::fem {
+
+// Region ids carried by every tetrahedron (cell data `region` in mesh.vtu).
+enum RegionId : int {
+  kRegionMagnet = 1,  // permanent magnet: mu_r = magnet.mu_r, remanence Br
+  kRegionAir = 2,     // air out to the truncation sphere, mu_r = 1
+  kRegionZone = 3,    // air in the refinement zone around the sensing plane
+  kRegionShaft = 4,   // optional soft-magnetic shaft under the magnet
+};
+
+// Piecewise linear complex: closed polygonal facets bounding the regions,
+// plus one seed point per region with its id and maximum tet volume.
+struct Plc {
+  struct Facet {
+    std::vector<int> polygon;  // indices into points, planar polygon, >= 3 vertices
+  };
+  struct Region {
+    Eigen::Vector3d seed_mm;   // a point strictly inside the region
+    int id = 0;                // RegionId
+    double max_volume_mm3 = 0; // TetGen volume constraint (<= 0: none)
+  };
+  std::vector<Eigen::Vector3d> points;  // vertices (mm)
+  std::vector<Facet> facets;
+  std::vector<Region> regions;
+
+  int add_point(const Eigen::Vector3d& p) {
+    points.push_back(p);
+    return static_cast<int>(points.size()) - 1;
+  }
+};
+
+// Conforming tetrahedral mesh (linear geometry).
+struct TetMesh {
+  Eigen::Matrix3Xd nodes;           // 3 x n_nodes vertex coordinates (mm)
+  Eigen::Matrix4Xi tets;            // 4 x n_tets vertex indices, positively oriented
+  Eigen::VectorXi region;           // n_tets region ids (RegionId)
+  Eigen::Matrix3Xi boundary_faces;  // 3 x n_faces triangles of the outer boundary
+
+  int num_nodes() const { return static_cast<int>(nodes.cols()); }
+  int num_tets() const { return static_cast<int>(tets.cols()); }
+};
+
+// Fills boundary_faces with the faces that belong to exactly one tet and makes
+// every tet positively oriented (det of its edge matrix > 0).
+void finalize_mesh(TetMesh& mesh);
+
+}  // namespace magenc::fem

@@ -1,0 +1,147 @@
+#include "vtk_io.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLImageDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include "errors.hpp"
+
+namespace magenc::fem {
+namespace {
+
+vtkSmartPointer<vtkDoubleArray> vector_array(const char* name, const Eigen::Matrix3Xd& v) {
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->SetNumberOfTuples(v.cols());
+  for (Eigen::Index i = 0; i < v.cols(); ++i) a->SetTuple3(i, v(0, i), v(1, i), v(2, i));
+  return a;
+}
+
+}  // namespace
+
+void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  pts->SetNumberOfPoints(sol.points_mm.cols());
+  for (Eigen::Index i = 0; i < sol.points_mm.cols(); ++i) pts->SetPoint(i, sol.points_mm(0, i), sol.points_mm(1, i), sol.points_mm(2, i));
+  grid->SetPoints(pts);
+  const int nd = static_cast<int>(sol.cell_dofs.rows());
+  const int type = sol.order == 1 ? VTK_TETRA : VTK_QUADRATIC_TETRA;
+  grid->Allocate(sol.num_cells());
+  vtkIdType ids[10];
+  for (int c = 0; c < sol.num_cells(); ++c) {
+    for (int k = 0; k < nd; ++k) ids[k] = sol.cell_dofs(k, c);
+    grid->InsertNextCell(type, nd, ids);
+  }
+  vtkNew<vtkDoubleArray> psi;
+  psi->SetName("psi");
+  psi->SetNumberOfTuples(sol.psi_Tmm.size());
+  for (Eigen::Index i = 0; i < sol.psi_Tmm.size(); ++i) psi->SetValue(i, sol.psi_Tmm[i]);
+  grid->GetPointData()->AddArray(psi);
+  grid->GetCellData()->AddArray(vector_array("B", B_cell));
+  vtkNew<vtkIntArray> region;
+  region->SetName("region");
+  region->SetNumberOfTuples(sol.num_cells());
+  vtkNew<vtkDoubleArray> mu;
+  mu->SetName("mu_r");
+  mu->SetNumberOfTuples(sol.num_cells());
+  for (int c = 0; c < sol.num_cells(); ++c) {
+    region->SetValue(c, sol.region[c]);
+    mu->SetValue(c, sol.mu_r[c]);
+  }
+  grid->GetCellData()->AddArray(region);
+  grid->GetCellData()->AddArray(mu);
+  grid->GetCellData()->AddArray(vector_array("Br", sol.br_T));
+  vtkNew<vtkXMLUnstructuredGridWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetDataModeToAppended();
+  w->SetCompressorTypeToZLib();
+  if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
+}
+
+void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz) {
+  vtkNew<vtkImageData> img;
+  img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
+  img->SetOrigin(g.origin_mm[0], g.origin_mm[1], g.origin_mm[2]);
+  img->SetSpacing(g.step_mm[0], g.step_mm[1], g.step_mm[2]);
+  if (with_bz) {
+    vtkNew<vtkDoubleArray> bz;
+    bz->SetName("Bz");
+    bz->SetNumberOfTuples(B.cols());
+    for (Eigen::Index i = 0; i < B.cols(); ++i) bz->SetValue(i, B(2, i));
+    img->GetPointData()->AddArray(bz);
+  }
+  img->GetPointData()->AddArray(vector_array("B", B));
+  vtkNew<vtkXMLImageDataWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(img);
+  w->SetDataModeToAppended();
+  w->SetCompressorTypeToZLib();
+  if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
+}
+
+FeSolution read_solution_vtu(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() + " does not exist");
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName(path.c_str());
+  r->Update();
+  vtkUnstructuredGrid* grid = r->GetOutput();
+  if (!grid || grid->GetNumberOfCells() == 0) throw InputError(path.string() + ": no cells (not a solve_field mesh.vtu)");
+  auto* psi = vtkDoubleArray::SafeDownCast(grid->GetPointData()->GetArray("psi"));
+  auto* region = vtkIntArray::SafeDownCast(grid->GetCellData()->GetArray("region"));
+  auto* mu = vtkDoubleArray::SafeDownCast(grid->GetCellData()->GetArray("mu_r"));
+  auto* br = vtkDoubleArray::SafeDownCast(grid->GetCellData()->GetArray("Br"));
+  if (!psi || !region || !mu || !br)
+    throw InputError(path.string() + ": missing array psi, region, mu_r or Br (not a solve_field mesh.vtu)");
+  FeSolution s;
+  const int type = grid->GetCellType(0);
+  if (type == VTK_TETRA) s.order = 1;
+  else if (type == VTK_QUADRATIC_TETRA) s.order = 2;
+  else throw InputError(path.string() + ": cells are neither VTK_TETRA nor VTK_QUADRATIC_TETRA");
+  const vtkIdType np = grid->GetNumberOfPoints(), nc = grid->GetNumberOfCells();
+  s.points_mm.resize(3, np);
+  s.psi_Tmm.resize(np);
+  for (vtkIdType i = 0; i < np; ++i) {
+    double p[3];
+    grid->GetPoint(i, p);
+    s.points_mm.col(i) = Eigen::Vector3d(p[0], p[1], p[2]);
+    s.psi_Tmm[i] = psi->GetValue(i);
+  }
+  const int nd = s.order == 1 ? 4 : 10;
+  s.cell_dofs.resize(nd, nc);
+  s.region.resize(nc);
+  s.mu_r.resize(nc);
+  s.br_T.resize(3, nc);
+  for (vtkIdType c = 0; c < nc; ++c) {
+    if (grid->GetCellType(c) != type) throw InputError(path.string() + ": mixed cell types");
+    vtkIdType n;
+    const vtkIdType* ids;
+    grid->GetCellPoints(c, n, ids);
+    if (n != nd) throw InputError(path.string() + ": cell with unexpected node count");
+    for (int k = 0; k < nd; ++k) s.cell_dofs(k, c) = static_cast<int>(ids[k]);
+    s.region[c] = region->GetValue(c);
+    s.mu_r[c] = mu->GetValue(c);
+    double b[3];
+    br->GetTuple(c, b);
+    s.br_T.col(c) = Eigen::Vector3d(b[0], b[1], b[2]);
+  }
+  if (!s.psi_Tmm.allFinite()) throw InputError(path.string() + ": psi contains NaN");
+  return s;
+}
+
+}  // namespace magenc::fem

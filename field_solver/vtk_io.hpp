@@ -1,0 +1,23 @@
+// The one VTK output layer of the FEM (XML formats, coordinates in mm, B in T,
+// psi in T*mm). Array names are the stable contract of interfaces.md.
+#pragma once
+#include <filesystem>
+
+#include "fe_solution.hpp"
+#include "grids.hpp"
+
+namespace magenc::fem {
+
+// mesh.vtu: VTK_TETRA (P1) or VTK_QUADRATIC_TETRA (P2, psi at edge nodes kept);
+// point data `psi` (T*mm); cell data `B` (T, 3), `region` (int), `mu_r`, `Br` (T, 3).
+void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell_T);
+
+// Image data (grid.dims.z() == 1: plane) with point arrays `B` (T, 3) and,
+// when with_bz, `Bz` (T).
+void write_grid_vti(const std::filesystem::path& path, const GridSpec& grid, const Eigen::Matrix3Xd& B_T, bool with_bz);
+
+// Reads a mesh.vtu written by write_solution_vtu back into a solution.
+// Throws InputError naming the file and what is missing.
+FeSolution read_solution_vtu(const std::filesystem::path& path);
+
+}  // namespace magenc::fem
