@@ -1,0 +1,94 @@
+// Smoke test of the radius study executable with a tiny configuration, and
+// its bad-input behaviour (non-zero exit, one-line message, no output dir).
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Run {
+  int code;
+  std::string err;
+};
+Run run_radius(const std::string& args, const fs::path& out) {
+  const fs::path err = out.string() + ".stderr";
+  const std::string cmd = std::string(MAGENC_BIN_DIR) + "/radius --out " + out.string() + " " + args + " >/dev/null 2>" +
+                          err.string();
+  const int rc = std::system(cmd.c_str());
+  std::ifstream f(err);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+std::string tiny() {
+  return "--set radius.fem_dir= --set radius.r0_min_mm=1.0 --set radius.r0_max_mm=3.0 --set radius.r0_step_mm=0.5 "
+         "--set radius.samples=300 --set radius.validate_radii=2 --set radius.validate_samples=1 --set sensor.steps=720";
+}
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> v;
+  std::stringstream ss(line);
+  std::string c;
+  while (std::getline(ss, c, ',')) v.push_back(c);
+  return v;
+}
+}  // namespace
+
+TEST_CASE("radius study: tiny configuration", "[radius][study]") {
+  const fs::path out = fs::temp_directory_path() / "magenc_test_radius_smoke";
+  fs::remove_all(out);
+  const Run r = run_radius(tiny(), out);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"radius.csv", "radius_spectra.csv", "radius_recommendation.csv", "radius_validation.csv",
+                        "summary.md", "config.toml", "bz_profile.png", "percentiles_analytic.png",
+                        "harmonics_analytic_ring8.png", "total_p99.png"})
+    CHECK(fs::exists(out / f));
+  std::ifstream csv(out / "radius.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  const auto cols = split(header);
+  for (const char* c : {"field", "array", "r0_mm", "bz_amplitude_T", "worst_pp_deg", "mc_p95_pp_deg", "mc_p99_pp_deg",
+                        "noise_pp_deg", "total_p99_pp_deg"})
+    CHECK(std::find(cols.begin(), cols.end(), c) != cols.end());
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto v = split(line);
+    REQUIRE(v.size() == cols.size());
+    const double p95 = std::stod(v[7]), p99 = std::stod(v[8]), worst = std::stod(v[4]);
+    CHECK(p95 <= p99);
+    CHECK(p99 <= worst * 1.5);  // MC inside the box: the corners are near the top
+    ++rows;
+  }
+  CHECK(rows == 5 * 3);
+  std::ifstream rec(out / "radius_recommendation.csv");
+  std::getline(rec, header);
+  int recs = 0;
+  while (std::getline(rec, line)) {
+    const double r0 = std::stod(split(line)[2]);
+    CHECK(r0 >= 1.0);
+    CHECK(r0 <= 3.0);
+    ++recs;
+  }
+  CHECK(recs == 3);
+  fs::remove_all(out);
+}
+
+TEST_CASE("radius study: bad input exits non-zero with one line and no output", "[radius][study][bad-input]") {
+  const fs::path out = fs::temp_directory_path() / "magenc_test_radius_bad";
+  const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
+                                   "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
+                                   "--set radius.arrays=three", "--set radius.r0_min_mm=0.2");
+  CAPTURE(bad);
+  fs::remove_all(out);
+  const Run r = run_radius(tiny() + " " + bad, out);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out));
+  fs::remove(out.string() + ".stderr");
+}

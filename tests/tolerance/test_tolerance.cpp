@@ -1,0 +1,121 @@
+// Tolerance box, seeded Monte Carlo, percentiles and the corner worst case
+// (src/tolerance.hpp).
+#include <catch2/catch.hpp>
+#include <omp.h>
+
+#include <cmath>
+
+#include "errors.hpp"
+#include "tolerance.hpp"
+
+using namespace magenc;
+
+namespace {
+// A cheap deterministic "error" of a mount with two outputs.
+void toy(std::size_t, const Mount& m, double* out) {
+  out[0] = std::abs(m.sx_mm + 2 * m.sy_mm - 3 * m.dx_mm + 0.5 * m.dy_mm + m.dz_mm);
+  out[1] = m.sx_mm * m.sx_mm + std::sin(10 * m.dz_mm);
+}
+Eigen::MatrixXd run_mc(const ToleranceBox& b, long n, std::uint64_t seed, int threads) {
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  Eigen::MatrixXd v = evaluate_cases(monte_carlo_samples(b, n, seed), 2, toy);
+  omp_set_num_threads(saved);
+  return v;
+}
+}  // namespace
+
+TEST_CASE("Monte Carlo: same seed gives identical results for any thread count", "[tolerance][mc]") {
+  ToleranceBox b;
+  const Eigen::MatrixXd one = run_mc(b, 5000, 42, 1);
+  const Eigen::MatrixXd two = run_mc(b, 5000, 42, 2);
+  const Eigen::MatrixXd four = run_mc(b, 5000, 42, 4);
+  CHECK((one.array() == two.array()).all());
+  CHECK((one.array() == four.array()).all());
+  const SampleStats s1 = sample_stats(one.col(0)), s4 = sample_stats(four.col(0));
+  CHECK(s1.p99 == s4.p99);
+  CHECK(s1.mean == s4.mean);
+  // A different seed gives different samples and (slightly) different statistics.
+  const Eigen::MatrixXd other = run_mc(b, 5000, 43, 2);
+  CHECK((one.array() != other.array()).count() > 4900);
+  CHECK(sample_stats(other.col(0)).p99 != s1.p99);
+  // Sample i does not depend on how many samples are drawn.
+  const auto few = monte_carlo_samples(b, 10, 42), many = monte_carlo_samples(b, 1000, 42);
+  for (int i = 0; i < 10; ++i) CHECK(few[i].dz_mm == many[i].dz_mm);
+}
+
+TEST_CASE("Monte Carlo samples are uniform in the box", "[tolerance][mc]") {
+  ToleranceBox b{0.1, 0.2, 0.05, 0.0, 0.3};
+  const auto s = monte_carlo_samples(b, 200000, 7);
+  double mean[5] = {}, m2[5] = {}, lo[5] = {1e9, 1e9, 1e9, 1e9, 1e9}, hi[5] = {-1e9, -1e9, -1e9, -1e9, -1e9};
+  const double half[5] = {0.1, 0.2, 0.05, 0.0, 0.3};
+  for (const auto& m : s) {
+    const double v[5] = {m.sx_mm, m.sy_mm, m.dx_mm, m.dy_mm, m.dz_mm};
+    for (int k = 0; k < 5; ++k) {
+      mean[k] += v[k] / s.size();
+      m2[k] += v[k] * v[k] / s.size();
+      lo[k] = std::min(lo[k], v[k]);
+      hi[k] = std::max(hi[k], v[k]);
+    }
+  }
+  for (int k = 0; k < 5; ++k) {
+    CAPTURE(k);
+    CHECK(lo[k] >= -half[k]);
+    CHECK(hi[k] <= half[k]);
+    CHECK(std::abs(mean[k]) <= 0.01 * half[k] + 1e-15);
+    // Variance of U(-h, h) is h^2/3.
+    CHECK(m2[k] == Approx(half[k] * half[k] / 3).epsilon(0.01).margin(1e-15));
+  }
+}
+
+TEST_CASE("percentiles follow the type-7 definition", "[tolerance]") {
+  std::vector<double> v;
+  for (int i = 100; i >= 1; --i) v.push_back(i);  // 1..100, unsorted
+  CHECK(percentile(v, 0) == 1.0);
+  CHECK(percentile(v, 100) == 100.0);
+  CHECK(percentile(v, 50) == Approx(50.5));
+  CHECK(percentile(v, 99) == Approx(99.01));
+  CHECK(percentile(v, 95) == Approx(95.05));
+  CHECK(percentile({3.0}, 99) == 3.0);
+  CHECK_THROWS_AS(percentile({}, 50), InputError);
+  CHECK_THROWS_AS(percentile(v, 101), InputError);
+}
+
+TEST_CASE("worst case over the corners: a case with a known answer", "[tolerance][worst]") {
+  // f = |sx + 2 sy - 3 dx + 0.5 dy + dz| is largest where every term has the
+  // sign of its coefficient (or all opposite): value = sum |c_i| h_i.
+  ToleranceBox b{0.1, 0.2, 0.05, 0.4, 0.3};
+  const auto corners = b.corners();
+  REQUIRE(corners.size() == 32);
+  const Eigen::MatrixXd v = evaluate_cases(corners, 2, toy);
+  const WorstCase w = worst_case(v, 0);
+  CHECK(w.value == Approx(0.1 + 2 * 0.2 + 3 * 0.05 + 0.5 * 0.4 + 0.3));
+  const Mount& m = corners[w.row];
+  // First of the two tied corners in corner order: sx at '+' -> (+, +, -, +, +).
+  CHECK(m.sx_mm > 0);
+  CHECK(m.sy_mm > 0);
+  CHECK(m.dx_mm < 0);
+  CHECK(m.dy_mm > 0);
+  CHECK(m.dz_mm > 0);
+  CHECK(corner_text(m) == "sx+ sy+ dx- dy+ dz+");
+  // Every MC sample lies inside the box, so none beats this (linear |.|) worst corner.
+  const Eigen::MatrixXd mc = evaluate_cases(monte_carlo_samples(b, 20000, 3), 2, toy);
+  CHECK(mc.col(0).maxCoeff() <= w.value);
+  CHECK(mc.col(0).maxCoeff() > 0.8 * w.value);
+}
+
+TEST_CASE("corners drop duplicates of zero half-widths", "[tolerance]") {
+  ToleranceBox b{0.1, 0.0, 0.1, 0.0, 0.0};
+  const auto c = b.corners();
+  CHECK(c.size() == 4);
+  CHECK(b.max_inplane_mm() == Approx(0.2));
+}
+
+TEST_CASE("tolerance box rejects bad half-widths", "[tolerance][bad-input]") {
+  ToleranceBox b;
+  b.dz_mm = -0.1;
+  CHECK_THROWS_WITH(b.validate("radius.tol_"), Catch::Contains("radius.tol_dz_mm") && Catch::Contains("[0, 10] mm"));
+  b.dz_mm = std::nan("");
+  CHECK_THROWS_AS(b.validate(), InputError);
+  CHECK_THROWS_AS(monte_carlo_samples(ToleranceBox{}, 0, 1), InputError);
+}
