@@ -35,11 +35,11 @@ bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
   return std::hypot(p.x(), p.y()) <= magnet_.radius_mm && std::abs(p.z()) <= magnet_.top_z_mm();
 }
 
-const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_mm, bool bz_only) const {
+const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_mm) const {
   const double R = magnet_.radius_mm, half = magnet_.top_z_mm();
-  const double t1 = z_mm - half, t2 = z_mm + half;
-  // Distance (in z) to the nearer face plane; 0 beside the slab for B_x, B_y (pole at rho = 0).
-  const double tmin = (bz_only || t1 * t2 >= 0) ? std::min(std::abs(t1), std::abs(t2)) : 0.0;
+  // Distance (in z) to the nearer face plane: the integrands (with the rho = 0
+  // pole removed beside the magnet) are singular only where rho^2 = -t_i^2.
+  const double tmin = std::min(std::abs(z_mm - half), std::abs(z_mm + half));
   if (!(r_mm > 0)) return tables_.front();  // on the axis: integrand ~ constant * cos(phi')
   const double c = (r_mm * r_mm + R * R + tmin * tmin) / (2.0 * r_mm * R);
   const double a = std::acosh(std::max(c, 1.0));
@@ -50,15 +50,28 @@ const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_m
   return tables_.back();
 }
 
-int AnalyticField::nodes_at(const Vec3& p, bool bz_only) const {
-  return table_for(std::hypot(p.x(), p.y()), p.z(), bz_only).n;
+int AnalyticField::nodes_at(const Vec3& p) const {
+  return table_for(std::hypot(p.x(), p.y()), p.z()).n;
 }
+
+namespace {
+// I(x, y) = Int_0^{2pi} cos(phi') (x - R cos phi', y - R sin phi') / rho^2 dphi'
+// (1/mm), the field of a cos(phi')-charged circle in 2-D (a uniformly
+// polarized infinite cylinder): inside (r < R) I = -pi/R x_hat, outside
+// I = pi R / r^2 (2 (x_hat . r_hat) r_hat - x_hat).
+Eigen::Vector2d two_d_dipole_integral(double x, double y, double R) {
+  const double r2 = x * x + y * y;
+  if (r2 < R * R) return {-kPi / R, 0.0};
+  const double k = kPi * R / r2;
+  return {k * (2.0 * x * x / r2 - 1.0), k * (2.0 * x * y / r2)};
+}
+}  // namespace
 
 double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double t1sq = t1 * t1, t2sq = t2 * t2;
-  const NodeTable& tab = table_for(std::hypot(x, y), z, true);
+  const NodeTable& tab = table_for(std::hypot(x, y), z);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
@@ -80,7 +93,7 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double a1 = std::abs(t1), a2 = std::abs(t2);
   const double t1sq = t1 * t1, t2sq = t2 * t2;
-  const NodeTable& tab = table_for(std::hypot(x, y), z, false);
+  const NodeTable& tab = table_for(std::hypot(x, y), z);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
@@ -102,17 +115,24 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
     acc_x *= L;
     acc_y *= L;
   } else {
-    // Beside the magnet (|z| < L/2): g = (a1/s1 + a2/s2)/rho^2.
+    // Beside the magnet (|z| < L/2): g = (a1/s1 + a2/s2)/rho^2 has a pole at
+    // rho = 0 (the curved face). Split g = 2/rho^2 + gr with the regular part
+    // gr = -[1/(s1 (s1 + a1)) + 1/(s2 (s2 + a2))]; the pole part integrates in
+    // closed form (2-D field of a cos-charged circle, see two_d_dipole_integral).
 #pragma omp simd reduction(+ : acc_x, acc_y, acc_z)
     for (int j = 0; j < n; ++j) {
       const double dx = x - R * cphi[j], dy = y - R * sphi[j];
       const double rho2 = dx * dx + dy * dy;
       const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double g = (a1 / s1 + a2 / s2) / rho2;
-      acc_x += cphi[j] * dx * g;
-      acc_y += cphi[j] * dy * g;
+      const double gr = -(1.0 / (s1 * (s1 + a1)) + 1.0 / (s2 * (s2 + a2)));
+      acc_x += cphi[j] * dx * gr;
+      acc_y += cphi[j] * dy * gr;
       acc_z += cphi[j] / (s1 * s2 * (s1 + s2));
     }
+    const double weight = 2.0 * kPi / n;
+    const Eigen::Vector2d I = two_d_dipole_integral(x, y, R);
+    acc_x += 2.0 * I.x() / weight;  // the sums below are multiplied by the weight
+    acc_y += 2.0 * I.y() / weight;
   }
   const double pref = magnet_.br_T * R / (4.0 * kPi) * (2.0 * kPi / n);
   return {pref * acc_x, pref * acc_y, pref * (2.0 * z * L) * acc_z};

@@ -13,17 +13,21 @@
 //   s_i = sqrt(rho^2 + t_i^2), rho^2 = (x - R cos phi')^2 + (y - R sin phi')^2.
 // g is evaluated without cancellation: for t1*t2 >= 0 (point above or below
 // the magnet's slab) g = L*N/D with N = a1+a2+s2+a1*(a1+a2)/(s1+s2),
-// D = s1*s2*(s1+a1)*(s2+a2), a_i = |t_i|; beside the magnet (t1 < 0 < t2)
-// g = (a1/s1 + a2/s2)/rho^2.
+// D = s1*s2*(s1+a1)*(s2+a2), a_i = |t_i|. Beside the magnet (t1 < 0 < t2)
+// g = (a1/s1 + a2/s2)/rho^2 has a pole on the curved face (rho = 0); it is
+// split as g = 2/rho^2 + gr, gr = -[1/(s1(s1+a1)) + 1/(s2(s2+a2))] regular,
+// and the 2/rho^2 part is integrated in closed form (2-D field of a
+// cos-charged circle: -pi/R x_hat inside, pi R/r^2 (2 (x_hat.r_hat) r_hat - x_hat)
+// outside).
 //
-// Node count: the integrand is analytic in phi' in a strip of half-width a
-// about the real axis, where a = acosh((r^2 + R^2 + t_min^2)/(2 r R)) is set by
-// the nearest complex zero of rho^2 + t^2 (t_min = min |t_i| above/below the
-// slab, 0 beside it, where B_x, B_y have a pole at rho = 0; B_z alone has no
-// pole, so its t_min is min |t_i| everywhere), r the point's distance from the axis. The midpoint rule
-// then errs like exp(-N*a); N is the smallest tabulated count with
-// N*a >= kQuadratureExponent (+ log(r/R) for the far-field cancellation),
-// capped at kMaxNodes (points within ~1 um of a rim circle get less accuracy).
+// Node count: after that split every integrand is analytic in phi' in a strip
+// of half-width a = acosh((r^2 + R^2 + t_min^2)/(2 r R)) about the real axis,
+// set by the nearest complex zero of rho^2 + t_i^2 (t_min = distance in z to
+// the nearer face plane, r = the point's distance from the axis). The
+// midpoint rule then errs like exp(-N*a); N is the smallest tabulated count
+// with N*a >= kQuadratureExponent (+ log(r/R) for the far-field
+// cancellation), capped at kMaxNodes: only points within ~36 R / kMaxNodes
+// ~ 1 um of a rim circle (where a -> 0) get less than ~1e-12 relative accuracy.
 #pragma once
 #include <vector>
 
@@ -45,9 +49,8 @@ class AnalyticField final : public FieldSource {
 
   // True when p_mm lies inside the magnet or on its surface (r <= R, |z| <= L/2).
   bool inside_or_on_magnet(const Vec3& p_mm) const;
-  // Number of midpoint nodes the quadrature uses at p_mm for B (bz_only:
-  // for B_z alone); for tests and benchmarks.
-  int nodes_at(const Vec3& p_mm, bool bz_only = false) const;
+  // Number of midpoint nodes the quadrature uses at p_mm (tests, benchmarks).
+  int nodes_at(const Vec3& p_mm) const;
 
   static constexpr double kQuadratureExponent = 36.0;  // exp(-36) ~ 2e-16
   static constexpr int kMinNodes = 16;
@@ -59,9 +62,8 @@ class AnalyticField final : public FieldSource {
     int n = 0;
     std::vector<double> cos_phi, sin_phi;
   };
-  // Node table for a point at distance r_mm from the axis and height z_mm;
-  // bz_only: only B_z is wanted (no rho = 0 pole beside the magnet).
-  const NodeTable& table_for(double r_mm, double z_mm, bool bz_only) const;
+  // Node table for a point at distance r_mm from the axis and height z_mm.
+  const NodeTable& table_for(double r_mm, double z_mm) const;
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;
