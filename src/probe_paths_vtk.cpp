@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -63,13 +64,22 @@ void write_probe_paths_vtp(const fs::path& file, const Eigen::Matrix3Xd& positio
     }
   }
 
-  // 3. One polyline per probe.
+  // 3. One polyline per probe; closed (first point repeated at the end) when
+  //    the angles are uniform steps over exactly one turn.
+  bool full_turn = M >= 3;
+  if (full_turn) {
+    const double step = theta_deg(1) - theta_deg(0);
+    for (Eigen::Index m = 1; m < M && full_turn; ++m)
+      full_turn = std::abs(theta_deg(m) - theta_deg(m - 1) - step) <= 1e-9 * 360.0;
+    full_turn = full_turn && std::abs(M * step - 360.0) <= 1e-9 * 360.0;
+  }
   vtkNew<vtkCellArray> lines;
   vtkNew<vtkIntArray> probe_cell;
   probe_cell->SetName("probe");
   for (Eigen::Index k = 0; k < K; ++k) {
-    lines->InsertNextCell(static_cast<vtkIdType>(M));
+    lines->InsertNextCell(static_cast<vtkIdType>(full_turn ? M + 1 : M));
     for (Eigen::Index m = 0; m < M; ++m) lines->InsertCellPoint(k * M + m);
+    if (full_turn) lines->InsertCellPoint(k * M);
     probe_cell->InsertNextValue(static_cast<int>(k));
   }
 

@@ -6,7 +6,9 @@
 //     to the magnet at rest while the rotor turns;
 //   * K polylines (one per probe), polyline k = probe k, M points each, in
 //     rotor-angle order; the points of probe k are stored contiguously
-//     (point index k*M + m);
+//     (point index k*M + m). When theta_deg is M uniform steps over exactly
+//     one turn (theta_m = theta_0 + 360*m/M), each polyline is closed: its
+//     M+1 point ids end with its first point again (no duplicated point);
 //   * point data  `Bz`        (double, T)   field the probe reads at that point;
 //   * point data  `theta_deg` (double, deg) rotor angle of that sample;
 //   * point data  `probe`     (int)         probe index k (0-based);

@@ -84,7 +84,8 @@ TEST_CASE("probe paths .vtp: one polyline per probe with Bz, theta_deg, probe", 
   poly->GetLines()->InitTraversal();
   for (int k = 0; k < c.K; ++k) {
     REQUIRE(poly->GetLines()->GetNextCell(ids));
-    REQUIRE(ids->GetNumberOfIds() == c.M);
+    REQUIRE(ids->GetNumberOfIds() == c.M + 1);  // one full turn: closed loop
+    CHECK(ids->GetId(c.M) == ids->GetId(0));
     CHECK(probe_cell->GetTuple1(k) == k);
     for (int m = 0; m < c.M; ++m) {
       const vtkIdType id = ids->GetId(m);
@@ -100,6 +101,22 @@ TEST_CASE("probe paths .vtp: one polyline per probe with Bz, theta_deg, probe", 
       CHECK(probe->GetTuple1(id) == k);
     }
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("probe paths .vtp: a partial turn stays an open polyline", "[vtk][probe]") {
+  const Case c;
+  const fs::path dir = temp_dir();
+  const fs::path file = dir / "half.vtp";
+  const Eigen::VectorXd half_theta = 0.5 * c.theta;  // 0..165 deg: not one turn
+  magenc::write_probe_paths_vtp(file, c.pos, c.bz, c.K, half_theta);
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.string().c_str());
+  reader->Update();
+  vtkNew<vtkIdList> ids;
+  reader->GetOutput()->GetLines()->InitTraversal();
+  REQUIRE(reader->GetOutput()->GetLines()->GetNextCell(ids));
+  CHECK(ids->GetNumberOfIds() == c.M);
   fs::remove_all(dir);
 }
 
