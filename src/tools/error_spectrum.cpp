@@ -12,7 +12,7 @@
 // --config and --set, so the config's range checks apply to them. With
 // --cases, each row is a complete mount (missing columns = 0) and the mount
 // flags/keys are not used; combining --cases with --sx..--dz is an error.
-// --field defaults to analytic; --interp is accepted for grid: fields.
+// --field defaults to analytic; --interp (default cubic) applies to grid: fields.
 // Writes the spectra table to --out atomically, or to stdout.
 // Example: error_spectrum --field analytic --array two --r0 2.4 --dx 0.1
 #include <CLI/CLI.hpp>
@@ -23,6 +23,7 @@
 #include "atomic_output.hpp"
 #include "cli.hpp"
 #include "errors.hpp"
+#include "fem_field_scheme.hpp"
 #include "field_factory.hpp"
 #include "magnet.hpp"
 #include "tables.hpp"
@@ -37,7 +38,7 @@ struct Flags {
   std::string field = "analytic";          // --field
   std::optional<std::string> array, r0, steps, sx, sy, dx, dy, dz;  // config shorthands
   std::string cases;                        // --cases FILE.csv (empty: one case)
-  std::string interp = "linear";           // --interp (grid: fields only)
+  std::string interp = "cubic";            // --interp (grid: fields only)
 };
 
 // Applies one flag as "key=text"; an invalid value is reported under the flag's name.
@@ -67,6 +68,7 @@ void apply_flags(Config& cfg, const Flags& f) {
 }
 
 int run(int argc, char** argv) {
+  magenc::register_fem_field_scheme();  // fem:DIR (field_solver)
   // 1. Options.
   CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (interfaces.md)"};
   magenc::CommonOptions common;
@@ -83,7 +85,7 @@ int run(int argc, char** argv) {
   app.add_option("--dz", f.dz, "air-gap offset in mm, + = farther (mount.dz_mm)");
   app.add_option("--cases", f.cases, "CSV of mounting cases: columns sx_mm,sy_mm,dx_mm,dy_mm,dz_mm (missing = 0)");
   app.add_option("--steps", f.steps, "samples M of theta per turn (sensor.steps, >= 16)");
-  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only)")
+  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   magenc::parse_cli(app, argc, argv);
 
@@ -103,7 +105,9 @@ int run(int argc, char** argv) {
   const std::vector<magenc::Mount> cases =
       f.cases.empty() ? std::vector<magenc::Mount>{magenc::Mount::from_config(cfg)}
                       : magenc::read_cases_csv(f.cases);
-  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg);
+  magenc::FieldOptions field_opts;
+  field_opts.interp = magenc::parse_interp(f.interp, "--interp");
+  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, field_opts);
 
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;
