@@ -177,13 +177,16 @@ void write_plot(const fs::path& dir, const std::string& name, const PlotSpec& sp
   fs::remove(log, ec);
   const bool exited_ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
   if (!exited_ok) {
+    fs::remove(dir / png, ec);  // gnuplot may have drawn some panels before failing: no partial PNG
     const bool missing = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 127;
     throw ComputeError("plot " + name + ": " +
                        (missing ? std::string("gnuplot not found (install gnuplot-nox)")
                                 : "gnuplot failed: " + last_lines(log_text, 3)));
   }
-  if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0)
+  if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0) {
+    fs::remove(dir / png, ec);
     throw ComputeError("plot " + name + ": gnuplot wrote no " + png + " (" + last_lines(log_text, 3) + ")");
+  }
 }
 
 }  // namespace magenc

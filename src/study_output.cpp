@@ -103,6 +103,15 @@ std::string fmt(double v, int digits) {
   return t;
 }
 
+std::string fmt_auto(double v, int digits) {
+  if (!std::isfinite(v)) return "nan";
+  if (v == 0) return "0";
+  if (std::abs(v) >= std::pow(10.0, -(digits - 1))) return fmt(v, digits);
+  std::ostringstream os;
+  os << std::scientific << std::setprecision(1) << v;
+  return os.str();
+}
+
 std::string md_table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
   std::ostringstream os;
@@ -142,4 +151,14 @@ std::string harmonics_text(const std::vector<Harmonic>& h, int digits) {
   return t;
 }
 
+}  // namespace magenc
+
+namespace magenc {
+std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, int digits) {
+  if (!h.empty()) return harmonics_text(h, digits);
+  int nmax = 1;
+  for (int n = 2; n <= kHarmonics; ++n)
+    if (s.c_deg[n] > s.c_deg[nmax]) nmax = n;
+  return "none (largest c" + std::to_string(nmax) + " = " + fmt_auto(s.c_deg[nmax], digits) + ")";
+}
 }  // namespace magenc

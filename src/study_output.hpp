@@ -56,6 +56,9 @@ ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_s
 
 // Fixed-point text with `digits` decimals ("-0.000" printed as "0.000").
 std::string fmt(double v, int digits = 3);
+// Number for tables: fixed with `digits` decimals when |v| >= 10^-(digits-1),
+// otherwise scientific with 2 significant digits ("3.1e-06"); exact 0 -> "0".
+std::string fmt_auto(double v, int digits = 4);
 // A Markdown table.
 std::string md_table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);
@@ -71,6 +74,8 @@ struct Harmonic {
 };
 std::vector<Harmonic> dominant_harmonics(const Spectrum& s, double floor_deg, double rel,
                                          int max_count);
+// "c1 3.376, c3 0.412"; when h is empty: "none (largest cN = x)" from s.
 std::string harmonics_text(const std::vector<Harmonic>& h, int digits = 3);
+std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, int digits = 3);
 
 }  // namespace magenc

@@ -115,6 +115,17 @@ PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
         p.series.push_back(std::move(line));
       }
     }
+    // A coefficient that is zero up to rounding would otherwise autoscale its
+    // noise to full height and look like data.
+    double ymax = 0;
+    for (const auto& s : p.series)
+      if (s.style == "points")
+        for (double y : s.y)
+          if (std::isfinite(y)) ymax = std::max(ymax, std::abs(y));
+    if (ymax < kRoundingZeroDeg) {
+      p.commands.push_back("set yrange [-1:1]");
+      p.commands.push_back("set label 'zero up to rounding (all |values| < 1e-9 deg)' at graph 0.5, 0.85 center");
+    }
     spec.panels.push_back(std::move(p));
   }
   return spec;

@@ -40,7 +40,10 @@ struct SweepCase {
   const SweepResult* sweep;
 };
 // One panel per coefficient; each sweep drawn as points (computed) and a line
-// (its cubic fit from fits, if present). xlabel names the swept offset.
+// (its cubic fit from fits, if present). xlabel names the swept offset. A
+// panel whose values are all below kRoundingZeroDeg in magnitude is drawn on a
+// fixed [-1, 1] axis and labelled as zero up to rounding.
+inline constexpr double kRoundingZeroDeg = 1e-9;
 PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
                             const std::vector<SweepCase>& sweeps, const std::vector<FitRow>& fits,
                             const std::vector<std::string>& coefs, int columns = 3);

@@ -1,0 +1,64 @@
+// src/plot.cpp: gnuplot driver writes NAME.png (a real PNG), NAME.gp, NAME.dat;
+// failures of gnuplot and bad inputs are reported, not ignored.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "errors.hpp"
+#include "plot.hpp"
+#include "study_test_util.hpp"
+
+using namespace magenc;
+namespace fs = std::filesystem;
+
+namespace {
+PlotSpec two_panel_spec() {
+  PlotSeries sine{"sin {/Symbol q}", {}, {}, "lines", ""};
+  PlotSeries pts{plot_literal("c3_deg (literal)"), {}, {}, "points", ""};
+  for (int i = 0; i <= 36; ++i) {
+    sine.x.push_back(10.0 * i);
+    sine.y.push_back(std::sin(10.0 * i * M_PI / 180));
+    pts.x.push_back(10.0 * i);
+    pts.y.push_back(i == 5 ? NAN : 0.5 * std::cos(10.0 * i * M_PI / 180));
+  }
+  PlotPanel a{"first", "{/Symbol q} [deg]", "value [1]", {sine, pts}};
+  PlotPanel b{"empty series and log axis", "x [mm]", "y [deg]", {PlotSeries{"nothing", {}, {}}}};
+  b.logy = true;
+  return PlotSpec{"plot test", {a, b}, 2, 800, 400};
+}
+}  // namespace
+
+TEST_CASE("write_plot writes a PNG with its script and data", "[plot][studies]") {
+  const fs::path dir = test::temp_out("plot");
+  write_plot(dir, "demo", two_panel_spec());
+  REQUIRE(fs::exists(dir / "demo.png"));
+  CHECK(fs::file_size(dir / "demo.png") > 1000);
+  std::ifstream png(dir / "demo.png", std::ios::binary);
+  char sig[8] = {};
+  png.read(sig, 8);
+  CHECK(std::string(sig + 1, 3) == "PNG");
+  CHECK(fs::exists(dir / "demo.gp"));
+  CHECK(fs::exists(dir / "demo.dat"));
+  const std::string gp = test::slurp(dir / "demo.gp");
+  CHECK(gp.find("pngcairo") != std::string::npos);
+  CHECK(gp.find("multiplot layout 1,2") != std::string::npos);
+  CHECK(gp.find("c3\\_deg") != std::string::npos);  // plot_literal escaped the underscore
+  CHECK_FALSE(fs::exists(dir / "demo.gnuplot.log"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("write_plot reports gnuplot failures and bad input", "[plot][studies]") {
+  const fs::path dir = test::temp_out("plot_bad");
+  PlotSpec bad = two_panel_spec();
+  bad.panels[0].commands.push_back("set nonsense_option 42");
+  CHECK_THROWS_AS(write_plot(dir, "bad", bad), ComputeError);
+  CHECK_FALSE(fs::exists(dir / "bad.png"));
+
+  PlotSpec mismatch = two_panel_spec();
+  mismatch.panels[0].series[0].y.pop_back();
+  CHECK_THROWS_AS(write_plot(dir, "mismatch", mismatch), InputError);
+  CHECK_THROWS_AS(write_plot(dir, "a/b", two_panel_spec()), InputError);
+  fs::remove_all(dir);
+}
