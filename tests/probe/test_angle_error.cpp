@@ -76,7 +76,7 @@ TEST_CASE("ideal mount on the exact field: no error", "[probe][analytic]") {
   }
 }
 
-TEST_CASE("magnetization direction gives a constant offset, wrapped into (-180, 180]", "[probe][analytic]") {
+TEST_CASE("magnetization direction gives a constant offset wrapped to -180 < eps <= 180", "[probe][analytic]") {
   // M0 rotated by alpha: Bz at magnet-frame azimuth psi ~ cos(psi - alpha); probe k
   // sits at psi = b_k - theta, so phi = theta + alpha and eps = wrap(alpha).
   for (double alpha : {30.0, -100.0, 180.0, 200.0}) {

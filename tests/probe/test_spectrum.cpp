@@ -9,7 +9,7 @@
 
 using namespace magenc;
 
-TEST_CASE("wrap_deg maps into (-180, 180]", "[probe][spectrum]") {
+TEST_CASE("wrap_deg maps into -180 < a <= 180", "[probe][spectrum]") {
   CHECK(wrap_deg(0.0) == 0.0);
   CHECK(wrap_deg(180.0) == 180.0);
   CHECK(wrap_deg(-180.0) == 180.0);
