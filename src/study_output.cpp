@@ -103,9 +103,9 @@ std::string fmt(double v, int digits) {
   return t;
 }
 
-std::string fmt_auto(double v, int digits) {
+std::string fmt_auto(double v, int digits, double zero_below) {
   if (!std::isfinite(v)) return "nan";
-  if (v == 0) return "0";
+  if (v == 0 || std::abs(v) < zero_below) return "0";
   if (std::abs(v) >= std::pow(10.0, -(digits - 1))) return fmt(v, digits);
   std::ostringstream os;
   os << std::scientific << std::setprecision(1) << v;
@@ -159,6 +159,7 @@ std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, in
   int nmax = 1;
   for (int n = 2; n <= kHarmonics; ++n)
     if (s.c_deg[n] > s.c_deg[nmax]) nmax = n;
+  if (s.c_deg[nmax] < kRoundingZeroDeg) return "none (all c_n < " + fmt_auto(kRoundingZeroDeg, 1) + ")";
   return "none (largest c" + std::to_string(nmax) + " = " + fmt_auto(s.c_deg[nmax], digits) + ")";
 }
 }  // namespace magenc

@@ -56,9 +56,15 @@ ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_s
 
 // Fixed-point text with `digits` decimals ("-0.000" printed as "0.000").
 std::string fmt(double v, int digits = 3);
+// Angle-error values (deg) below this magnitude are rounding noise of the
+// double-precision pipeline (an ideal mount on the exact field gives ~1e-14),
+// shown as 0 in summaries and plots.
+inline constexpr double kRoundingZeroDeg = 1e-12;
+
 // Number for tables: fixed with `digits` decimals when |v| >= 10^-(digits-1),
-// otherwise scientific with 2 significant digits ("3.1e-06"); exact 0 -> "0".
-std::string fmt_auto(double v, int digits = 4);
+// otherwise scientific with 2 significant digits ("3.1e-06"); "0" when
+// |v| < zero_below (e.g. kRoundingZeroDeg).
+std::string fmt_auto(double v, int digits = 4, double zero_below = 0.0);
 // A Markdown table.
 std::string md_table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);
@@ -74,7 +80,8 @@ struct Harmonic {
 };
 std::vector<Harmonic> dominant_harmonics(const Spectrum& s, double floor_deg, double rel,
                                          int max_count);
-// "c1 3.376, c3 0.412"; when h is empty: "none (largest cN = x)" from s.
+// "c1 3.376, c3 0.412"; when h is empty: "none (largest cN = x)" from s, or
+// "none (all c_n < 1e-12)" when every c_n is below kRoundingZeroDeg.
 std::string harmonics_text(const std::vector<Harmonic>& h, int digits = 3);
 std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, int digits = 3);
 

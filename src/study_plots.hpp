@@ -10,6 +10,7 @@
 
 #include "angle_error.hpp"
 #include "plot.hpp"
+#include "study_output.hpp"
 #include "sweep.hpp"
 
 namespace magenc {
@@ -41,9 +42,8 @@ struct SweepCase {
 };
 // One panel per coefficient; each sweep drawn as points (computed) and a line
 // (its cubic fit from fits, if present). xlabel names the swept offset. A
-// panel whose values are all below kRoundingZeroDeg in magnitude is drawn on a
-// fixed [-1, 1] axis and labelled as zero up to rounding.
-inline constexpr double kRoundingZeroDeg = 1e-9;
+// panel whose values are all below kRoundingZeroDeg (study_output.hpp) in
+// magnitude is drawn on a fixed [-1, 1] axis and labelled as zero up to rounding.
 PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
                             const std::vector<SweepCase>& sweeps, const std::vector<FitRow>& fits,
                             const std::vector<std::string>& coefs, int columns = 3);
