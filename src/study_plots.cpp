@@ -124,8 +124,8 @@ PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
           if (std::isfinite(y)) ymax = std::max(ymax, std::abs(y));
     if (ymax < kRoundingZeroDeg) {
       p.commands.push_back("set yrange [-1:1]");
-      p.commands.push_back("set label 'zero up to rounding (all |values| < " + fmt_auto(kRoundingZeroDeg, 1) +
-                           " deg)' at graph 0.5, 0.85 center");
+      p.commands.push_back("set label 'zero up to rounding (< " + fmt_auto(kRoundingZeroDeg, 1) +
+                           " deg)' at graph 0.5, 0.8 center font ',9'");
     }
     spec.panels.push_back(std::move(p));
   }
