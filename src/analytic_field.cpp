@@ -8,27 +8,34 @@
 
 namespace magenc {
 
-AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet) {
+const std::vector<AnalyticField::NodeTable>& AnalyticField::node_tables() {
+  static const std::vector<NodeTable> tables = [] {
+    std::vector<NodeTable> all;
+    for (int base = kMinNodes; base <= kMaxNodes; base *= 2) {
+      for (int n : {base, base + base / 2}) {
+        if (n > kMaxNodes) break;
+        NodeTable t;
+        t.n = n;
+        t.cos_phi.resize(n);
+        t.sin_phi.resize(n);
+        for (int j = 0; j < n; ++j) {  // midpoint nodes phi'_j = (j + 1/2) 2 pi / n
+          const double phi = (j + 0.5) * 2.0 * kPi / n;
+          t.cos_phi[j] = std::cos(phi);
+          t.sin_phi[j] = std::sin(phi);
+        }
+        all.push_back(std::move(t));
+      }
+    }
+    return all;
+  }();
+  return tables;
+}
+
+AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&node_tables()) {
   magnet_.validate();
   const double alpha_rad = deg_to_rad(magnet_.magnetization_deg);
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
-  // Node ladder 16, 24, 32, 48, 64, ... (steps of ~1.5x), every count a multiple of 8.
-  for (int base = kMinNodes; base <= kMaxNodes; base *= 2) {
-    for (int n : {base, base + base / 2}) {
-      if (n > kMaxNodes) break;
-      NodeTable t;
-      t.n = n;
-      t.cos_phi.resize(n);
-      t.sin_phi.resize(n);
-      for (int j = 0; j < n; ++j) {
-        const double phi = (j + 0.5) * 2.0 * kPi / n;
-        t.cos_phi[j] = std::cos(phi);
-        t.sin_phi[j] = std::sin(phi);
-      }
-      tables_.push_back(std::move(t));
-    }
-  }
 }
 
 bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
@@ -40,14 +47,14 @@ const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_m
   // Distance (in z) to the nearer face plane: the integrands (with the rho = 0
   // pole removed beside the magnet) are singular only where rho^2 = -t_i^2.
   const double tmin = std::min(std::abs(z_mm - half), std::abs(z_mm + half));
-  if (!(r_mm > 0)) return tables_.front();  // on the axis: integrand ~ constant * cos(phi')
+  if (!(r_mm > 0)) return tables_->front();  // on the axis: integrand ~ constant * cos(phi')
   const double c = (r_mm * r_mm + R * R + tmin * tmin) / (2.0 * r_mm * R);
   const double a = std::acosh(std::max(c, 1.0));
   // The phi' integral cancels to ~R/r of its integrand's size far away: ask for more.
   const double need = kQuadratureExponent + std::max(0.0, std::log(r_mm / R));
-  for (const auto& t : tables_)
+  for (const auto& t : *tables_)
     if (t.n * a >= need) return t;
-  return tables_.back();
+  return tables_->back();
 }
 
 int AnalyticField::nodes_at(const Vec3& p) const {

@@ -64,13 +64,16 @@ class AnalyticField final : public FieldSource {
   };
   // Node table for a point at distance r_mm from the axis and height z_mm.
   const NodeTable& table_for(double r_mm, double z_mm) const;
+  // The node ladder 16, 24, 32, 48, ..., kMaxNodes (multiples of 8), built once
+  // per process (immutable; shared by all instances, thread-safe initialization).
+  static const std::vector<NodeTable>& node_tables();
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;
 
   Magnet magnet_;
   double cos_alpha_ = 1, sin_alpha_ = 0;  // direction of M0 in the magnet frame
-  std::vector<NodeTable> tables_;          // increasing node counts 16, 24, 32, 48, ...
+  const std::vector<NodeTable>* tables_;   // node_tables(), increasing node counts
 };
 
 // Linear model of the study: Bz = k*x (k = 1 T/mm; it cancels in atan2),
