@@ -10,17 +10,17 @@ namespace magenc::fem {
 
 std::vector<KeySpec> fem_keys() {
   return {
-      int_key("mesh.segments", 96, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
+      int_key("mesh.segments", 64, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
       bool_key("mesh.equal_area", true, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
-      real_key("mesh.h_magnet_mm", 0.4, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
-      real_key("mesh.h_zone_mm", 0.4, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
+      real_key("mesh.h_magnet_mm", 0.6, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
+      real_key("mesh.h_zone_mm", 0.3, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
       real_key("mesh.h_air_mm", 12.0, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
       real_key("mesh.outer_radius_mm", 60.0, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
       int_key("mesh.sphere_subdivisions", 3, 1, 6, "icosphere level of the faceted truncation sphere"),
       real_key("mesh.zone_half_width_mm", 5.5, 0, 1000, "mm", "refinement zone half width in x and y", true),
-      real_key("mesh.zone_half_height_mm", 1.0, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
-      real_key("mesh.quality_ratio", 1.4, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
-      real_key("mesh.min_dihedral_deg", 18.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      real_key("mesh.zone_half_height_mm", 0.75, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
+      real_key("mesh.quality_ratio", 2.0, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
+      real_key("mesh.min_dihedral_deg", 10.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner"),

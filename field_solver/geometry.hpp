@@ -30,10 +30,10 @@ struct ShaftSpec {
 };
 
 struct MeshSpec {
-  int segments = 96;          // polygon segments around every curved (cylindrical) face
+  int segments = 64;          // polygon segments around every curved (cylindrical) face
   bool equal_area = true;     // polygon radius scaled so the cross-section area (sphere: volume) is exact
-  double h_magnet_mm = 0.35;  // target edge length in the magnet (and shaft)
-  double h_zone_mm = 0.35;    // target edge length in the refinement zone
+  double h_magnet_mm = 0.6;  // target edge length in the magnet (and shaft)
+  double h_zone_mm = 0.3;    // target edge length in the refinement zone
   double h_air_mm = 10.0;     // maximum edge length in the far air
   double outer_radius_mm = 60.0;  // truncation sphere radius
   int sphere_subdivisions = 3;    // icosphere level of the faceted outer sphere (and sphere magnets: +1)

@@ -5,8 +5,8 @@
 namespace magenc::fem {
 
 struct MesherOptions {
-  double radius_edge_ratio = 1.4;  // TetGen -q quality bound (radius/shortest edge), > 1
-  double min_dihedral_deg = 18.0;  // TetGen -q minimum dihedral angle (deg)
+  double radius_edge_ratio = 2.0;  // TetGen -q quality bound (radius/shortest edge), > 1
+  double min_dihedral_deg = 10.0;  // TetGen -q minimum dihedral angle (deg)
   bool verbose = false;            // false: TetGen runs quietly (-Q)
 };
 
