@@ -1,0 +1,25 @@
+// Shared helpers of the FEM tests: small, fast domains.
+#pragma once
+#include "geometry.hpp"
+
+namespace magenc::fem::test {
+
+// Default magnet (R 2, L 4, Br 1.2 T) with mu_r = 1, sensing plane z_s = 4.55 mm,
+// a small refinement zone (|x|,|y| <= 3.5, 4.0 <= z <= 5.1) and a 40 mm sphere.
+inline DomainSpec coarse_domain(double h_zone_mm, double h_magnet_mm = 1.0, int segments = 32) {
+  DomainSpec d;
+  d.magnet.mu_r = 1.0;
+  d.mesh.segments = segments;
+  d.mesh.h_magnet_mm = h_magnet_mm;
+  d.mesh.h_zone_mm = h_zone_mm;
+  d.mesh.h_air_mm = 15.0;
+  d.mesh.outer_radius_mm = 40.0;
+  d.zone.half_width_mm = 3.5;
+  d.zone.z_min_mm = 4.0;
+  d.zone.z_max_mm = 5.1;
+  return d;
+}
+
+inline constexpr double kPlaneZ = 4.55;  // z_s of the default magnet (mm)
+
+}  // namespace magenc::fem::test
