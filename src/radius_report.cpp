@@ -60,10 +60,11 @@ std::string file_tag(const std::string& name) {
 
 std::string radius_csv(const RadiusScanResult& r) {
   std::ostringstream os;
-  os << "field,array,r0_mm,bz_amplitude_T,worst_pp_deg,worst_corner,mc_mean_pp_deg,mc_p95_pp_deg,mc_p99_pp_deg,"
+  os << "field,array,r0_mm,bz_amplitude_T,ideal_pp_deg,worst_pp_deg,worst_corner,mc_mean_pp_deg,mc_p95_pp_deg,mc_p99_pp_deg,"
         "mc_max_pp_deg,mc_samples,noise_sigma_deg,noise_pp_deg,adc_clipped,total_p99_pp_deg,total_worst_pp_deg\n";
   for (const auto& x : r.rows)
-    os << x.field << "," << x.array << "," << g(x.r0_mm) << "," << g(x.bz_amplitude_T) << "," << g(x.worst_pp_deg)
+    os << x.field << "," << x.array << "," << g(x.r0_mm) << "," << g(x.bz_amplitude_T) << "," << g(x.ideal_pp_deg)
+       << "," << g(x.worst_pp_deg)
        << "," << x.worst_corner << "," << g(x.mc.mean) << "," << g(x.mc.p95) << "," << g(x.mc.p99) << ","
        << g(x.mc.max) << "," << x.mc.n << "," << g(x.noise.sigma_deg) << "," << g(x.noise.pp_deg) << ","
        << (x.noise.adc_clipped ? 1 : 0) << "," << g(x.total_p99_pp_deg) << "," << g(x.total_worst_pp_deg) << "\n";
@@ -105,7 +106,7 @@ ValidationSummary summarize_validation(const RadiusScanResult& r, const std::str
     ++s.cases;
     const double d = std::abs(v.pp_surrogate_deg - v.pp_direct_deg);
     s.max_pp_diff_deg = std::max(s.max_pp_diff_deg, d);
-    s.max_rel_pp_diff = std::max(s.max_rel_pp_diff, d / std::max(v.pp_direct_deg, 1e-6));
+    if (v.pp_direct_deg >= 0.01) s.max_rel_pp_diff = std::max(s.max_rel_pp_diff, d / v.pp_direct_deg);
     s.max_coef_diff_deg = std::max(s.max_coef_diff_deg, v.max_coef_diff_deg);
     s.max_grid_pp_diff_deg = std::max(s.max_grid_pp_diff_deg, std::abs(v.pp_direct_coarse_deg - v.pp_direct_deg));
     s.max_model_pp_diff_deg = std::max(s.max_model_pp_diff_deg, std::abs(v.pp_surrogate_deg - v.pp_direct_coarse_deg));
@@ -122,7 +123,7 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
     for (const auto& a : arrays) {
       PlotSpec spec;
       spec.title = "Angle-error harmonics vs probe radius: " + plot_literal(f.field) + " field, array " +
-                   plot_literal(a);
+                   plot_literal(a) + " (log scale; values below 1e-5 deg drawn at 1e-5)";
       spec.columns = 3;
       spec.width_px = 1500;
       spec.height_px = 900;
@@ -134,15 +135,17 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
         p.xlabel = xr;
         p.ylabel = "error [deg]";
         p.logy = true;
-        p.commands = {"set key top right font ',9'", "set yrange [1e-4:*]"};
+        p.commands = {"set key top right font ',9'", "set yrange [1e-5:*]"};
         std::vector<double> x;
         std::vector<std::vector<double>> c(5), pp(1);
         for (const auto& s : r.spectra) {
           if (s.field != f.field || s.array != a || s.extra.empty() || s.extra[0].second != label) continue;
           x.push_back(s.r0_mm);
-          for (int n = 1; n <= 4; ++n) c[static_cast<std::size_t>(n)].push_back(s.spectrum.c_deg[n]);
-          c[0].push_back(std::abs(s.spectrum.a0_deg));
-          pp[0].push_back(s.spectrum.pp_deg);
+          const double floor_deg = 1e-5;  // log axis: exact zeros would be undefined
+          for (int n = 1; n <= 4; ++n)
+            c[static_cast<std::size_t>(n)].push_back(std::max(s.spectrum.c_deg[n], floor_deg));
+          c[0].push_back(std::max(std::abs(s.spectrum.a0_deg), floor_deg));
+          pp[0].push_back(std::max(s.spectrum.pp_deg, floor_deg));
         }
         p.series.push_back({"|a_0|", x, c[0], "lines", "lw 1.5 dt 2"});
         for (int n = 1; n <= 4; ++n)
@@ -373,7 +376,7 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
                   fmt(s.max_coef_diff_deg, 5), fmt(s.max_grid_pp_diff_deg, 5), fmt(s.max_model_pp_diff_deg, 5),
                   fmt(f.max_fit_residual_T * 1e6, 3)});
   }
-  md << md_table({"field", "cases", "max |pp diff| [deg]", "max rel pp diff [%]", "max |a_n, b_n diff| [deg]",
+  md << md_table({"field", "cases", "max |pp diff| [deg]", "max rel pp diff (pp >= 0.01 deg) [%]", "max |a_n, b_n diff| [deg]",
                   "theta-grid part: max |pp(" + std::to_string(opt.fast_steps) + ") - pp(" +
                       std::to_string(opt.direct_steps) + ")| [deg]",
                   "field-model part [deg]", "max fit residual [uT]"},

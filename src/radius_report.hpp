@@ -27,7 +27,7 @@ std::string validation_csv(const RadiusScanResult& r);
 struct ValidationSummary {
   int cases = 0;                   // validation rows
   double max_pp_diff_deg = 0;      // max |pp_surrogate - pp_direct|
-  double max_rel_pp_diff = 0;      // max |pp_surrogate - pp_direct| / max(pp_direct, 1e-6)
+  double max_rel_pp_diff = 0;      // max |pp_surrogate - pp_direct| / pp_direct over cases with pp_direct >= 0.01 deg
   double max_coef_diff_deg = 0;    // max |a_n, b_n surrogate - direct|
   double max_grid_pp_diff_deg = 0; // max |pp_direct(fast_steps) - pp_direct(direct_steps)|
   double max_model_pp_diff_deg = 0;// max |pp_surrogate - pp_direct(fast_steps)| (field model alone)

@@ -222,7 +222,7 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.samples", 10000, 1, 100000000, "Monte Carlo samples per radius"),
       int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
       int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
-      int_key("radius.surrogate_order", 3, 2, 4, "degree of the local field polynomials of the surrogate"),
+      int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
       real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
@@ -401,6 +401,8 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
         out.spectra.push_back(std::move(row));
       }
     }
+    std::vector<double> ideal_pp(A);
+    fast.pp(Mount{}, ideal_pp.data());
     auto pp_of = [&](std::size_t, const Mount& m, double* o) { fast.pp(m, o); };
     const Eigen::MatrixXd corner_pp = evaluate_cases(corners, static_cast<int>(A), pp_of);
     const Eigen::MatrixXd mc_pp = evaluate_cases(samples, static_cast<int>(A), pp_of);
@@ -410,6 +412,7 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
       row.array = opt.arrays[a].name;
       row.r0_mm = r0;
       row.bz_amplitude_T = model.amplitude_T();
+      row.ideal_pp_deg = ideal_pp[a];
       const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
       row.worst_pp_deg = w.value;
       row.worst_corner = corner_text(corners[w.row]);

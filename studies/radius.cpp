@@ -11,6 +11,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "fem_field_scheme.hpp"
 #include "field_factory.hpp"
 #include "radius_report.hpp"
 #include "radius_scan.hpp"
@@ -50,6 +51,7 @@ void run(const Config& cfg, StudyOutput& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  register_fem_field_scheme();  // fem:DIR field specs (field_solver/)
   return run_study("radius", "Probe radius choice: error spectra across r0, tolerance analysis, sensor noise",
                    RadiusScanOptions::keys(), argc, argv, run);
 }

@@ -17,18 +17,20 @@ Magnet default_magnet() { return Magnet{}; }
 constexpr double kPlaneZ = 2.0 + 2.55;  // z_s of the default magnet
 }  // namespace
 
-// Stated tolerance of the surrogate on the default box (|s|, |d| <= 0.1*sqrt2,
-// |dz| <= 0.2 mm): peak-to-peak and every Fourier coefficient within 0.01 deg
-// or 0.5 % of pp (whichever is larger) of the direct pipeline on the same
-// theta grid. The measured discrepancy is reported by the study.
+// Stated tolerance of the surrogate (default order 4) on the default box
+// (|s|, |d| <= 0.1*sqrt2, |dz| <= 0.2 mm): peak-to-peak and every Fourier
+// coefficient within 0.005 deg or 0.05 % of pp (whichever is larger) of the
+// direct pipeline on the same theta grid; order 3 within 0.02 deg or 0.2 %.
+// The measured discrepancy is reported by the study.
 TEST_CASE("surrogate matches the direct pipeline on corners and random samples", "[radius][surrogate]") {
   const AnalyticField field(default_magnet());
   const double r0 = GENERATE(0.6, 2.4, 3.4);
-  CAPTURE(r0);
+  const int order = GENERATE(3, 4);
+  CAPTURE(r0, order);
   const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"),
                                           ProbeArray::parse("ring:8")};
   const ToleranceBox box;
-  const CircleFieldModel model(field, r0, kPlaneZ, 360, box.max_inplane_mm(), box.dz_mm, 3);
+  const CircleFieldModel model(field, r0, kPlaneZ, 360, box.max_inplane_mm(), box.dz_mm, order);
   const FastPipeline fast(model, arrays);
   std::vector<Mount> cases = box.corners();
   cases.resize(8);
@@ -40,7 +42,7 @@ TEST_CASE("surrogate matches the direct pipeline on corners and random samples",
       ProbeSetup setup{arrays[a], r0, kPlaneZ, 360};
       const Spectrum direct = error_spectrum(field, setup, m);
       const Spectrum sur = spectrum_of(eps[a]);
-      const double tol = std::max(0.01, 0.005 * direct.pp_deg);
+      const double tol = order == 4 ? std::max(0.005, 0.0005 * direct.pp_deg) : std::max(0.02, 0.002 * direct.pp_deg);
       CAPTURE(arrays[a].name, m.sx_mm, m.sy_mm, m.dx_mm, m.dy_mm, m.dz_mm, direct.pp_deg, sur.pp_deg);
       CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);
       CHECK(std::abs(sur.a0_deg - direct.a0_deg) <= tol);
