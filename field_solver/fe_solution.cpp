@@ -135,6 +135,12 @@ std::optional<Eigen::Vector3d> FieldEvaluator::B_T(const Eigen::Vector3d& p) con
   return sol_.B_in_cell(hit->cell, hit->L);
 }
 
+std::optional<double> FieldEvaluator::psi_Tmm(const Eigen::Vector3d& p) const {
+  auto hit = locator_.locate(p);
+  if (!hit) return std::nullopt;
+  return sol_.psi_in_cell(hit->cell, hit->L);
+}
+
 Eigen::Matrix3Xd FieldEvaluator::B_T(const Eigen::Matrix3Xd& p) const {
   Eigen::Matrix3Xd B(3, p.cols());
   long bad = -1;

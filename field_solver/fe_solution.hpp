@@ -57,6 +57,8 @@ class FieldEvaluator {
   const FeSolution& solution() const { return sol_; }
   // B (T) at p (mm); nullopt outside the mesh.
   std::optional<Eigen::Vector3d> B_T(const Eigen::Vector3d& p_mm) const;
+  // psi (T*mm) at p (mm); nullopt outside the mesh.
+  std::optional<double> psi_Tmm(const Eigen::Vector3d& p_mm) const;
   // B at 3xN points (parallel); throws InputError naming the first point outside the mesh.
   Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
   // B at every cell centroid (3 x n_cells).
