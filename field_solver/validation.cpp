@@ -2,23 +2,45 @@
 
 #include <cmath>
 
+#include "analytic_field.hpp"
+#include "field_outputs.hpp"
+
 namespace magenc::fem {
 
 BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridSpec& grid) {
   const Eigen::Matrix3Xd p = grid.points();
   const Eigen::Matrix3Xd B = fem.B_T(p);
-  const Eigen::VectorXd bz_ref = ref.Bz_T(p);
+  const Eigen::Matrix3Xd B_ref = ref.B_T(p);
+  const Eigen::VectorXd bz_ref = B_ref.row(2).transpose();
   BzErrorStats s;
   s.points = p.cols();
-  double sum2 = 0;
+  double sum2 = 0, sumv = 0;
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
     const double e = B(2, i) - bz_ref[i];
     s.peak_T = std::max(s.peak_T, std::abs(bz_ref[i]));
     s.max_abs_T = std::max(s.max_abs_T, std::abs(e));
     sum2 += e * e;
+    sumv += (B.col(i) - B_ref.col(i)).squaredNorm();
+    s.peak_B_T = std::max(s.peak_B_T, B_ref.col(i).norm());
   }
+  s.rms_vec_T = std::sqrt(sumv / static_cast<double>(std::max<long>(1, s.points)));
   s.rms_T = std::sqrt(sum2 / static_cast<double>(std::max<long>(1, s.points)));
   return s;
+}
+
+ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridSpec& grid) {
+  MagnetostaticSolver solver(domain, options);
+  solver.run();
+  const AnalyticField exact(domain.magnet);
+  ExactComparison c;
+  c.stats = solver.stats();
+  c.error = bz_error_on_grid(solver.evaluator(), exact, grid);
+  c.peak_rss_mib = peak_rss_mib();
+  return c;
+}
+
+double observed_rate(double x_a, double e_a, double x_b, double e_b) {
+  return std::log(e_a / e_b) / std::log(x_b / x_a);
 }
 
 }  // namespace magenc::fem

@@ -4,6 +4,7 @@
 #include "fe_solution.hpp"
 #include "field_source.hpp"
 #include "grids.hpp"
+#include "magnetostatic_solver.hpp"
 
 namespace magenc::fem {
 
@@ -12,11 +13,26 @@ struct BzErrorStats {
   double peak_T = 0;     // max |Bz_ref| on the grid (T)
   double max_abs_T = 0;  // max |Bz_fem - Bz_ref| (T)
   double rms_T = 0;      // RMS of Bz_fem - Bz_ref (T)
+  double peak_B_T = 0;    // max |B_ref| on the grid (T)
+  double rms_vec_T = 0;   // RMS of |B_fem - B_ref| (all three components, T)
   double max_rel() const { return max_abs_T / peak_T; }  // relative to peak |Bz_ref|
   double rms_rel() const { return rms_T / peak_T; }
+  double rms_vec_rel() const { return rms_vec_T / peak_B_T; }  // relative to peak |B_ref|
 };
 
 // Bz error of the FE solution against ref on every grid point (parallel).
 BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridSpec& grid);
+
+// One FEM solve compared with the exact AnalyticField of the same magnet
+// (meaningful for mu_r = 1 everywhere: the exact field has no permeability).
+struct ExactComparison {
+  SolveStats stats;
+  BzErrorStats error;
+  double peak_rss_mib = 0;  // process peak RSS after the solve
+};
+ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridSpec& grid);
+
+// Observed rate p of e ~ x^(-p) between two runs (e.g. x = h^-1 or dofs^(1/3)).
+double observed_rate(double x_a, double e_a, double x_b, double e_b);
 
 }  // namespace magenc::fem
