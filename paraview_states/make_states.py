@@ -1,0 +1,370 @@
+"""Generates the ParaView 5.11 state files of paraview_states/ (reproducibly).
+
+    paraview_states/pvbatch.sh paraview_states/make_states.py --data output [--states paraview_states]
+
+--data is an output/ directory holding solve_field's field/ (plane.vti,
+mesh.vtu) and probe_paths/paths_example.vtp (any case written by
+magenc::write_probe_paths_vtp). The data are read to place things (sensing
+plane height) and to choose colour ranges and isoline levels; then every file
+name stored in the states is rewritten to the relative form
+"output/<sub>/<file>", so a state opens against any output/ directory with
+"Search files under specified directory" (GUI) or
+LoadState(..., data_directory=<output>, restrict_to_data_directory=True).
+
+States:
+  plane_bz.pvsm       Bz on the sensing plane (mT, diverging map symmetric
+                      about 0), isolines, probe circle r0, the probes of the
+                      `two` array (0 and 90 deg), the magnet's outline.
+  magnet_field.pvsm   mesh clipped through the magnet (y = 0), coloured by
+                      region; B stream lines (tubes, |B| log scale); the
+                      sensing plane in place coloured by Bz.
+  probe_paths.pvsm    probe paths of one mounting case (one polyline per
+                      probe, drawn on top) over the plane's Bz and isolines.
+Source names (pipeline browser) are part of the contract that
+tests/paraview/check_states.py checks: plane_Bz_mT, isolines, probe_circle,
+probe_0, probe_1, magnet_outline, clip_y0, mesh_point_B, streamlines,
+paths_on_top, paths_start. Readers are named after their files (plane.vti,
+mesh.vtu, paths_example.vtp); ParaView renames a reader after its new file
+when a state is loaded against other data, so the test finds readers by file.
+"""
+import argparse
+import math
+import os
+import re
+
+from paraview import servermanager as sm
+from paraview.simple import *  # noqa: F401,F403 (ParaView's scripting API)
+
+R0_MM = 2.4                  # nominal probe radius (physics.md default)
+PROBE_ANGLES_DEG = (0, 90)   # default array `two`
+MAGNET_R_MM, MAGNET_L_MM = 2.0, 4.0
+PATHS_REL = os.path.join("probe_paths", "paths_example.vtp")
+WHITE, BLACK = [1, 1, 1], [0, 0, 0]
+REGION_NAMES = {1: ("magnet", [0.85, 0.2, 0.15]), 2: ("air", [0.86, 0.86, 0.86]),
+                3: ("refinement zone", [0.62, 0.78, 0.92]), 4: ("shaft", [0.45, 0.45, 0.5])}
+
+
+def nice_step(x):
+    """1, 2, 5 x 10^n not larger than x."""
+    e = 10 ** math.floor(math.log10(x))
+    for m in (5, 2, 1):
+        if m * e <= x:
+            return m * e
+    return e
+
+
+def new_view(size=(900, 760)):
+    v = CreateView("RenderView")
+    v.ViewSize = list(size)
+    v.UseColorPaletteForBackground = 0
+    v.Background = WHITE
+    v.OrientationAxesVisibility = 1
+    v.OrientationAxesLabelColor = BLACK
+    return v
+
+
+def solid(display, color):
+    """Colour a representation with one colour (no array)."""
+    display.ColorArrayName = ["POINTS", ""]
+    display.AmbientColor = color
+    display.DiffuseColor = color
+
+
+def text(view, s, where="Upper Left Corner", size=14):
+    t = Text(Text=s)
+    d = Show(t, view)
+    d.WindowLocation = where
+    d.FontSize = size
+    d.Color = BLACK
+    return t
+
+
+def bz_lut(vmax_mT):
+    lut = GetColorTransferFunction("Bz_mT")
+    lut.ApplyPreset("Cool to Warm", True)
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(-vmax_mT, vmax_mT)
+    GetOpacityTransferFunction("Bz_mT").RescaleTransferFunction(-vmax_mT, vmax_mT)
+    return lut
+
+
+def style_bar(lut, view, title, where="Any Location", pos=(0.87, 0.1), length=0.5):
+    bar = GetScalarBar(lut, view)
+    bar.Title = title
+    bar.ComponentTitle = ""
+    bar.TitleColor = BLACK
+    bar.LabelColor = BLACK
+    bar.TitleFontSize = 16
+    bar.LabelFontSize = 14
+    bar.WindowLocation = where
+    if where == "Any Location":
+        bar.Position = list(pos)
+    bar.ScalarBarLength = length
+    bar.Visibility = 1
+    return bar
+
+
+def plane_with_isolines(view, data, vmax_mT, z_lift):
+    """plane.vti coloured by Bz [mT] plus black isolines; returns (plane, z_s)."""
+    plane = XMLImageDataReader(registrationName="plane.vti",
+                               FileName=[os.path.join(data, "field", "plane.vti")])
+    plane.PointArrayStatus = ["Bz", "B"]
+    plane.UpdatePipeline()
+    z_s = plane.GetDataInformation().GetBounds()[4]
+    bz = Calculator(registrationName="plane_Bz_mT", Input=plane)
+    bz.ResultArrayName = "Bz_mT"
+    bz.Function = "Bz*1000"
+    d = Show(bz, view)
+    ColorBy(d, ("POINTS", "Bz_mT"))
+    lut = bz_lut(vmax_mT)
+    d.LookupTable = lut
+
+    step = nice_step(vmax_mT / 5.0)
+    n = int(math.floor(vmax_mT / step))
+    levels = [k * step for k in range(-n, n + 1)]
+    iso = Contour(registrationName="isolines", Input=bz)
+    iso.ContourBy = ["POINTS", "Bz_mT"]
+    iso.Isosurfaces = levels
+    iso.ComputeScalars = 1
+    lifted = Transform(registrationName="isolines_lifted", Input=iso)
+    lifted.Transform.Translate = [0, 0, z_lift]
+    di = Show(lifted, view)
+    solid(di, [0.15, 0.15, 0.15])
+    di.LineWidth = 1.5
+    return plane, bz, lut, z_s, step
+
+
+def circle(name, radius, z, view, color, width=2.0):
+    c = Ellipse(registrationName=name, Center=[0, 0, z], Normal=[0, 0, 1],
+                MajorRadiusVector=[radius, 0, 0], Ratio=1.0, Resolution=240)
+    d = Show(c, view)
+    solid(d, color)
+    d.LineWidth = width
+    return c
+
+
+def top_camera(view, z, half_width):
+    view.CameraParallelProjection = 1
+    view.CameraPosition = [0, 0, z + 50]
+    view.CameraFocalPoint = [0, 0, z]
+    view.CameraViewUp = [0, 1, 0]
+    view.CameraParallelScale = half_width
+
+
+def axes_grid(view, xtitle="x [mm]", ytitle="y [mm]", ztitle="z [mm]"):
+    g = view.AxesGrid
+    g.Visibility = 1
+    g.XTitle, g.YTitle, g.ZTitle = xtitle, ytitle, ztitle
+    for a in "XYZ":
+        setattr(g, a + "TitleColor", BLACK)
+        setattr(g, a + "LabelColor", BLACK)
+    g.GridColor = [0.3, 0.3, 0.3]
+
+
+def plane_range_mT(data):
+    r = XMLImageDataReader(FileName=[os.path.join(data, "field", "plane.vti")])
+    r.PointArrayStatus = ["Bz"]
+    r.UpdatePipeline()
+    lo, hi = r.PointData["Bz"].GetRange()
+    Delete(r)
+    return 1000 * max(abs(lo), abs(hi))
+
+
+# ---------------------------------------------------------------------------
+def make_plane_bz(data, vmax):
+    view = new_view()
+    plane, bz, lut, z_s, step = plane_with_isolines(view, data, vmax, 0.01)
+    circle("magnet_outline", MAGNET_R_MM, z_s + 0.015, view, [0.35, 0.35, 0.35], 1.5)
+    circle("probe_circle", R0_MM, z_s + 0.02, view, BLACK, 3.0)
+    for k, b in enumerate(PROBE_ANGLES_DEG):
+        a = math.radians(b)
+        s = Sphere(registrationName="probe_%d" % k,
+                   Center=[R0_MM * math.cos(a), R0_MM * math.sin(a), z_s + 0.05],
+                   Radius=0.12, ThetaResolution=24, PhiResolution=24)
+        d = Show(s, view)
+        solid(d, [[0.0, 0.55, 0.1], [0.6, 0.0, 0.6]][k])
+    style_bar(lut, view, "Bz [mT]")
+    text(view, "Bz on the sensing plane z = %.2f mm (magnet frame, magnet at rest)\n"
+               "black circle: probe circle r0 = %.1f mm;  grey: magnet outline R = %.0f mm\n"
+               "probes of array 'two': green = 0 deg (cos), purple = 90 deg (sin)\n"
+               "isolines every %g mT" % (z_s, R0_MM, MAGNET_R_MM, step), size=13)
+    view.OrientationAxesVisibility = 0   # the axes grid labels x and y
+    axes_grid(view)
+    top_camera(view, z_s, 5.6)
+    return view
+
+
+def make_magnet_field(data, vmax):
+    view = new_view((1000, 800))
+    mesh = XMLUnstructuredGridReader(registrationName="mesh.vtu",
+                                     FileName=[os.path.join(data, "field", "mesh.vtu")])
+    mesh.CellArrayStatus = ["B", "region"]
+    mesh.PointArrayStatus = ["psi"]
+    mesh.UpdatePipeline()
+
+    # 1. Half the mesh: keep y >= 0, so the cut face y = 0 faces the camera.
+    clip = Clip(registrationName="clip_y0", Input=mesh)
+    clip.ClipType = "Plane"
+    clip.ClipType.Origin = [0, 0, 0]
+    clip.ClipType.Normal = [0, -1, 0]
+    clip.Invert = 1
+    clip.Crinkleclip = 0
+    dc = Show(clip, view)
+    dc.SetRepresentationType("Surface With Edges")
+    ColorBy(dc, ("CELLS", "region"))
+    rlut = GetColorTransferFunction("region")
+    rlut.InterpretValuesAsCategories = 1
+    rlut.AnnotationsInitialized = 1
+    ann, cols = [], []
+    for rid, (name, col) in sorted(REGION_NAMES.items()):
+        ann += [str(rid), name]
+        cols += col
+    rlut.Annotations = ann
+    rlut.IndexedColors = cols
+    dc.LookupTable = rlut
+    dc.EdgeColor = [0.25, 0.25, 0.3]
+    dc.Opacity = 1.0
+    rbar = style_bar(rlut, view, "region", pos=(0.03, 0.35), length=0.25)
+    rbar.TextPosition = "Ticks left/bottom, annotations right/top"
+
+    # 2. Stream lines of B, seeded along the magnet axis inside the magnet;
+    #    they stay in the symmetry plane y = 0 and close through the magnet.
+    pdata = CellDatatoPointData(registrationName="mesh_point_B", Input=mesh)
+    pdata.CellDataArraytoprocess = ["B"]
+    st = StreamTracer(registrationName="streamlines", Input=pdata, SeedType="Line")
+    st.Vectors = ["POINTS", "B"]
+    st.SeedType.Point1 = [0, 0, -0.7 * MAGNET_L_MM / 2]
+    st.SeedType.Point2 = [0, 0, 0.7 * MAGNET_L_MM / 2]
+    st.SeedType.Resolution = 10
+    st.IntegrationDirection = "BOTH"
+    st.MaximumStreamlineLength = 60.0
+    st.MaximumSteps = 4000
+    tube = Tube(registrationName="streamline_tubes", Input=st)
+    tube.Radius = 0.05
+    tube.NumberofSides = 8
+    dt = Show(tube, view)
+    ColorBy(dt, ("POINTS", "B", "Magnitude"))
+    blut = GetColorTransferFunction("B")
+    blut.ApplyPreset("Viridis (matplotlib)", True)
+    blut.AutomaticRescaleRangeMode = "Never"
+    blut.UseLogScale = 1
+    blut.RescaleTransferFunction(0.01, 1.5)
+    dt.LookupTable = blut
+    style_bar(blut, view, "|B| [T]", pos=(0.82, 0.5), length=0.38)
+
+    # 3. The sensing plane in place, coloured by Bz.
+    plane = XMLImageDataReader(registrationName="plane.vti",
+                               FileName=[os.path.join(data, "field", "plane.vti")])
+    plane.PointArrayStatus = ["Bz", "B"]
+    bz = Calculator(registrationName="plane_Bz_mT", Input=plane)
+    bz.ResultArrayName = "Bz_mT"
+    bz.Function = "Bz*1000"
+    dp = Show(bz, view)
+    ColorBy(dp, ("POINTS", "Bz_mT"))
+    lut = bz_lut(vmax)
+    dp.LookupTable = lut
+    dp.Opacity = 0.85
+    style_bar(lut, view, "Bz [mT]", pos=(0.82, 0.05), length=0.38)
+    plane.UpdatePipeline()
+    z_s = plane.GetDataInformation().GetBounds()[4]
+
+    text(view, "Mesh cut at y = 0 (regions), stream lines of B (tubes),\n"
+               "sensing plane z = %.2f mm coloured by Bz" % z_s, size=13)
+    view.CameraParallelProjection = 1
+    view.CameraFocalPoint = [0, 0, 1.2]
+    el, az = math.radians(22), math.radians(-28)
+    dist = 60.0
+    view.CameraPosition = [dist * math.cos(el) * math.sin(az), -dist * math.cos(el) * math.cos(az),
+                           1.2 + dist * math.sin(el)]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraParallelScale = 7.0
+    return view
+
+
+def make_probe_paths(data, vmax):
+    view = new_view()
+    plane, bz, lut, z_s, step = plane_with_isolines(view, data, vmax, 0.01)
+    circle("magnet_outline", MAGNET_R_MM, z_s + 0.015, view, [0.35, 0.35, 0.35], 1.5)
+    circle("probe_circle", R0_MM, z_s + 0.02, view, [0.1, 0.1, 0.1], 1.0)
+
+    paths = XMLPolyDataReader(registrationName="paths_example.vtp", FileName=[os.path.join(data, PATHS_REL)])
+    paths.PointArrayStatus = ["Bz", "theta_deg", "probe"]
+    paths.CellArrayStatus = ["probe"]
+    # Drawn on top: projected to 1 mm above the plane (the paths' true height
+    # z_s + dz is in the file; a top view would hide paths below the plane).
+    top = Calculator(registrationName="paths_on_top", Input=paths)
+    top.CoordinateResults = 1
+    top.Function = "coordsX*iHat + coordsY*jHat + %.6f*kHat" % (z_s + 1.0)
+    tube = Tube(registrationName="paths_tubes", Input=top)
+    tube.Radius = 0.035
+    tube.NumberofSides = 8
+    dt = Show(tube, view)
+    ColorBy(dt, ("POINTS", "probe"))
+    plut = GetColorTransferFunction("probe")
+    plut.InterpretValuesAsCategories = 1
+    plut.AnnotationsInitialized = 1
+    plut.Annotations = ["0", "probe 0", "1", "probe 1", "2", "probe 2", "3", "probe 3"]
+    plut.IndexedColors = [0.0, 0.55, 0.1, 0.6, 0.0, 0.6, 0.9, 0.6, 0.0, 0.0, 0.0, 0.0]
+    dt.LookupTable = plut
+    pbar = style_bar(plut, view, "path", pos=(0.03, 0.06), length=0.2)
+    pbar.TextPosition = "Ticks left/bottom, annotations right/top"
+
+    # Where each probe is at theta = 0: clip the polylines at theta <= 1e-6 deg
+    # (keeps the first point of each path), then one sphere per point.
+    start = Clip(registrationName="paths_theta0", Input=top)
+    start.ClipType = "Scalar"
+    start.Scalars = ["POINTS", "theta_deg"]
+    start.Value = 1e-6
+    start.Invert = 1
+    glyph = Glyph(registrationName="paths_start", Input=start, GlyphType="Sphere")
+    glyph.ScaleArray = ["POINTS", "No scale array"]
+    glyph.ScaleFactor = 0.22
+    glyph.GlyphMode = "All Points"
+    dg = Show(glyph, view)
+    solid(dg, BLACK)
+
+    style_bar(lut, view, "Bz [mT]")
+    text(view, "Probe paths over the magnet (magnet frame) for one mounting case,\n"
+               "drawn on top of Bz on the sensing plane z = %.2f mm;\n"
+               "black dots: probe positions at theta = 0; thin circle: nominal r0 = %.1f mm"
+         % (z_s, R0_MM), size=13)
+    view.OrientationAxesVisibility = 0   # top view: x to the right, y up
+    axes_grid(view)
+    top_camera(view, z_s + 1.0, 4.2)
+    return view
+
+
+def save_relocatable(path, data):
+    """SaveState, then store data file names as output/<sub>/<file>."""
+    SaveState(path)
+    with open(path) as f:
+        s = f.read()
+    absdata = os.path.abspath(data).rstrip("/")
+    s = s.replace(absdata + "/", "output/")
+    if absdata in s:
+        raise SystemExit("make_states: an absolute data path is left in " + path)
+    with open(path, "w") as f:
+        f.write(s)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", required=True, help="output/ directory with field/ and " + PATHS_REL)
+    ap.add_argument("--states", default=os.path.dirname(os.path.abspath(__file__)))
+    a = ap.parse_args()
+    data = os.path.abspath(a.data)
+    vmax = plane_range_mT(data)
+    vmax = nice_step(vmax / 4.0) * math.ceil(vmax / nice_step(vmax / 4.0))  # round up
+    for name, build in (("plane_bz", make_plane_bz), ("magnet_field", make_magnet_field),
+                        ("probe_paths", make_probe_paths)):
+        ResetSession()
+        view = build(data, vmax)
+        SetActiveView(view)
+        Render(view)
+        out = os.path.join(a.states, name + ".pvsm")
+        save_relocatable(out, data)
+        print("make_states: wrote", out)
+
+
+if __name__ == "__main__":
+    main()
