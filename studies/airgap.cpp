@@ -51,8 +51,9 @@ std::vector<KeySpec> study_keys() {
 
 // One residual-eccentricity case of the dz sweep.
 struct GapCase {
-  std::string label;  // sweep label in tables: "dz alone", "dz, sx", ...
-  std::string tag;    // file-name part: "alone", "sx", "dx", "sxdx"
+  std::string label;     // sweep label in tables (no commas): "dz alone", "dz with sx=0.05", ...
+  std::string tag;       // file-name part: "alone", "sx", "dx", "sxdx"
+  std::string residual;  // "none", "sx=0.05", "dx=0.05", "sx=0.05 dx=0.05"
   Mount base;         // mount with the residual offsets (dz overwritten by the sweep)
 };
 
@@ -84,10 +85,11 @@ void run(const Config& cfg, StudyOutput& out) {
   const Mount with_sx = with_offset(base, "sx_mm", base.sx_mm + rsx);
   const Mount with_dx = with_offset(base, "dx_mm", base.dx_mm + rdx);
   const Mount with_both = with_offset(with_sx, "dx_mm", base.dx_mm + rdx);
-  const std::vector<GapCase> cases = {{"dz alone", "alone", base},
-                                      {"dz, sx=" + fmt(rsx, 2), "sx", with_sx},
-                                      {"dz, dx=" + fmt(rdx, 2), "dx", with_dx},
-                                      {"dz, sx=" + fmt(rsx, 2) + " dx=" + fmt(rdx, 2), "sxdx", with_both}};
+  const std::string sx_text = "sx=" + fmt(rsx, 2), dx_text = "dx=" + fmt(rdx, 2);
+  const std::vector<GapCase> cases = {{"dz alone", "alone", "none", base},
+                                      {"dz with " + sx_text, "sx", sx_text, with_sx},
+                                      {"dz with " + dx_text, "dx", dx_text, with_dx},
+                                      {"dz with " + sx_text + " " + dx_text, "sxdx", sx_text + " " + dx_text, with_both}};
   ProbeArray::parse(cfg.str("sensor.array"));  // unused (study.arrays), still checked
   std::vector<ProbeSetup> setups;
   for (const auto& a : arrays) setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
@@ -148,7 +150,7 @@ void run(const Config& cfg, StudyOutput& out) {
   for (std::size_t i = 0; i < dz.size(); ++i)
     if (std::abs(dz[i]) < std::abs(dz[i0])) i0 = i;
   std::vector<std::vector<AngleErrorResult>> eps_runs;  // per array: dz front, dz[i0], dz back
-  PlotSpec eps_fig{"Angle error vs air gap, " + cases.back().label + " mm (" + what + ")", {}, 1, 1100,
+  PlotSpec eps_fig{"Angle error vs air gap with " + cases.back().residual + " mm (" + what + ")", {}, 1, 1100,
                    60 + 330 * static_cast<int>(runs.size())};
   for (const auto& r : runs) {
     std::vector<AngleErrorResult> e;
@@ -176,7 +178,7 @@ void run(const Config& cfg, StudyOutput& out) {
       sc.push_back({a + " exact", &r.exact.sweeps[k]});
       for (const auto& f : r.fem) dc.push_back({a + " " + f.label, &f.sweeps[k], &r.exact.sweeps[k]});
     }
-    const std::string title = "air gap dz, " + (k == 0 ? std::string("no residual offset") : cases[k].label.substr(4) + " mm");
+    const std::string title = "air gap dz, " + (k == 0 ? std::string("no residual offset") : cases[k].residual + " mm");
     write_plot(out.dir(), "coefficients_" + cases[k].tag,
                coefficient_figure(title + " (" + what + "; exact field beside it)", "dz [mm]", sc, fits, coefs));
     write_plot(out.dir(), "differences_" + cases[k].tag,
@@ -249,7 +251,7 @@ void run(const Config& cfg, StudyOutput& out) {
           const FitRow* f1 = find_fit(fits, s, "c1_deg");
           const FitRow* f3 = find_fit(fits, s, "c3_deg");
           const auto c1 = s.column("c1_deg"), c3 = s.column("c3_deg");
-          t.push_back({cases[k].label.substr(4), "`" + r.setup.array.name + "`", f.label,
+          t.push_back({cases[k].residual, "`" + r.setup.array.name + "`", f.label,
                        deg(c1.front()), deg(c1.back()), f1 ? deg(f1->p[2]) : "-", e1 ? deg(e1->p[2]) : "-",
                        deg(c3.front()), deg(c3.back()), f3 ? deg(f3->p[2]) : "-", e3 ? deg(e3->p[2]) : "-"});
         }

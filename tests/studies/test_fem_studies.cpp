@@ -1,0 +1,282 @@
+// End-to-end tests of the FEM-driven probe studies (issue "FEM-driven probe
+// studies"): real_field, airgap and harmonic_provenance as tiny-config smoke
+// runs, and error_spectrum with --field fem:DIR / grid:DIR/box.vti (dz != 0),
+// all against a COARSE solve made here: meshes/coarse.toml with fem.order = 2
+// and magnet.mu_r = 1 (so the exact field is the reference), ~17k tets, ~1 s.
+//
+// Tolerance for FEM vs exact on this coarse mesh (measured before setting it,
+// r0 = 2.4, `two`, 360 steps; cases dx 0.1, dy 0.1, sx 0.1, dx 0.1 with
+// dz = +-0.3 and -0.45, sx = dx = 0.05 with dz = 0.4): the largest
+// |c1 - c1_exact| was 0.066 deg (fem) and 0.094 deg (grid, 0.25 mm box step),
+// the largest |c3 - c3_exact| 0.079 deg (fem, dz = -0.45) and 0.048 deg (grid).
+// The coarse mesh's own artefacts (ideal-mount harmonics up to ~0.3 deg in c4)
+// set that scale. kCoarseTolDeg = 0.15 deg keeps a 1.6x margin over the worst
+// measurement while still failing for a lost dz (c1 moves 0.165 deg from
+// dz = -0.3 to +0.3), a wrong-sign offset (c1 and c3 of dx vs dy differ by
+// 1.6 deg) or a field of the wrong magnet. c4 is not checked against exact here:
+// on this mesh it is dominated by artefacts.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "study_test_util.hpp"
+
+using namespace magenc::test;
+
+namespace {
+
+constexpr double kCoarseTolDeg = 0.15;
+
+// A coarse order-2, mu_r = 1 solve in a temp directory (made once per process).
+const fs::path& coarse_field() {
+  static const fs::path dir = [] {
+    const fs::path d = temp_out("coarse_field");
+    const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
+                            "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --out '" + d.string() +
+                            "' >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
+    return d;
+  }();
+  return dir;
+}
+
+// Runs error_spectrum with the given arguments; spectra rows (header + rows) or empty on failure.
+struct CliRun {
+  int code;
+  std::string err;
+  std::vector<std::map<std::string, std::string>> rows;
+};
+CliRun error_spectrum(const std::string& args) {
+  const fs::path out = temp_out("es_csv");
+  const fs::path err = temp_out("es_err");
+  const std::string cmd = std::string(MAGENC_BIN_DIR) + "/error_spectrum " + args + " --out '" + out.string() +
+                          "' 2>'" + err.string() + "' >/dev/null";
+  const int rc = std::system(cmd.c_str());
+  CliRun r{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(err), {}};
+  if (fs::exists(out)) r.rows = read_csv(out);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n + (!s.empty() && s.back() != '\n');
+}
+
+int count(const std::string& s, const std::string& what) {
+  int n = 0;
+  for (std::size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
+  return n;
+}
+
+// comparison.csv row of (array, sweep, x_mm, source, coef).
+const std::map<std::string, std::string>* find_cmp(const std::vector<std::map<std::string, std::string>>& rows,
+                                                   const std::string& array, const std::string& sweep, double x,
+                                                   const std::string& source, const std::string& coef) {
+  for (const auto& r : rows)
+    if (r.at("array") == array && r.at("sweep") == sweep && std::abs(num(r, "x_mm") - x) < 1e-9 &&
+        r.at("source") == source && r.at("coef") == coef)
+      return &r;
+  return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the exact field on a coarse solve",
+          "[studies][fem_e2e]") {
+  const fs::path dir = coarse_field();
+  const std::string cases = (temp_out("cases") += ".csv").string();
+  {
+    std::ofstream f(cases);
+    f << "dx_mm,dy_mm,dz_mm\n0.1,0,0.3\n0.1,0,-0.3\n0,0.1,0.2\n";
+  }
+  const std::string common = " --array two --r0 2.4 --steps 360 --cases '" + cases + "'";
+  const CliRun ex = error_spectrum("--field analytic" + common);
+  REQUIRE(ex.code == 0);
+  REQUIRE(ex.rows.size() == 3);
+  for (const std::string field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
+    const CliRun r = error_spectrum("--field " + field + common);
+    INFO(field << ": " << r.err);
+    REQUIRE(r.code == 0);
+    REQUIRE(r.rows.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+      CHECK(num(r.rows[i], "dz_mm") == Approx(num(ex.rows[i], "dz_mm")));
+      for (const char* c : {"c1_deg", "c3_deg"}) {
+        INFO("case " << i << " " << c << ": " << num(r.rows[i], c) << " vs exact " << num(ex.rows[i], c));
+        CHECK(std::abs(num(r.rows[i], c) - num(ex.rows[i], c)) < kCoarseTolDeg);
+      }
+    }
+    // dz moves c1 the exact field's way (exact: +0.165 deg from dz = -0.3 to +0.3).
+    const double dc1 = num(r.rows[0], "c1_deg") - num(r.rows[1], "c1_deg");
+    const double dc1_exact = num(ex.rows[0], "c1_deg") - num(ex.rows[1], "c1_deg");
+    CHECK(dc1_exact > 0.1);
+    CHECK(dc1 == Approx(dc1_exact).epsilon(0.3));
+  }
+  fs::remove(cases);
+}
+
+TEST_CASE("error_spectrum: a missing fem: directory is a one-line error", "[studies][fem_e2e]") {
+  const CliRun r = error_spectrum("--field fem:/nonexistent/field_dir --array two --r0 2.4");
+  INFO(r.err);
+  CHECK(r.code != 0);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.rows.empty());
+}
+
+TEST_CASE("real_field study: tiny run on a coarse solve", "[studies][real_field]") {
+  const fs::path dir = coarse_field();
+  const fs::path out = temp_out("real_field");
+  const StudyRun r = run_study_exe("real_field", out,
+                                   "--set fem_field.dir='" + dir.string() +
+                                       "' --set sensor.steps=360 --set sweep.points=6 --set study.arrays=two,diff4");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "config.toml", "run.json",
+                        "eps.png", "harmonics.png", "coefficients_dx.png", "differences_dx.png",
+                        "coefficients_sy.png"}) {
+    INFO(f);
+    CHECK(fs::exists(out / f));
+  }
+  CHECK(fs::file_size(out / "differences_dx.png") > 1000);
+  // 2 arrays x 3 sources (grid, fem, exact) x (ideal + 4 offsets x 6 points).
+  const auto rows = read_csv(out / "spectra.csv");
+  CHECK(rows.size() == 2 * 3 * (1 + 4 * 6));
+  const auto cmp = read_csv(out / "comparison.csv");
+  for (const std::string src : {"grid", "fem"}) {
+    INFO(src);
+    const auto* c1 = find_cmp(cmp, "two", "dx", 0.1, src, "c1_deg");
+    const auto* c3 = find_cmp(cmp, "two", "dx", 0.1, src, "c3_deg");
+    REQUIRE(c1);
+    REQUIRE(c3);
+    CHECK(num(*c1, "exact_deg") == Approx(2.5088).margin(2e-3));  // exact field, 360 steps
+    CHECK(num(*c1, "diff_deg") == Approx(num(*c1, "value_deg") - num(*c1, "exact_deg")).margin(1e-9));
+    CHECK(std::abs(num(*c1, "diff_deg")) < kCoarseTolDeg);
+    CHECK(std::abs(num(*c3, "diff_deg")) < kCoarseTolDeg);
+    // diff4 cancels the 1st harmonic of dx on any field symmetric in y.
+    const auto* d1 = find_cmp(cmp, "diff4", "dx", 0.1, src, "c1_deg");
+    REQUIRE(d1);
+    CHECK(std::abs(num(*d1, "value_deg")) < 1e-9);
+  }
+  // The acceptance table judges 4 offsets x 2 arrays x 2 sources x 4 coefficients, and the tally matches it.
+  const std::string md = slurp(out / "summary.md");
+  const int pass = count(md, "| pass |"), fail = count(md, "| **FAIL** |");
+  CHECK(pass + fail == 64);
+  CHECK(md.find("**Acceptance: " + std::to_string(pass) + " of 64 cells pass") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][airgap]") {
+  const fs::path dir = coarse_field();
+  const fs::path out = temp_out("airgap");
+  const StudyRun r = run_study_exe("airgap", out,
+                                   "--set fem_field.dir='" + dir.string() +
+                                       "' --set sensor.steps=360 --set dz_sweep.points=5 --set study.arrays=two,diff4");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "eps.png", "coefficients_alone.png",
+                        "coefficients_dx.png", "differences_sxdx.png"}) {
+    INFO(f);
+    CHECK(fs::exists(out / f));
+  }
+  const auto rows = read_csv(out / "spectra.csv");
+  CHECK(rows.size() == 2 * 3 * 4 * 5);  // arrays x sources x cases x dz values
+  // dz alone on the exact field: no error at any dz.
+  int alone = 0;
+  for (const auto& row : rows)
+    if (row.at("source") == "exact" && row.at("sweep") == "dz alone") {
+      ++alone;
+      CHECK(num(row, "pp_deg") < 1e-9);
+    }
+  CHECK(alone == 2 * 5);
+  // The 'dx' case: exact slopes at dz = 0 (p1 of the cubic, deg/mm) against the default-magnet values of
+  // the airgap study (0.137, -0.137 at 3600 steps); every FEM value within the coarse tolerance of exact,
+  // and c1 rising / c3 falling from dz = -0.5 to +0.5 as on the exact field. (FEM slopes themselves are
+  // not compared: on this coarse mesh the artefacts change with dz and 5-point slopes of the FEM are off
+  // by up to 85 % for c3 via grid; on the default mesh, this case, within 12 %: see the airgap summary.)
+  const auto fits = read_csv(out / "fits.csv");
+  auto slope = [&](const std::string& coef) {
+    for (const auto& f : fits)
+      if (f.at("field") == "analytic" && f.at("array") == "two" && f.at("sweep") == "dz with dx=0.05" &&
+          f.at("coef") == coef)
+        return num(f, "p1");
+    FAIL("no fit of " << coef);
+    return 0.0;
+  };
+  CHECK(slope("c1_deg") == Approx(0.137).margin(0.01));
+  CHECK(slope("c3_deg") == Approx(-0.137).margin(0.01));
+  const auto cmp = read_csv(out / "comparison.csv");
+  for (const std::string src : {"fem", "grid"})
+    for (const std::string coef : {"c1_deg", "c3_deg"}) {
+      const auto* lo = find_cmp(cmp, "two", "dz with dx=0.05", -0.5, src, coef);
+      const auto* hi = find_cmp(cmp, "two", "dz with dx=0.05", 0.5, src, coef);
+      REQUIRE(lo);
+      REQUIRE(hi);
+      INFO(src << " " << coef << ": " << num(*lo, "value_deg") << " -> " << num(*hi, "value_deg") << ", exact "
+               << num(*lo, "exact_deg") << " -> " << num(*hi, "exact_deg"));
+      CHECK(std::abs(num(*lo, "diff_deg")) < kCoarseTolDeg);
+      CHECK(std::abs(num(*hi, "diff_deg")) < kCoarseTolDeg);
+      const double d = num(*hi, "value_deg") - num(*lo, "value_deg");
+      const double d_exact = num(*hi, "exact_deg") - num(*lo, "exact_deg");
+      CHECK(std::abs(d_exact) > 0.1);
+      CHECK(d * d_exact > 0);
+    }
+  CHECK(slurp(out / "summary.md").find("dz alone gives no error at any dz") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("harmonic_provenance study: tiny run with a coarse FE solution", "[studies][harmonic_provenance]") {
+  const fs::path dir = coarse_field();
+  const fs::path out = temp_out("harmonic_provenance");
+  const StudyRun r = run_study_exe("harmonic_provenance", out,
+                                   "--set sensor.steps=360 --set provenance.spacings_mm=0.2,0.1 "
+                                   "--set provenance.interps=nearest,cubic --set provenance.fem_dirs='" +
+                                       dir.string() + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "run.json"}) {
+    INFO(f);
+    CHECK(fs::exists(out / f));
+  }
+  const auto rows = read_csv(out / "provenance.csv");
+  CHECK(rows.size() == 3 + 3 * 2 * 2 + 3);  // exact rows + cases x spacings x modes + fem rows
+  const std::map<std::string, std::string>* exact_dx = nullptr;
+  const std::map<std::string, std::string>* fem_dx = nullptr;
+  for (const auto& row : rows) {
+    if (row.at("source") == "exact" && row.at("case") == "ideal") CHECK(num(row, "pp_deg") < 1e-9);
+    if (row.at("source") == "exact" && row.at("case") == "dx=0.10") exact_dx = &row;
+    if (row.at("source") == "fem" && row.at("case") == "dx=0.10") fem_dx = &row;
+    // Cubic on a 0.1 mm grid: ideal-mount artefacts far below the nearest-neighbour ones.
+    if (row.at("source") == "grid" && row.at("case") == "ideal" && row.at("interp") == "cubic")
+      CHECK(num(row, "pp_deg") < 0.05);
+  }
+  REQUIRE(exact_dx);
+  REQUIRE(fem_dx);
+  CHECK(std::abs(num(*fem_dx, "c1_deg") - num(*exact_dx, "c1_deg")) < kCoarseTolDeg);
+  CHECK(std::abs(num(*fem_dx, "c3_deg") - num(*exact_dx, "c3_deg")) < kCoarseTolDeg);
+  CHECK(slurp(out / "summary.md").find("Verdict per harmonic") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("FEM-driven studies: a missing field directory exits non-zero, one line naming solve_field, no output",
+          "[studies][fem_e2e]") {
+  for (const std::string study : {"real_field", "airgap"}) {
+    const fs::path out = temp_out(study + "_nofield");
+    const StudyRun r = run_study_exe(study, out, "--set fem_field.dir=/nonexistent/field_dir");
+    INFO(study << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find("solve_field") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_FALSE(leftovers(out));
+  }
+  const fs::path out = temp_out("provenance_nofield");
+  const StudyRun r = run_study_exe("harmonic_provenance", out,
+                                   "--set sensor.steps=360 --set provenance.spacings_mm=0.2 "
+                                   "--set provenance.fem_dirs=/nonexistent/field_dir");
+  INFO(r.err);
+  CHECK(r.code != 0);
+  CHECK(lines(r.err) == 1);
+  CHECK_FALSE(fs::exists(out));
+}
