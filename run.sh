@@ -1,9 +1,31 @@
 #!/usr/bin/env bash
-# ./run.sh: install missing Debian packages, build (Release), run the default
-# study pipeline into output/.
+# ./run.sh: install missing Debian packages, build (Release), then run the
+# default study pipeline into output/. No configuration needed.
+#   1. solve_field        FEM field of the default magnet   -> output/field
+#   2. linear_model       the study's linear model          -> output/linear_model
+#   3. exact_field        exact field, all arrays           -> output/exact_field
+#   4. real_field         FEM field vs exact, sweeps        -> output/real_field
+#   5. airgap             dz on FEM + exact                 -> output/airgap
+#   6. harmonic_provenance artefact vs physics harmonics    -> output/harmonic_provenance
+#   7. radius             choosing r0, tolerance analysis   -> output/radius
+# fem_convergence (several solves, a few minutes) runs with MAGENC_CONVERGENCE=1.
 set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install_deps.sh
 scripts/build.sh
 BIN=build/bin
-echo "magenc: all executables built into $BIN"
+mkdir -p output
+step() { echo; echo "== $*"; local t0=$SECONDS; "$@"; echo "   ($((SECONDS - t0)) s)"; }
+step "$BIN/solve_field" --out output/field
+step "$BIN/linear_model" --out output/linear_model
+step "$BIN/exact_field" --out output/exact_field
+step "$BIN/real_field" --out output/real_field
+step "$BIN/airgap" --out output/airgap
+step "$BIN/harmonic_provenance" --out output/harmonic_provenance
+step "$BIN/radius" --out output/radius
+if [ "${MAGENC_CONVERGENCE:-0}" = 1 ]; then
+  step "$BIN/fem_convergence" --out output/fem_convergence
+fi
+echo
+echo "magenc: results in $(pwd)/output/ (each study: summary.md, CSV tables, PNG plots);"
+echo "        ParaView states in paraview_states/ (see paraview_states/README.md)."
