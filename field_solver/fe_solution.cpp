@@ -13,6 +13,13 @@
 namespace magenc::fem {
 
 Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
+  if (grad_recovered.cols() > 0 && cell_uses_recovery[static_cast<size_t>(c)]) {
+    double N[10];
+    basis_values(order, L, N);
+    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+    for (int i = 0; i < dofs_per_cell(order); ++i) grad += N[i] * grad_recovered.col(cell_dofs(i, c));
+    return -mu_r[c] * grad + br_T.col(c);
+  }
   const TetGeometry g = tet_geometry(points_mm, cell_dofs.col(c).head<4>());
   Eigen::Matrix<double, 3, 10> G;
   basis_gradients(order, g, L, G);
@@ -20,6 +27,40 @@ Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
   const int nd = dofs_per_cell(order);
   for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
   return -mu_r[c] * grad + br_T.col(c);
+}
+
+void FeSolution::recover_gradient() {
+  const int nd = dofs_per_cell(order);
+  const Eigen::Index ndofs = points_mm.cols();
+  grad_recovered.setZero(3, ndofs);
+  Eigen::VectorXd count = Eigen::VectorXd::Zero(ndofs);
+  std::vector<int> material(static_cast<size_t>(ndofs), -1);  // first cell seen; -2: mixed
+  auto same_material = [&](int a, int b) { return mu_r[a] == mu_r[b] && br_T.col(a) == br_T.col(b); };
+  // Barycentric coordinates of the local dof nodes (vertices, edge midpoints).
+  std::array<Eigen::Vector4d, 10> node;
+  for (int i = 0; i < 4; ++i) node[i] = Eigen::Vector4d::Unit(i);
+  for (int e = 0; e < 6; ++e) node[4 + e] = 0.5 * (Eigen::Vector4d::Unit(kTetEdges[e][0]) + Eigen::Vector4d::Unit(kTetEdges[e][1]));
+  Eigen::Matrix<double, 3, 10> G;
+  for (int c = 0; c < num_cells(); ++c) {
+    const TetGeometry g = tet_geometry(points_mm, cell_dofs.col(c).head<4>());
+    for (int k = 0; k < nd; ++k) {
+      basis_gradients(order, g, node[k], G);
+      Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+      for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
+      const int d = cell_dofs(k, c);
+      grad_recovered.col(d) += grad;
+      count[d] += 1.0;
+      int& m = material[static_cast<size_t>(d)];
+      if (m == -1) m = c;
+      else if (m >= 0 && !same_material(m, c)) m = -2;
+    }
+  }
+  for (Eigen::Index d = 0; d < ndofs; ++d)
+    if (count[d] > 0) grad_recovered.col(d) /= count[d];
+  cell_uses_recovery.assign(static_cast<size_t>(num_cells()), 1);
+  for (int c = 0; c < num_cells(); ++c)
+    for (int k = 0; k < nd; ++k)
+      if (material[static_cast<size_t>(cell_dofs(k, c))] == -2) cell_uses_recovery[static_cast<size_t>(c)] = 0;
 }
 
 double FeSolution::psi_in_cell(int c, const Eigen::Vector4d& L) const {

@@ -15,9 +15,18 @@ struct FeSolution {
   Eigen::VectorXi region;        // n_cells region ids (mesh.hpp)
   Eigen::VectorXd mu_r;          // n_cells relative permeability
   Eigen::Matrix3Xd br_T;         // 3 x n_cells remanence vector Br = mu0*M0 (T), 0 outside magnets
+  // Gradient recovery (optional): grad psi averaged at every dof node over the
+  // cells around it, then interpolated with the same Lagrange basis. Used only
+  // in cells whose dofs all lie inside one material (same mu_r and Br), so the
+  // jump of grad psi at material interfaces is kept.
+  Eigen::Matrix3Xd grad_recovered;      // 3 x num_dofs recovered grad psi (T); empty: off
+  std::vector<char> cell_uses_recovery; // n_cells: 1 where the recovered gradient is used
+  // Computes grad_recovered and cell_uses_recovery.
+  void recover_gradient();
 
   int num_cells() const { return static_cast<int>(cell_dofs.cols()); }
-  // B (T) in cell c at barycentric point L: mu_r*(-grad psi) + Br.
+  // B (T) in cell c at barycentric point L: mu_r*(-grad psi) + Br (recovered
+  // gradient where available).
   Eigen::Vector3d B_in_cell(int c, const Eigen::Vector4d& L) const;
   // psi (T*mm) in cell c at barycentric point L.
   double psi_in_cell(int c, const Eigen::Vector4d& L) const;

@@ -27,6 +27,7 @@ std::vector<KeySpec> fem_keys() {
       real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
+      bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
       real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
       real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to"),
@@ -81,6 +82,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));
   o.threads = static_cast<int>(cfg.integer("fem.threads"));
   o.progress_every = static_cast<int>(cfg.integer("fem.progress_every"));
+  o.recovery = cfg.flag("fem.recovery");
 
   // Grids.
   const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");

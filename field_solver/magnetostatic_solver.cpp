@@ -149,6 +149,7 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
+  if (options_.recovery) s.recover_gradient();
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
   B_cell_ = evaluator_->B_cell_centroids();
   if (!B_cell_.allFinite()) throw ComputeError("B contains NaN or Inf");

@@ -30,6 +30,7 @@ struct SolverOptions {
   int max_iterations = 20000;             // CG iteration cap (ComputeError when reached)
   int threads = 0;                        // OpenMP threads (0: omp_get_max_threads)
   int progress_every = 500;               // stderr progress line every N CG iterations (0: quiet)
+  bool recovery = true;                   // B from the recovered (node-averaged) gradient of psi
 };
 
 // What a solve cost and reached.

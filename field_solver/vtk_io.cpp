@@ -4,6 +4,7 @@
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
@@ -66,6 +67,10 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   grid->GetCellData()->AddArray(region);
   grid->GetCellData()->AddArray(mu);
   grid->GetCellData()->AddArray(vector_array("Br", sol.br_T));
+  vtkNew<vtkIntArray> rec;  // field data: 1 when B is evaluated from the recovered gradient
+  rec->SetName("gradient_recovery");
+  rec->InsertNextValue(sol.grad_recovered.cols() > 0 ? 1 : 0);
+  grid->GetFieldData()->AddArray(rec);
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
@@ -141,6 +146,8 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
     s.br_T.col(c) = Eigen::Vector3d(b[0], b[1], b[2]);
   }
   if (!s.psi_Tmm.allFinite()) throw InputError(path.string() + ": psi contains NaN");
+  auto* rec = vtkIntArray::SafeDownCast(grid->GetFieldData()->GetArray("gradient_recovery"));
+  if (rec && rec->GetNumberOfTuples() > 0 && rec->GetValue(0) == 1) s.recover_gradient();
   return s;
 }
 

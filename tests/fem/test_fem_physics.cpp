@@ -27,17 +27,24 @@ SolverOptions quiet(int order) {
 
 struct Run {
   long dofs;
-  double rms_rel, max_rel;
+  double rms_rel, max_rel;      // raw FE gradient
+  double rms_rec, max_rec;      // recovered (node-averaged) gradient
 };
 
 Run run_cylinder(double h_zone, int order) {
-  MagnetostaticSolver s(test::coarse_domain(h_zone), quiet(order));
+  SolverOptions o = quiet(order);
+  o.recovery = false;  // theoretical rates are those of the raw FE gradient
+  MagnetostaticSolver s(test::coarse_domain(h_zone), o);
   s.run();
   magenc::AnalyticField exact(s.domain().magnet);
   // Plane grid over the probe region (|x|, |y| <= 3 mm) at z_s.
   const GridSpec g = GridSpec::from_range({-3, -3, test::kPlaneZ}, {3, 3, test::kPlaneZ}, {0.2, 0.2, 1});
   const BzErrorStats e = bz_error_on_grid(s.evaluator(), exact, g);
-  return {s.stats().dofs, e.rms_rel(), e.max_rel()};
+  FeSolution rec = s.solution();
+  rec.recover_gradient();
+  const FieldEvaluator ev(std::move(rec));
+  const BzErrorStats r = bz_error_on_grid(ev, exact, g);
+  return {s.stats().dofs, e.rms_rel(), e.max_rel(), r.rms_rel(), r.max_rel()};
 }
 
 }  // namespace
@@ -55,7 +62,7 @@ TEST_CASE("mu_r = 1: Bz on the sensing plane converges to the exact field", "[fe
   const Run a = run_cylinder(0.8, order), b = run_cylinder(0.5, order);
   // Only the zone is refined, so the rate is taken in its edge length h.
   const double rate_h = std::log(a.rms_rel / b.rms_rel) / std::log(0.8 / 0.5);
-  CAPTURE(a.dofs, a.rms_rel, a.max_rel, b.dofs, b.rms_rel, b.max_rel, rate_h);
+  CAPTURE(a.dofs, a.rms_rel, a.max_rel, b.dofs, b.rms_rel, b.max_rel, rate_h, b.rms_rec, b.max_rec);
   if (order == 1) {
     CHECK(b.rms_rel < 0.085);
     CHECK(rate_h > 0.7);
@@ -65,6 +72,10 @@ TEST_CASE("mu_r = 1: Bz on the sensing plane converges to the exact field", "[fe
     CHECK(rate_h > 1.7);
   }
   CHECK(b.rms_rel < a.rms_rel);
+  // Gradient recovery (solve_field's default) must not make things worse
+  // (measured: P1 RMS 5.7e-2 -> 2.0e-2; P2 max error roughly halved).
+  CHECK(b.rms_rec < b.rms_rel);
+  CHECK(b.max_rec < b.max_rel);
 }
 
 TEST_CASE("uniformly magnetized sphere with mu_r != 1 matches its closed form", "[fem][physics]") {
