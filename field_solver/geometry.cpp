@@ -192,14 +192,12 @@ Plc build_plc(const DomainSpec& spec) {
                            tet_volume_for_edge(m.h_zone_mm)});
   }
   // 4. Shaft below the magnet.
-  double z_seed_air = 0.5 * (m.outer_radius_mm + top);  // on the axis above the magnet... unless the zone is there
   if (spec.shaft.enabled) {
     const double z1 = -top - spec.shaft.gap_mm, z0 = z1 - spec.shaft.length_mm;
     add_cylinder(plc, polygon_radius(spec.shaft.radius_mm, m.segments, m.equal_area), m.segments, z0, z1);
     plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
   }
   // Air seed: a point near the truncation sphere on the -x axis, outside everything else.
-  (void)z_seed_air;
   plc.regions.push_back({Eigen::Vector3d(-0.95 * m.outer_radius_mm, 0, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
   return plc;
 }
