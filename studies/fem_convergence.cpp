@@ -72,7 +72,9 @@ void run(const Config& cfg, StudyOutput& out) {
   const double factor = cfg.real("convergence.h_magnet_factor");
   std::string md = "# fem_convergence\n\nBz of the FEM on the sensing plane (z_s = " + fmt(base.plane_z_mm, 2) +
                    " mm, grid " + std::to_string(plane.dims[0]) + "x" + std::to_string(plane.dims[1]) + ", step " +
-                   fmt(plane.step_mm[0], 3) + " mm) against the exact field, with the magnet's mu_r forced to 1 (exact field: no permeability). Errors relative to the peak |Bz| on the grid.\n\n";
+                   fmt(plane.step_mm[0], 3) + " mm) against the exact field, with the magnet's mu_r forced to 1 (exact field: no permeability). Errors relative to the peak |Bz| on the grid. B from the " +
+                   std::string(base.solver.recovery ? "recovered (node-averaged) gradient of psi (fem.recovery = true)"
+                                                    : "raw FE gradient (fem.recovery = false)") + ".\n\n";
 
   // 2. Mesh-size sweep per order.
   std::string csv = row({"order", "h_zone_mm", "h_magnet_mm", "elements", "dofs", "iterations", "rms_rel", "max_rel",
