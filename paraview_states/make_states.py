@@ -222,7 +222,7 @@ def make_magnet_field(data, vmax):
     rlut.Annotations = ann
     rlut.IndexedColors = cols
     dc.LookupTable = rlut
-    dc.EdgeColor = [0.25, 0.25, 0.3]
+    dc.EdgeColor = [0.55, 0.55, 0.6]   # light: a fine mesh must not hide the region colours
     dc.Opacity = 1.0
     rbar = style_bar(rlut, view, "region", pos=(0.03, 0.35), length=0.25)
     rbar.TextPosition = "Ticks left/bottom, annotations right/top"
