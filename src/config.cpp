@@ -18,7 +18,7 @@ KeySpec real_key(std::string key, double def, double min, double max, std::strin
   s.key = std::move(key);
   s.type = KeySpec::Type::Real;
   std::ostringstream os;
-  os << std::setprecision(17) << def;
+  os << std::setprecision(15) << def;
   s.default_value = os.str();
   s.min = min;
   s.max = max;
