@@ -12,13 +12,6 @@ namespace magenc {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 // Setup and mount must describe a usable probe path (see angle_error()).
 void validate_setup(const ProbeSetup& setup, const Mount& mount) {
   if (!(std::isfinite(setup.r0_mm) && setup.r0_mm > 0))

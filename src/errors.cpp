@@ -2,8 +2,16 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <sstream>
 
 namespace magenc {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
 
 int run_main(const std::string& program, const std::function<int()>& body) {
   try {

@@ -20,6 +20,9 @@ class ComputeError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A number as it appears in one-line error messages (6 significant digits).
+std::string num(double v);
+
 // Runs body() and turns exceptions into a one-line message on stderr and a
 // non-zero exit code: InputError -> 2, ComputeError -> 3, anything else -> 1.
 int run_main(const std::string& program, const std::function<int()>& body);

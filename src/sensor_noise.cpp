@@ -8,15 +8,6 @@
 
 namespace magenc {
 
-namespace {
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-}  // namespace
-
 double SensorNoise::lsb_T() const {
   if (adc_bits == 0) return 0.0;
   return 2.0 * adc_full_scale_mT * 1e-3 / std::ldexp(1.0, adc_bits);

@@ -12,13 +12,6 @@ namespace magenc {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 // Uniform double in [0, 1) from the top 53 bits.
 double unit_uniform(std::uint64_t x) { return static_cast<double>(x >> 11) * 0x1.0p-53; }
 
