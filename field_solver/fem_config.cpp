@@ -12,15 +12,24 @@ std::vector<KeySpec> fem_keys() {
   return {
       int_key("mesh.segments", 64, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
       bool_key("mesh.equal_area", true, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
-      real_key("mesh.h_magnet_mm", 0.6, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
+      real_key("mesh.h_magnet_mm", 0.3, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
       real_key("mesh.h_zone_mm", 0.3, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
       real_key("mesh.h_air_mm", 12.0, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
       real_key("mesh.outer_radius_mm", 60.0, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
       int_key("mesh.sphere_subdivisions", 3, 1, 6, "icosphere level of the faceted truncation sphere"),
       real_key("mesh.zone_half_width_mm", 5.5, 0, 1000, "mm", "refinement zone half width in x and y", true),
-      real_key("mesh.zone_half_height_mm", 0.75, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
+      real_key("mesh.zone_half_height_mm", 1.3, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
+      real_key("mesh.core_radius_mm", 3.2, 0, 1000, "mm",
+               "radius of the core cylinder about the sensing plane inside the zone, meshed with mesh.h_core_mm "
+               "(0 = none; > magnet radius, < 0.8x zone half width)"),
+      real_key("mesh.h_core_mm", 0.17, 0.01, 100, "mm", "target tet edge length in the zone's core cylinder", true),
+      real_key("mesh.core_top_above_plane_mm", 0.6, 0, 1000, "mm",
+               "core cylinder top above the sensing plane (< mesh.zone_half_height_mm)"),
+      real_key("mesh.core_below_plane_mm", 0.6, 0, 1000, "mm",
+               "core cylinder bottom below the sensing plane; reaching the zone box's bottom (z_s - "
+               "mesh.zone_half_height_mm, clamped above the magnet) takes core and zone down to the magnet's top face"),
       real_key("mesh.quality_ratio", 2.0, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
-      real_key("mesh.min_dihedral_deg", 10.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      real_key("mesh.min_dihedral_deg", 15.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner"),
@@ -58,6 +67,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   m.equal_area = cfg.flag("mesh.equal_area");
   m.h_magnet_mm = cfg.real("mesh.h_magnet_mm");
   m.h_zone_mm = cfg.real("mesh.h_zone_mm");
+  m.h_core_mm = cfg.real("mesh.h_core_mm");
   m.h_air_mm = cfg.real("mesh.h_air_mm");
   m.outer_radius_mm = cfg.real("mesh.outer_radius_mm");
   m.sphere_subdivisions = static_cast<int>(cfg.integer("mesh.sphere_subdivisions"));
@@ -67,6 +77,9 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   d.zone.half_width_mm = cfg.real("mesh.zone_half_width_mm");
   d.zone.z_min_mm = std::max(s.plane_z_mm - cfg.real("mesh.zone_half_height_mm"), top + 0.5 * h);
   d.zone.z_max_mm = s.plane_z_mm + cfg.real("mesh.zone_half_height_mm");
+  d.zone.core_radius_mm = cfg.real("mesh.core_radius_mm");
+  d.zone.core_z_max_mm = s.plane_z_mm + cfg.real("mesh.core_top_above_plane_mm");
+  d.zone.core_z_min_mm = s.plane_z_mm - cfg.real("mesh.core_below_plane_mm");
   d.shaft.enabled = cfg.flag("shaft.enabled");
   d.shaft.radius_mm = cfg.real("shaft.radius_mm");
   d.shaft.length_mm = cfg.real("shaft.length_mm");

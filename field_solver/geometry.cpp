@@ -97,6 +97,69 @@ void add_box(Plc& plc, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   for (const auto& q : quads) plc.facets.push_back({{b + q[0], b + q[1], b + q[2], b + q[3]}});
 }
 
+// Zone box [-w, w]^2 x [top, z_max] around a core cylinder (radius rc, N-gon at
+// the magnet's angles) from the magnet's top face (whose top ring of N points
+// starts at magnet_top_first) to core_z_max. The planar faces at z = top are
+// split into convex quads between rays at the polygon angles: magnet ring ->
+// core ring (core bottom) and core ring -> square (zone bottom); N % 8 == 0 puts
+// the square's corners on rays.
+void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, double top) {
+  const int N = spec.mesh.segments;
+  const double w = spec.zone.half_width_mm, zt = spec.zone.z_max_mm, zc = spec.zone.core_z_max_mm;
+  const double rc = polygon_radius(spec.zone.core_radius_mm, N, spec.mesh.equal_area);
+  const int cb = static_cast<int>(plc.points.size());  // core ring at z = top
+  for (int k = 0; k < N; ++k) {
+    const double a = 2.0 * kPi * k / N;
+    plc.add_point({rc * std::cos(a), rc * std::sin(a), top});
+  }
+  const int ct = static_cast<int>(plc.points.size());  // core ring at z = zc
+  for (int k = 0; k < N; ++k) {
+    const double a = 2.0 * kPi * k / N;
+    plc.add_point({rc * std::cos(a), rc * std::sin(a), zc});
+  }
+  const int sq = static_cast<int>(plc.points.size());  // square boundary on the rays, z = top
+  for (int k = 0; k < N; ++k) {
+    const double a = 2.0 * kPi * k / N, c = std::cos(a), s = std::sin(a);
+    const double t = w / std::max(std::abs(c), std::abs(s));
+    Eigen::Vector3d p(t * c, t * s, top);
+    for (int d = 0; d < 2; ++d)
+      if (std::abs(std::abs(p[d]) - w) < 1e-12 * w) p[d] = std::copysign(w, p[d]);  // exact on the side
+    plc.add_point(p);
+  }
+  Plc::Facet core_top;
+  for (int k = 0; k < N; ++k) {
+    const int k1 = (k + 1) % N;
+    plc.facets.push_back({{magnet_top_first + k, magnet_top_first + k1, cb + k1, cb + k}});  // core bottom
+    plc.facets.push_back({{cb + k, cb + k1, sq + k1, sq + k}});                              // zone bottom
+    plc.facets.push_back({{cb + k, cb + k1, ct + k1, ct + k}});                              // core side
+    core_top.polygon.push_back(ct + k);
+  }
+  plc.facets.push_back(core_top);
+  // Box top corners (z = zt) at the rays 45, 135, 225, 315 deg: k = N/8 * (1, 3, 5, 7).
+  const int tc = static_cast<int>(plc.points.size());
+  const int corner_k[4] = {N / 8, 3 * N / 8, 5 * N / 8, 7 * N / 8};
+  Plc::Facet box_top;
+  for (int i = 0; i < 4; ++i) {
+    Eigen::Vector3d p = plc.points[sq + corner_k[i]];
+    p.z() = zt;
+    plc.add_point(p);
+    box_top.polygon.push_back(tc + i);
+  }
+  plc.facets.push_back(box_top);
+  // Sides: from corner i to corner i+1 along the square points at z = top, back along the top edge.
+  for (int i = 0; i < 4; ++i) {
+    Plc::Facet side;
+    const int k0 = corner_k[i], k1 = corner_k[(i + 1) % 4] + (i == 3 ? N : 0);
+    for (int k = k0; k <= k1; ++k) side.polygon.push_back(sq + k % N);
+    side.polygon.push_back(tc + (i + 1) % 4);
+    side.polygon.push_back(tc + i);
+    plc.facets.push_back(side);
+  }
+  plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (top + zc)), kRegionZone, tet_volume_for_edge(spec.mesh.h_core_mm)});
+  plc.regions.push_back({Eigen::Vector3d(0.9 * w, 0.9 * w, 0.5 * (top + zt)), kRegionZone,
+                         tet_volume_for_edge(spec.mesh.h_zone_mm)});
+}
+
 void require_positive(const char* key, double v, const char* unit) {
   if (!(std::isfinite(v) && v > 0))
     throw InputError(std::string(key) + " = " + num(v) + " is out of range: allowed > 0 " + unit);
@@ -150,6 +213,24 @@ void DomainSpec::validate() const {
                        num(top) + " mm): sensor.plane_height_mm must be > 0");
     const double corner = Eigen::Vector3d(zone.half_width_mm, zone.half_width_mm,
                                           std::max(std::abs(zone.z_min_mm), std::abs(zone.z_max_mm))).norm();
+    if (zone.core()) {
+      require_positive("mesh.h_core_mm", m.h_core_mm, "mm");
+      if (shape != MagnetShape::Cylinder)
+        throw InputError("mesh.core_radius_mm = " + num(zone.core_radius_mm) + ": a zone core needs a cylinder magnet (use 0)");
+      if (m.segments % 8 != 0)
+        throw InputError("mesh.segments = " + std::to_string(m.segments) +
+                         " is out of range with a zone core (mesh.core_radius_mm > 0): must be a multiple of 8");
+      const double rp = polygon_radius(R, m.segments, m.equal_area);
+      if (!(zone.core_radius_mm > 1.05 * rp && zone.core_radius_mm < 0.8 * zone.half_width_mm))
+        throw InputError("mesh.core_radius_mm = " + num(zone.core_radius_mm) + " is out of range: allowed (" +
+                         num(1.05 * rp) + ", " + num(0.8 * zone.half_width_mm) +
+                         ") mm (beyond the magnet's radius, inside 0.8x mesh.zone_half_width_mm)");
+      if (!zone.core_to_magnet() && !(zone.core_z_max_mm > zone.core_z_min_mm))
+        throw InputError("zone core is empty: top z = " + num(zone.core_z_max_mm) + " <= bottom z = " + num(zone.core_z_min_mm));
+      if (!(zone.core_z_max_mm > top && zone.core_z_max_mm < zone.z_max_mm))
+        throw InputError("zone core top z = " + num(zone.core_z_max_mm) + " mm is out of range: allowed (" + num(top) +
+                         ", " + num(zone.z_max_mm) + ") mm (mesh.core_top_above_plane_mm must be < mesh.zone_half_height_mm)");
+    }
     if (corner >= 0.9 * m.outer_radius_mm)
       throw InputError("refinement zone (corner at " + num(corner) + " mm from the origin) reaches the truncation sphere: "
                        "mesh.outer_radius_mm = " + num(m.outer_radius_mm) + " must be > " + num(corner / 0.9) + " mm");
@@ -177,6 +258,7 @@ Plc build_plc(const DomainSpec& spec) {
   add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false);
   // 2. Magnet.
   double top = 0.5 * L;
+  const int magnet_base = static_cast<int>(plc.points.size());
   if (spec.shape == MagnetShape::Cylinder) {
     add_cylinder(plc, polygon_radius(R, m.segments, m.equal_area), m.segments, -0.5 * L, 0.5 * L);
   } else {
@@ -185,11 +267,20 @@ Plc build_plc(const DomainSpec& spec) {
   }
   plc.regions.push_back({Eigen::Vector3d(0, 0, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
   // 3. Refinement zone around the sensing plane.
-  if (spec.zone.enabled) {
+  if (spec.zone.core_to_magnet()) {
+    add_zone_with_core(plc, spec, magnet_base + m.segments, top);
+  } else if (spec.zone.enabled) {
     const double w = spec.zone.half_width_mm;
     add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
-    plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm)), kRegionZone,
-                           tet_volume_for_edge(m.h_zone_mm)});
+    Eigen::Vector3d seed(0, 0, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
+    if (spec.zone.core()) {  // core cylinder nested inside the box; box seed in a corner
+      add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
+                   spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
+      plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
+                             tet_volume_for_edge(m.h_core_mm)});
+      seed = Eigen::Vector3d(0.9 * w, 0.9 * w, seed.z());
+    }
+    plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
   }
   // 4. Shaft below the magnet.
   if (spec.shaft.enabled) {

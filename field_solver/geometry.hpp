@@ -13,11 +13,22 @@ enum class MagnetShape { Cylinder, Sphere };  // Sphere: radius = magnet.radius_
 
 // Refinement zone: the box [-half_width, half_width]^2 x [z_min, z_max] (mm) of air
 // meshed with the zone's edge length.
+// Optional core (core_radius_mm > 0, cylinder magnets only): a coaxial air
+// cylinder of that radius from core_z_min_mm up to core_z_max_mm inside the
+// box, meshed with mesh.h_core_mm, where the probes are. With core_z_min_mm <=
+// z_min the core starts at the magnet's top face and the zone box reaches down
+// to it too (z_min unused), so the air gap between magnet and sensing plane is
+// refined instead of being graded by TetGen's quality bound alone.
 struct ZoneSpec {
   bool enabled = true;
   double half_width_mm = 5.5;
   double z_min_mm = 3.55;  // must lie above the magnet's top face
   double z_max_mm = 5.55;
+  double core_radius_mm = 0;  // 0: no core; else > magnet polygon radius, < 0.8 half_width
+  double core_z_max_mm = 0;   // core top: above the magnet's top face, below z_max
+  double core_z_min_mm = 0;   // core bottom; <= z_min: core and zone reach down to the magnet's top face
+  bool core() const { return enabled && core_radius_mm > 0; }
+  bool core_to_magnet() const { return core() && core_z_min_mm <= z_min_mm; }
 };
 
 // Optional coaxial cylinder below the magnet (e.g. a steel shaft).
@@ -34,6 +45,7 @@ struct MeshSpec {
   bool equal_area = true;     // polygon radius scaled so the cross-section area (sphere: volume) is exact
   double h_magnet_mm = 0.6;  // target edge length in the magnet (and shaft)
   double h_zone_mm = 0.3;    // target edge length in the refinement zone
+  double h_core_mm = 0.2;    // target edge length in the zone's core cylinder (if any)
   double h_air_mm = 10.0;     // maximum edge length in the far air
   double outer_radius_mm = 60.0;  // truncation sphere radius
   int sphere_subdivisions = 3;    // icosphere level of the faceted outer sphere (and sphere magnets: +1)

@@ -65,6 +65,9 @@ void run(const Config& cfg, StudyOutput& out) {
   // The exact field has no permeability: the comparison is made with mu_r = 1
   // whatever magnet.mu_r says (stated in summary.md).
   base.domain.magnet.mu_r = 1.0;
+  // The runs refine the zone box (and the magnet) only: no core cylinder with
+  // its own fixed edge length, so the rates are rates in h_zone.
+  base.domain.zone.core_radius_mm = 0;
   const GridSpec& plane = base.plane;
   const auto hs = numbers(cfg, "convergence.h_zone_list");
   const auto orders = numbers(cfg, "convergence.orders");
