@@ -15,6 +15,9 @@ namespace magenc {
 
 namespace {
 
+// A neighbour's total in summary.md: "edge" where the best r0 ends the scanned range.
+std::string neighbour(double v) { return std::isfinite(v) ? fmt(v, 3) : std::string("edge"); }
+
 std::string g(double v) {
   if (!std::isfinite(v)) return "nan";
   std::ostringstream os;
@@ -286,7 +289,7 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     for (const auto& f : r.fields)
       if (f.field == x.field) peak = f.r_bz_peak_mm;
     tab.push_back({x.field, x.array, fmt(x.r0_best_mm, 2), fmt(x.total_p99_best_deg, 3), fmt(x.mc_p99_best_deg, 3),
-                   fmt(x.noise_pp_best_deg, 3), fmt(x.total_p99_left_deg, 3) + " / " + fmt(x.total_p99_right_deg, 3),
+                   fmt(x.noise_pp_best_deg, 3), neighbour(x.total_p99_left_deg) + " / " + neighbour(x.total_p99_right_deg),
                    fmt(x.band_lo_mm, 2) + " .. " + fmt(x.band_hi_mm, 2), fmt(x.r0_best_mount_only_mm, 2),
                    fmt(peak, 3)});
   }
@@ -306,7 +309,7 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
        << " mm minimises the 99th-percentile total error, " << fmt(x.total_p99_best_deg, 3) << " deg ("
        << fmt(x.mc_p99_best_deg, 3) << " mounting + " << fmt(x.noise_pp_best_deg, 3) << " noise); one step ("
        << fmt(opt.r0_mm.size() > 1 ? opt.r0_mm[1] - opt.r0_mm[0] : 0.0, 2) << " mm) inward/outward gives "
-       << fmt(x.total_p99_left_deg, 3) << " / " << fmt(x.total_p99_right_deg, 3) << " deg, and the total stays within "
+       << neighbour(x.total_p99_left_deg) << " / " << neighbour(x.total_p99_right_deg) << " deg, and the total stays within "
        << fmt(100 * opt.band_rel, 0) << "% of the best for r0 in " << fmt(x.band_lo_mm, 2) << " .. "
        << fmt(x.band_hi_mm, 2) << " mm. ";
     md << "Bz on the circle peaks at r = " << fmt(fi->r_bz_peak_mm, 3) << " mm (" << fmt(fi->bz_peak_T * 1e3, 1)
