@@ -10,13 +10,13 @@ namespace magenc {
 void Magnet::validate() const {
   auto positive = [](const char* name, double v, const char* unit) {
     if (!(std::isfinite(v) && v > 0))
-      throw InputError(std::string(name) + " = " + std::to_string(v) + " is out of range: allowed (0, 1000] " + unit);
+      throw InputError(std::string(name) + " = " + num(v) + " is out of range: allowed (0, 1000] " + unit);
   };
   positive("magnet.radius_mm", radius_mm, "mm");
   positive("magnet.height_mm", height_mm, "mm");
   positive("magnet.br_T", br_T, "T");
   if (!(std::isfinite(mu_r) && mu_r >= 1))
-    throw InputError("magnet.mu_r = " + std::to_string(mu_r) + " is out of range: allowed [1, 1e6]");
+    throw InputError("magnet.mu_r = " + num(mu_r) + " is out of range: allowed [1, 1e6]");
   if (!std::isfinite(magnetization_deg))
     throw InputError("magnet.magnetization_deg is NaN: allowed [-360, 360] deg");
 }

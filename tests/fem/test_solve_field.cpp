@@ -101,6 +101,16 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
       {"--set shaft.enabled=true --set shaft.length_mm=100", "shaft", 2},
       {"--set fem.max_iterations=1", "CG did not converge", 3},
       {"--set no.such_key=1", "no.such_key", 2},
+      // Zone core cylinder (default mesh; off in coarse.toml): radius inside the magnet, segment
+      // count not a multiple of 8, top above the zone box, empty core.
+      {"--set mesh.core_radius_mm=1.5 --set mesh.core_top_above_plane_mm=0.4 --set mesh.core_below_plane_mm=0.4",
+       "mesh.core_radius_mm", 2},
+      {"--set mesh.core_radius_mm=2.5 --set mesh.segments=36 --set mesh.core_top_above_plane_mm=0.4 "
+       "--set mesh.core_below_plane_mm=0.4",
+       "mesh.segments", 2},
+      {"--set mesh.core_radius_mm=2.5 --set mesh.core_top_above_plane_mm=2", "zone core top", 2},
+      {"--set mesh.core_radius_mm=2.5 --set mesh.core_top_above_plane_mm=0 --set mesh.core_below_plane_mm=0",
+       "zone core is empty", 2},
   }));
   CAPTURE(c.args);
   const fs::path out = scratch("bad");
@@ -113,6 +123,29 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_FALSE(fs::exists(out));
   CHECK_FALSE(leftovers(out));
+}
+
+TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or down to the magnet", "[fem][cli]") {
+  // coarse.toml has no core (zone h 0.8 mm); a core of h 0.5 mm about the plane must add elements,
+  // and the variant whose core reaches down to the magnet's top face (core_below_plane_mm beyond the
+  // zone box) must add more still. Both solve and write all four outputs.
+  auto elements = [](const std::string& args, const std::string& name) {
+    const fs::path out = scratch(name);
+    fs::remove_all(out);
+    const Result r = solve_field(args, out);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    for (const char* f : {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}) CHECK(fs::is_regular_file(out / f));
+    std::ifstream in(out / "solve.json");
+    return nlohmann::json::parse(in).at("elements").get<long>();
+  };
+  const std::string core = "--set mesh.core_radius_mm=2.5 --set mesh.h_core_mm=0.5 --set mesh.core_top_above_plane_mm=0.4 ";
+  const long none = elements("", "core_none");
+  const long nested = elements(core + "--set mesh.core_below_plane_mm=0.4", "core_nested");
+  const long to_magnet = elements(core + "--set mesh.core_below_plane_mm=5", "core_to_magnet");
+  CAPTURE(none, nested, to_magnet);
+  CHECK(nested > none);
+  CHECK(to_magnet > nested);
 }
 
 TEST_CASE("TetGen adapter rejects an empty PLC with a ComputeError", "[fem]") {
