@@ -9,6 +9,7 @@
 #   6. harmonic_provenance artefact vs physics harmonics    -> output/harmonic_provenance
 #      (with three quick mu_r = 1 solves of increasing accuracy -> output/provenance_fields)
 #   7. radius             choosing r0, tolerance analysis   -> output/radius
+#   8. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
 # fem_convergence (several solves, a few minutes) runs with MAGENC_CONVERGENCE=1.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -33,6 +34,9 @@ step "$BIN/solve_field" "${COARSE[@]}" --set fem.order=2 --set mesh.h_zone_mm=0.
 step "$BIN/harmonic_provenance" --set provenance.fem_dirs=$PF/coarse_p1,$PF/coarse_p2,$PF/medium_p2,output/field \
   --out output/harmonic_provenance
 step "$BIN/radius" --out output/radius
+# Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
+step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
+  --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv
 if [ "${MAGENC_CONVERGENCE:-0}" = 1 ]; then
   step "$BIN/fem_convergence" --out output/fem_convergence
 fi

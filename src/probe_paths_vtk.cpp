@@ -114,4 +114,14 @@ void write_probe_paths_vtp(const fs::path& file, const Eigen::Matrix3Xd& positio
   }
 }
 
+void write_case_probe_paths_vtp(const std::filesystem::path& file, const ProbeSetup& setup, const Mount& mount,
+                                const AngleErrorResult& result) {
+  // probe_B_T is M x K; the file wants column m*K + k, as probe_paths_mm lays out positions.
+  const Eigen::Index M = result.probe_B_T.rows(), K = result.probe_B_T.cols();
+  Eigen::VectorXd bz(M * K);
+  for (Eigen::Index m = 0; m < M; ++m)
+    for (Eigen::Index k = 0; k < K; ++k) bz(m * K + k) = result.probe_B_T(m, k);
+  write_probe_paths_vtp(file, probe_paths_mm(setup, mount), bz, static_cast<int>(K), result.theta_deg);
+}
+
 }  // namespace magenc

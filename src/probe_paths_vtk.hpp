@@ -18,6 +18,8 @@
 #include <Eigen/Core>
 #include <filesystem>
 
+#include "angle_error.hpp"
+
 namespace magenc {
 
 // Writes the probe paths of one mounting case to `file` (.vtp, XML, binary
@@ -37,5 +39,12 @@ namespace magenc {
 // magenc::ComputeError if VTK cannot write the file.
 void write_probe_paths_vtp(const std::filesystem::path& file, const Eigen::Matrix3Xd& positions_mm,
                            const Eigen::VectorXd& Bz_T, int probes_K, const Eigen::VectorXd& theta_deg);
+
+// The paths of one mounting case as the pipeline computes them: probe
+// positions from probe_paths_mm(setup, mount) and the readings of `result`
+// (angle_error(field, setup, mount) for the same setup and mount), written
+// with write_probe_paths_vtp.
+void write_case_probe_paths_vtp(const std::filesystem::path& file, const ProbeSetup& setup, const Mount& mount,
+                                const AngleErrorResult& result);
 
 }  // namespace magenc

@@ -6,6 +6,7 @@
 //                  [--sx MM] [--sy MM] [--dx MM] [--dy MM] [--dz MM]
 //                  [--cases FILE.csv] [--steps M] [--interp nearest|linear|cubic]
 //                  [--config F.toml] [--set key=value]... [--out FILE.csv]
+//                  [--paths FILE.vtp]
 //
 // Flags are shorthands for config keys (--r0 -> sensor.r0_mm, --array ->
 // sensor.array, --steps -> sensor.steps, --sx.. --dz -> mount.*) applied after
@@ -13,7 +14,9 @@
 // --cases, each row is a complete mount (missing columns = 0) and the mount
 // flags/keys are not used; combining --cases with --sx..--dz is an error.
 // --field defaults to analytic; --interp (default cubic) applies to grid: fields.
-// Writes the spectra table to --out atomically, or to stdout.
+// Writes the spectra table to --out atomically, or to stdout. --paths (one
+// case only) also writes the probe paths of that case as .vtp polylines with
+// Bz and theta_deg (src/probe_paths_vtk.hpp; ParaView's probe_paths.pvsm).
 // Example: error_spectrum --field analytic --array two --r0 2.4 --dx 0.1
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -26,6 +29,7 @@
 #include "fem_field_scheme.hpp"
 #include "field_factory.hpp"
 #include "magnet.hpp"
+#include "probe_paths_vtk.hpp"
 #include "tables.hpp"
 
 namespace {
@@ -39,6 +43,7 @@ struct Flags {
   std::optional<std::string> array, r0, steps, sx, sy, dx, dy, dz;  // config shorthands
   std::string cases;                        // --cases FILE.csv (empty: one case)
   std::string interp = "cubic";            // --interp (grid: fields only)
+  std::string paths;                        // --paths FILE.vtp (one case only; empty: none)
 };
 
 // Applies one flag as "key=text"; an invalid value is reported under the flag's name.
@@ -87,6 +92,7 @@ int run(int argc, char** argv) {
   app.add_option("--steps", f.steps, "samples M of theta per turn (sensor.steps, >= 16)");
   app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
+  app.add_option("--paths", f.paths, "also write the probe paths of the (single) case as FILE.vtp (ParaView)");
   magenc::parse_cli(app, argc, argv);
 
   // 2. Configuration: defaults, --config, --set, then the flags.
@@ -95,6 +101,8 @@ int run(int argc, char** argv) {
   const bool mount_flags = f.sx || f.sy || f.dx || f.dy || f.dz;
   if (!f.cases.empty() && mount_flags)
     throw InputError("--cases cannot be combined with --sx/--sy/--dx/--dy/--dz: allowed one of the two");
+  if (!f.cases.empty() && !f.paths.empty())
+    throw InputError("--paths writes one mounting case: it cannot be combined with --cases");
 
   // 3. Setup, mounting cases and field.
   magenc::ProbeSetup setup;
@@ -111,17 +119,21 @@ int run(int argc, char** argv) {
 
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;
+  std::optional<magenc::AngleErrorResult> single;  // the one case's full result, for --paths
   for (const auto& mount : cases) {
     magenc::SpectrumRow row;
     row.field = field->name();
     row.array = setup.array.name;
     row.r0_mm = setup.r0_mm;
     row.mount = mount;
-    row.spectrum = magenc::error_spectrum(*field, setup, mount);
+    magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
+    row.spectrum = res.spectrum;
+    if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));
   }
 
-  // 5. Output: atomically to --out, or stdout.
+  // 5. Output: atomically to --out (or stdout) and --paths.
+  if (single) magenc::write_case_probe_paths_vtp(f.paths, setup, cases.front(), *single);
   const std::string table = magenc::spectra_csv(rows);
   if (common.out.empty()) {
     std::cout << table;

@@ -156,8 +156,13 @@ def check_magnet_field(data):
     clip = source("clip_y0")
     if clip is not None:
         clip.UpdatePipeline()
+        # Crinkle clip: whole cells that reach y >= 0, so a strict subset of the
+        # mesh that still spans y > 0 and cuts through the magnet (region 1).
         b = clip.GetDataInformation().GetBounds()
-        check(n_cells(clip) > 0 and b[2] > -1e-6, "clip keeps y >= 0 (y from %g)" % b[2])
+        mb = mesh.GetDataInformation().GetBounds() if mesh is not None else b
+        total = n_cells(mesh) if mesh is not None else float("inf")
+        check(0 < n_cells(clip) < total, "clip keeps part of the mesh (%d of %s cells)" % (n_cells(clip), total))
+        check(b[3] > 0 and b[2] > mb[2] + 1e-9, "clip keeps the y >= 0 side (y from %g to %g; mesh from %g)" % (b[2], b[3], mb[2]))
     st = source("streamlines")
     if st is not None:
         st.UpdatePipeline()

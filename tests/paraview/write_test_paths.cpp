@@ -39,16 +39,9 @@ int run(int argc, char** argv) {
   const magenc::Mount mount = magenc::Mount::from_config(cfg);
   const magenc::FieldSourcePtr field = magenc::make_field_source(field_spec, cfg);
 
-  // 3. Paths and readings: probe_B_T is M x K, the file wants column m*K + k.
+  // 3. Paths and readings, written through the library call error_spectrum --paths uses.
   const magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
-  const Eigen::Matrix3Xd pos = magenc::probe_paths_mm(setup, mount);
-  const Eigen::Index M = res.probe_B_T.rows(), K = res.probe_B_T.cols();
-  Eigen::VectorXd bz(M * K);
-  for (Eigen::Index m = 0; m < M; ++m)
-    for (Eigen::Index k = 0; k < K; ++k) bz(m * K + k) = res.probe_B_T(m, k);
-
-  // 4. Write.
-  magenc::write_probe_paths_vtp(common.out, pos, bz, static_cast<int>(K), res.theta_deg);
+  magenc::write_case_probe_paths_vtp(common.out, setup, mount, res);
   return 0;
 }
 

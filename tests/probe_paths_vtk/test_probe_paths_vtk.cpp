@@ -17,6 +17,7 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include "analytic_field.hpp"
 #include "probe_paths_vtk.hpp"
 #include "units.hpp"
 
@@ -133,4 +134,37 @@ TEST_CASE("probe paths .vtp: inconsistent shapes are rejected, nothing written",
   CHECK_THROWS_AS(magenc::write_probe_paths_vtp(file, c.pos, nan_bz, c.K, c.theta), std::invalid_argument);
   CHECK_FALSE(fs::exists(file));
   fs::remove_all(dir);
+}
+
+TEST_CASE("probe paths .vtp of a mounting case: each point carries the field the pipeline read there",
+          "[vtk][probe]") {
+  // write_case_probe_paths_vtp pairs probe_paths_mm with angle_error's readings
+  // (M x K -> column m*K + k). On the exact field every stored Bz must equal the
+  // field at the stored point; a transposed layout would break this.
+  const magenc::AnalyticField field(magenc::Magnet{});
+  magenc::ProbeSetup setup;
+  setup.array = magenc::ProbeArray::parse("diff4");
+  setup.steps = 90;
+  magenc::Mount mount;
+  mount.sx_mm = 0.3;
+  mount.dx_mm = 0.2;
+  const auto res = magenc::angle_error(field, setup, mount);
+  const fs::path file = temp_dir() / "case.vtp";
+  magenc::write_case_probe_paths_vtp(file, setup, mount, res);
+
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* pd = reader->GetOutput();
+  REQUIRE(pd->GetNumberOfLines() == 4);
+  REQUIRE(pd->GetNumberOfPoints() == 4 * 90);
+  vtkDataArray* bz = pd->GetPointData()->GetArray("Bz");
+  REQUIRE(bz != nullptr);
+  double worst = 0;
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
+    double p[3];
+    pd->GetPoint(i, p);
+    worst = std::max(worst, std::abs(bz->GetTuple1(i) - field.Bz_T(magenc::Vec3(p[0], p[1], p[2]))));
+  }
+  CHECK(worst < 1e-12);  // T; the same kernel at the same points (float32 points would show ~1e-9)
 }

@@ -138,6 +138,8 @@ TEST_CASE("error_spectrum rejects bad input cleanly", "[tools][cli]") {
       {"--field linear --sx 2.0 --dx 0.5", "r0"},
       {"--field analytic --dz -3 --dx 0.5", "magnet"},
       {"--field linear --bogus 1", "bogus"},
+      {"--field linear --cases cases.csv --paths p.vtp", "--paths"},
+      {"--field analytic --dz -3 --dx 0.5 --paths p.vtp", "magnet"},  // no .vtp either
   };
   for (const auto& b : cases) {
     Scratch s;
