@@ -42,28 +42,30 @@ nlohmann::json read_solve_json(const fs::path& dir) {
   }
 }
 
-// The solve's magnet and plane must be the study's: the exact field beside it
-// is built from the study's [magnet] keys.
-void check_solve_matches(const fs::path& dir, const Config& cfg) {
+}  // namespace
+
+std::string solve_mismatch(const fs::path& dir, const Config& cfg) {
   const nlohmann::json j = read_solve_json(dir);
-  if (!j.contains("magnet")) return;
+  if (!j.contains("magnet")) return "";
   const auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); };
   for (const char* k : {"radius_mm", "height_mm", "br_T"}) {
     const double solved = j["magnet"].value(k, std::numeric_limits<double>::quiet_NaN());
     const double want = cfg.real(std::string("magnet.") + k);
     if (differs(solved, want))
-      throw InputError("fem_field.dir '" + dir.string() + "' was solved with magnet." + k + " = " + fmt(solved, 4) +
-                       ", the study uses " + fmt(want, 4) + ": solve again with the study's [magnet] keys");
+      return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
+             ": solve again with the study's [magnet] keys";
   }
   if (j.contains("plane_z_mm")) {
     const double solved = j["plane_z_mm"].get<double>();
     const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");
     if (differs(solved, want))
-      throw InputError("fem_field.dir '" + dir.string() + "' has its sensing plane at z = " + fmt(solved, 4) +
-                       " mm, the study uses z_s = " + fmt(want, 4) + " mm (sensor.plane_height_mm)");
+      return "has its sensing plane at z = " + fmt(solved, 4) + " mm, the study uses z_s = " + fmt(want, 4) +
+             " mm (sensor.plane_height_mm)";
   }
+  return "";
 }
 
+namespace {
 }  // namespace
 
 std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
@@ -90,7 +92,10 @@ std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
       throw InputError("fem_field.sources: '" + l + "' listed twice");
     out.push_back({l, spec, nullptr});
   }
-  check_solve_matches(dir, cfg);
+  // The solve's magnet and plane must be the study's: the exact field beside it
+  // is built from the study's [magnet] keys.
+  if (const std::string why = solve_mismatch(dir, cfg); !why.empty())
+    throw InputError("fem_field.dir '" + dir.string() + "' " + why);
   for (auto& s : out) s.field = make_field_source(s.spec, cfg, opts);
   return out;
 }

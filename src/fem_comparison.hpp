@@ -44,6 +44,12 @@ struct FemSource {
 //   "fem_field.dir 'output/field' has no mesh.vtu: run solve_field first (solve_field --out output/field)".
 std::vector<FemSource> fem_sources_from_config(const Config& cfg);
 
+// Why the solve in DIR does not fit the configured magnet and sensing plane
+// (magnet.radius_mm, height_mm, br_T, z_s differ from DIR/solve.json), e.g.
+// "was solved with magnet.radius_mm = 2, the study uses 3: ..."; "" when it
+// fits or solve.json records no magnet.
+std::string solve_mismatch(const std::filesystem::path& dir, const Config& cfg);
+
 // Selected facts of DIR/solve.json for summaries ("order 2, 230k elements,
 // mu_r 1.05, ..."); "" when the file is missing or unreadable.
 std::string solve_description(const std::filesystem::path& dir);

@@ -11,6 +11,7 @@
 
 #include "angle_error.hpp"
 #include "errors.hpp"
+#include "fem_comparison.hpp"
 #include "magnet.hpp"
 #include "units.hpp"
 
@@ -478,10 +479,20 @@ std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::
   if (specs.empty()) throw InputError("radius.fields is empty: allowed a comma-separated list of field specs");
   const std::string dir = cfg.str("radius.fem_dir");
   const bool has_fem = std::any_of(specs.begin(), specs.end(), [](const std::string& s) { return s.rfind("fem:", 0) == 0; });
+  // A listed fem:DIR must be a solve of the configured magnet: it is compared with the analytic field.
+  for (const auto& s : specs)
+    if (s.rfind("fem:", 0) == 0)
+      if (const std::string why = solve_mismatch(s.substr(4), cfg); !why.empty())
+        throw InputError("radius.fields: '" + s + "' " + why);
   if (dir.empty()) {
     notes.push_back("radius.fem_dir is empty: no FEM field added automatically.");
   } else if (has_fem) {
     notes.push_back("radius.fields lists a fem: field; radius.fem_dir not used.");
+  } else if (const std::string why = std::filesystem::exists(std::filesystem::path(dir) / "solve.json")
+                                         ? solve_mismatch(dir, cfg)
+                                         : std::string();
+             !why.empty()) {
+    notes.push_back("The solved field in " + dir + " " + why + "; FEM field not run.");
   } else if (std::filesystem::exists(std::filesystem::path(dir) / "solve.json")) {
     specs.push_back("fem:" + dir);
     notes.push_back("Solved field found in " + dir + " (solve.json): added fem:" + dir + ".");

@@ -2,6 +2,7 @@
 // its bad-input behaviour (non-zero exit, one-line message, no output dir).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -95,4 +96,39 @@ TEST_CASE("radius study: bad input exits non-zero with one line and no output", 
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK_FALSE(fs::exists(out));
   fs::remove(out.string() + ".stderr");
+}
+
+TEST_CASE("radius study: a solved field of another magnet is never compared with this one", "[radius][study]") {
+  // solve.json of the default magnet (R = 2 mm); the study runs for R = 3 mm. Auto-added
+  // (radius.fem_dir): the FEM field is skipped with a note saying why. Listed explicitly
+  // (radius.fields = ...,fem:DIR): one-line error naming the key, no output.
+  const fs::path base = fs::temp_directory_path() / "magenc_test_radius_other_magnet";
+  fs::remove_all(base);
+  fs::create_directories(base / "field");
+  std::ofstream(base / "field" / "solve.json")
+      << R"({"magnet": {"radius_mm": 2.0, "height_mm": 4.0, "br_T": 1.2}, "plane_z_mm": 4.55})";
+  const std::string field_dir = (base / "field").string();
+  const std::string r3 = " --set magnet.radius_mm=3 --set radius.r0_min_mm=0.5";
+
+  const fs::path out = base / "auto";
+  const Run a = run_radius(tiny() + r3 + " --set radius.fem_dir=" + field_dir, out);
+  INFO(a.err);
+  REQUIRE(a.code == 0);
+  std::ifstream in(out / "summary.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  CHECK(ss.str().find("was solved with magnet.radius_mm") != std::string::npos);
+  CHECK(ss.str().find("FEM field not run") != std::string::npos);
+  std::ifstream csv(out / "radius.csv");
+  std::string line;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) CHECK(line.rfind("analytic,", 0) == 0);  // no fem rows
+
+  const fs::path out2 = base / "listed";
+  const Run b = run_radius(tiny() + r3 + " --set radius.fields=analytic,fem:" + field_dir, out2);
+  CHECK(b.code == 2);
+  CHECK(b.err.find("radius.fields") != std::string::npos);
+  CHECK(std::count(b.err.begin(), b.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out2));
+  fs::remove_all(base);
 }
