@@ -20,4 +20,20 @@ if [ -n "${DISPLAY:-}" ]; then
   exec pvbatch "$@"
 fi
 command -v xvfb-run >/dev/null || { echo "pvbatch.sh: no DISPLAY and no xvfb-run (apt-get install xvfb xauth)" >&2; exit 2; }
-exec xvfb-run -a -s "-screen 0 1600x1200x24" pvbatch "$@"
+# Two X servers started at the same moment (parallel ctest, other users) can
+# race for one display number and pvbatch then aborts with "bad X server
+# connection". Start the free-number search at a random display and retry on
+# that X failure only (up to 3 times); any other failure is returned as is.
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+rc=0
+for attempt in 1 2 3; do
+  rc=0
+  xvfb-run -a -n $((100 + RANDOM % 800)) -s "-screen 0 1600x1200x24 -nolisten tcp" pvbatch "$@" 2>"$log" || rc=$?
+  cat "$log" >&2
+  if [ "$rc" = 0 ] || ! grep -q -E "bad X server connection|Xvfb failed to start|cannot open display" "$log"; then
+    exit "$rc"
+  fi
+  echo "pvbatch.sh: X server not usable (attempt $attempt of 3), retrying on another display" >&2
+done
+exit "$rc"
