@@ -25,15 +25,7 @@ ProbeSetup setup_for(const std::string& array, double r0_mm = 2.4, int steps = 3
   return s;
 }
 
-Mount mount(double sx, double sy, double dx, double dy, double dz = 0) {
-  Mount m;
-  m.sx_mm = sx;
-  m.sy_mm = sy;
-  m.dx_mm = dx;
-  m.dy_mm = dy;
-  m.dz_mm = dz;
-  return m;
-}
+Mount mount(double sx, double sy, double dx, double dy, double dz = 0) { return Mount{sx, sy, dx, dy, dz}; }
 
 }  // namespace
 

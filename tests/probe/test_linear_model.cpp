@@ -35,13 +35,7 @@ ProbeSetup two_setup(double r0_mm = 2.4) {
 }
 
 Spectrum linear_spectrum(double sx, double sy, double dx, double dy, double dz = 0.0) {
-  Mount m;
-  m.sx_mm = sx;
-  m.sy_mm = sy;
-  m.dx_mm = dx;
-  m.dy_mm = dy;
-  m.dz_mm = dz;
-  return error_spectrum(LinearField(), two_setup(), m);
+  return error_spectrum(LinearField(), two_setup(), Mount{sx, sy, dx, dy, dz});
 }
 
 // First-order prediction of the coefficients (degrees), see the file comment.
