@@ -17,6 +17,9 @@ std::vector<KeySpec> fem_keys() {
       real_key("mesh.h_air_mm", 12.0, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
       real_key("mesh.outer_radius_mm", 60.0, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
       int_key("mesh.sphere_subdivisions", 3, 1, 6, "icosphere level of the faceted truncation sphere"),
+      bool_key("mesh.symmetric", true,
+               "mesh one quadrant (x, y >= 0) and mirror it, so the mesh has the magnet's symmetry about x = 0 and "
+               "y = 0 (false: one TetGen mesh of the whole domain)"),
       real_key("mesh.zone_half_width_mm", 5.5, 0, 1000, "mm", "refinement zone half width in x and y", true),
       real_key("mesh.zone_half_height_mm", 1.3, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
       real_key("mesh.core_radius_mm", 3.2, 0, 1000, "mm",
@@ -71,6 +74,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   m.h_air_mm = cfg.real("mesh.h_air_mm");
   m.outer_radius_mm = cfg.real("mesh.outer_radius_mm");
   m.sphere_subdivisions = static_cast<int>(cfg.integer("mesh.sphere_subdivisions"));
+  m.symmetric = cfg.flag("mesh.symmetric");
   m.mesher.radius_edge_ratio = cfg.real("mesh.quality_ratio");
   m.mesher.min_dihedral_deg = cfg.real("mesh.min_dihedral_deg");
   // Refinement zone: z_s +- half height, but never closer to the magnet than h/2.

@@ -7,16 +7,11 @@
 #include <string>
 
 #include "errors.hpp"
+#include "symmetric_mesh.hpp"
 #include "units.hpp"
 
 namespace magenc::fem {
 namespace {
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // Unit icosphere: icosahedron refined `level` times by edge midpoints.
 void unit_icosphere(int level, std::vector<Eigen::Vector3d>& v, std::vector<std::array<int, 3>>& f) {
@@ -52,7 +47,7 @@ void unit_icosphere(int level, std::vector<Eigen::Vector3d>& v, std::vector<std:
 
 // Adds a faceted sphere (centre c, radius r) to the PLC. With equal_volume the
 // vertices are pushed out so the polyhedron's volume is 4/3 pi r^3.
-void add_sphere(Plc& plc, const Eigen::Vector3d& c, double r, int level, bool equal_volume) {
+void add_sphere(Plc& plc, const Eigen::Vector3d& c, double r, int level, bool equal_volume, bool outer) {
   std::vector<Eigen::Vector3d> v;
   std::vector<std::array<int, 3>> f;
   unit_icosphere(level, v, f);
@@ -64,7 +59,7 @@ void add_sphere(Plc& plc, const Eigen::Vector3d& c, double r, int level, bool eq
   }
   const int base = static_cast<int>(plc.points.size());
   for (const auto& p : v) plc.add_point(c + r * scale * p);
-  for (const auto& tri : f) plc.facets.push_back({{base + tri[0], base + tri[1], base + tri[2]}});
+  for (const auto& tri : f) plc.facets.push_back({{base + tri[0], base + tri[1], base + tri[2]}, {}, outer});
 }
 
 // Adds a z-axis cylinder (polygon radius rp, N segments, z0 < z1).
@@ -155,7 +150,8 @@ void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, 
     side.polygon.push_back(tc + i);
     plc.facets.push_back(side);
   }
-  plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (top + zc)), kRegionZone, tet_volume_for_edge(spec.mesh.h_core_mm)});
+  plc.regions.push_back({Eigen::Vector3d(0.25 * rc, 0.25 * rc, 0.5 * (top + zc)), kRegionZone,
+                         tet_volume_for_edge(spec.mesh.h_core_mm)});
   plc.regions.push_back({Eigen::Vector3d(0.9 * w, 0.9 * w, 0.5 * (top + zt)), kRegionZone,
                          tet_volume_for_edge(spec.mesh.h_zone_mm)});
 }
@@ -188,6 +184,9 @@ void DomainSpec::validate() const {
   const MeshSpec& m = mesh;
   if (m.segments < 8 || m.segments > 4096)
     throw InputError("mesh.segments = " + std::to_string(m.segments) + " is out of range: allowed [8, 4096]");
+  if (m.symmetric && m.segments % 2 != 0)
+    throw InputError("mesh.segments = " + std::to_string(m.segments) +
+                     " is out of range with mesh.symmetric = true: must be even (polygons symmetric about x = 0)");
   if (m.sphere_subdivisions < 1 || m.sphere_subdivisions > 6)
     throw InputError("mesh.sphere_subdivisions = " + std::to_string(m.sphere_subdivisions) +
                      " is out of range: allowed [1, 6]");
@@ -255,29 +254,31 @@ Plc build_plc(const DomainSpec& spec) {
   const double R = spec.magnet.radius_mm, L = spec.magnet.height_mm;
   Plc plc;
   // 1. Truncation sphere (air region seed just inside it).
-  add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false);
+  add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false, true);
   // 2. Magnet.
   double top = 0.5 * L;
   const int magnet_base = static_cast<int>(plc.points.size());
   if (spec.shape == MagnetShape::Cylinder) {
     add_cylinder(plc, polygon_radius(R, m.segments, m.equal_area), m.segments, -0.5 * L, 0.5 * L);
   } else {
-    add_sphere(plc, Eigen::Vector3d::Zero(), R, m.sphere_subdivisions, m.equal_area);
+    add_sphere(plc, Eigen::Vector3d::Zero(), R, m.sphere_subdivisions, m.equal_area, false);
     top = R;
   }
-  plc.regions.push_back({Eigen::Vector3d(0, 0, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
+  // Every seed lies strictly inside the quadrant x > 0, y > 0 (clip_plc_to_quadrant keeps them).
+  plc.regions.push_back({Eigen::Vector3d(0.25 * R, 0.25 * R, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
   // 3. Refinement zone around the sensing plane.
   if (spec.zone.core_to_magnet()) {
     add_zone_with_core(plc, spec, magnet_base + m.segments, top);
   } else if (spec.zone.enabled) {
     const double w = spec.zone.half_width_mm;
     add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
-    Eigen::Vector3d seed(0, 0, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
+    Eigen::Vector3d seed(0.25 * w, 0.25 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
     if (spec.zone.core()) {  // core cylinder nested inside the box; box seed in a corner
       add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
                    spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
-      plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
-                             tet_volume_for_edge(m.h_core_mm)});
+      const double rc = spec.zone.core_radius_mm;
+      plc.regions.push_back({Eigen::Vector3d(0.25 * rc, 0.25 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)),
+                             kRegionZone, tet_volume_for_edge(m.h_core_mm)});
       seed = Eigen::Vector3d(0.9 * w, 0.9 * w, seed.z());
     }
     plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
@@ -286,13 +287,19 @@ Plc build_plc(const DomainSpec& spec) {
   if (spec.shaft.enabled) {
     const double z1 = -top - spec.shaft.gap_mm, z0 = z1 - spec.shaft.length_mm;
     add_cylinder(plc, polygon_radius(spec.shaft.radius_mm, m.segments, m.equal_area), m.segments, z0, z1);
-    plc.regions.push_back({Eigen::Vector3d(0, 0, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
+    const double rs = spec.shaft.radius_mm;
+    plc.regions.push_back({Eigen::Vector3d(0.25 * rs, 0.25 * rs, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
   }
-  // Air seed: a point near the truncation sphere on the -x axis, outside everything else.
-  plc.regions.push_back({Eigen::Vector3d(-0.95 * m.outer_radius_mm, 0, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
+  // Air seed: 0.9 R_out from the origin in the plane z = 0 at 45 deg, outside everything else
+  // (zone, shaft end within 0.9 R_out and off this plane; inside the faceted sphere).
+  const double a = 0.9 * m.outer_radius_mm / std::sqrt(2.0);
+  plc.regions.push_back({Eigen::Vector3d(a, a, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
   return plc;
 }
 
-TetMesh mesh_domain(const DomainSpec& spec) { return tetrahedralize_plc(build_plc(spec), spec.mesh.mesher); }
+TetMesh mesh_domain(const DomainSpec& spec) {
+  if (!spec.mesh.symmetric) return tetrahedralize_plc(build_plc(spec), spec.mesh.mesher);
+  return mirror_quadrant_mesh(tetrahedralize_plc(clip_plc_to_quadrant(build_plc(spec)), spec.mesh.mesher));
+}
 
 }  // namespace magenc::fem

@@ -49,6 +49,9 @@ struct MeshSpec {
   double h_air_mm = 10.0;     // maximum edge length in the far air
   double outer_radius_mm = 60.0;  // truncation sphere radius
   int sphere_subdivisions = 3;    // icosphere level of the faceted outer sphere (and sphere magnets: +1)
+  // Mesh the quadrant x >= 0, y >= 0 and mirror it (symmetric_mesh.hpp): the
+  // mesh, and so the solution, has the domain's symmetry about x = 0 and y = 0.
+  bool symmetric = true;
   MesherOptions mesher;
 };
 
@@ -77,7 +80,8 @@ double polygon_radius(double R_mm, int segments, bool equal_area);
 // The PLC of the whole domain (closed facets + region seeds).
 Plc build_plc(const DomainSpec& spec);
 
-// Mesh the domain: build_plc + tetrahedralize_plc.
+// Mesh the domain: build_plc + tetrahedralize_plc; with mesh.symmetric the
+// PLC cut to one quadrant, meshed and mirrored into the other three.
 TetMesh mesh_domain(const DomainSpec& spec);
 
 }  // namespace magenc::fem

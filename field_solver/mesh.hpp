@@ -20,6 +20,11 @@ enum RegionId : int {
 struct Plc {
   struct Facet {
     std::vector<int> polygon;  // indices into points, planar polygon, >= 3 vertices
+    // Further polygons in the same plane that the facet's triangulation must
+    // contain: segments (2 vertices) and isolated vertices (1), e.g. where an
+    // internal surface meets a symmetry plane.
+    std::vector<std::vector<int>> constraints;
+    bool outer = false;  // part of the domain's outer boundary (the truncation sphere)
   };
   struct Region {
     Eigen::Vector3d seed_mm;   // a point strictly inside the region

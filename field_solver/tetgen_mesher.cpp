@@ -37,20 +37,24 @@ TetMesh tetrahedralize_plc(const Plc& plc, const MesherOptions& options) {
   in.pointlist = new REAL[3 * in.numberofpoints];
   for (int i = 0; i < in.numberofpoints; ++i)
     for (int d = 0; d < 3; ++d) in.pointlist[3 * i + d] = plc.points[i][d];
-  // 2. Facets: one polygon each.
+  // 2. Facets: the boundary polygon, then any constraint segments / vertices in its plane.
   in.numberoffacets = static_cast<int>(plc.facets.size());
   in.facetlist = new tetgenio::facet[in.numberoffacets];
   in.facetmarkerlist = new int[in.numberoffacets];
   for (int f = 0; f < in.numberoffacets; ++f) {
     tetgenio::facet& tf = in.facetlist[f];
     tetgenio::init(&tf);
-    tf.numberofpolygons = 1;
-    tf.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&tf.polygonlist[0]);
-    const auto& poly = plc.facets[f].polygon;
-    tf.polygonlist[0].numberofvertices = static_cast<int>(poly.size());
-    tf.polygonlist[0].vertexlist = new int[poly.size()];
-    for (size_t k = 0; k < poly.size(); ++k) tf.polygonlist[0].vertexlist[k] = poly[k];
+    const auto& facet = plc.facets[f];
+    tf.numberofpolygons = 1 + static_cast<int>(facet.constraints.size());
+    tf.polygonlist = new tetgenio::polygon[tf.numberofpolygons];
+    for (int p = 0; p < tf.numberofpolygons; ++p) {
+      const auto& poly = p == 0 ? facet.polygon : facet.constraints[static_cast<size_t>(p - 1)];
+      tetgenio::polygon& tp = tf.polygonlist[p];
+      tetgenio::init(&tp);
+      tp.numberofvertices = static_cast<int>(poly.size());
+      tp.vertexlist = new int[poly.size()];
+      for (size_t k = 0; k < poly.size(); ++k) tp.vertexlist[k] = poly[k];
+    }
     in.facetmarkerlist[f] = 1;
   }
   // 3. Regions: seed, attribute (region id), max volume.

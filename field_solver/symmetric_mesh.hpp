@@ -1,0 +1,39 @@
+// Mirror-symmetric meshing. Every geometry of this solver (a coaxial magnet,
+// zone box and core, shaft, truncation sphere) is symmetric under the
+// reflections x -> -x and y -> -y. An unstructured TetGen mesh of the whole
+// domain is not, and its asymmetry shows up as small spurious angle-error
+// harmonics (ideal-mount c1, c3 of ~0.002 deg on the default mesh) that move
+// at random with any mesh change. Meshing one quadrant (x >= 0, y >= 0) and
+// reflecting it gives a mesh with the domain's symmetry, so the discrete
+// solution has it too (to the CG tolerance): for magnetization along x, psi
+// is odd in x and even in y, and the ideal-mount angle error of a quadrature
+// pair has only harmonics 4, 8, ...
+//
+//   clip_plc_to_quadrant   the full PLC cut to x >= 0, y >= 0, plus the two
+//                          symmetry facets (x = 0, y = 0) carrying every
+//                          intersection line of an internal surface
+//   mirror_quadrant_mesh   the quadrant's tets reflected into all four
+//                          quadrants, nodes on the symmetry planes shared
+#pragma once
+#include "mesh.hpp"
+
+namespace magenc::fem {
+
+// Cuts every facet of `full` to the quadrant x >= 0, y >= 0 (coordinates
+// within 1e-12 of the domain size of a plane are snapped onto it), drops the
+// pieces outside, and adds the symmetry facets. Facets with `outer` set bound
+// the domain; the symmetry facets are closed by their cut edges and the z
+// axis. Region seeds must lie strictly inside the quadrant. Throws
+// ComputeError when the cut does not close (a geometry that is not
+// symmetric or does not contain the z axis).
+Plc clip_plc_to_quadrant(const Plc& full);
+
+// Reflects a mesh of the quadrant (all nodes x >= 0, y >= 0 up to 1e-9 of the
+// domain size; nodes that close to a plane are snapped onto it) across x = 0
+// and y = 0. Nodes on a symmetry plane are shared, so the result is
+// conforming; finalize_mesh recomputes orientation and the outer boundary.
+// Throws ComputeError if a face on a symmetry plane has no partner (the
+// boundary would then contain symmetry-plane faces).
+TetMesh mirror_quadrant_mesh(const TetMesh& quadrant);
+
+}  // namespace magenc::fem
