@@ -7,7 +7,7 @@
 #   4. real_field         FEM field vs exact, sweeps        -> output/real_field
 #   5. airgap             dz on FEM + exact                 -> output/airgap
 #   6. harmonic_provenance artefact vs physics harmonics    -> output/harmonic_provenance
-#      (with three quick mu_r = 1 solves of increasing accuracy -> output/provenance_fields)
+#      (solves its own quick mu_r = 1 FE variants in-process; adds output/field)
 #   7. radius             choosing r0, tolerance analysis   -> output/radius
 #   8. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
 # fem_convergence (several solves, a few minutes) runs with MAGENC_CONVERGENCE=1.
@@ -23,16 +23,9 @@ step "$BIN/linear_model" --out output/linear_model
 step "$BIN/exact_field" --out output/exact_field
 step "$BIN/real_field" --out output/real_field
 step "$BIN/airgap" --out output/airgap
-# FE artefacts against mesh size and order for harmonic_provenance: three quick
-# mu_r = 1 solves (coarse P1, coarse P2, medium P2; seconds) beside the default solve.
-PF=output/provenance_fields
-COARSE=(--config meshes/coarse.toml --set magnet.mu_r=1 --set fem.progress_every=0)
-step "$BIN/solve_field" "${COARSE[@]}" --set fem.order=1 --out $PF/coarse_p1
-step "$BIN/solve_field" "${COARSE[@]}" --set fem.order=2 --out $PF/coarse_p2
-step "$BIN/solve_field" "${COARSE[@]}" --set fem.order=2 --set mesh.h_zone_mm=0.4 --set mesh.h_magnet_mm=0.5 \
-  --out $PF/medium_p2
-step "$BIN/harmonic_provenance" --set provenance.fem_dirs=$PF/coarse_p1,$PF/coarse_p2,$PF/medium_p2,output/field \
-  --out output/harmonic_provenance
+# FE artefacts against mesh size and order: harmonic_provenance solves its variants (coarse P1, coarse P2,
+# medium P2, mu_r = 1; seconds each) itself and adds the default solve.
+step "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field --out output/harmonic_provenance
 step "$BIN/radius" --out output/radius
 # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
 step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \

@@ -1,6 +1,7 @@
 #include "fem_field.hpp"
 
 #include <cstdio>
+#include <utility>
 
 #include "errors.hpp"
 #include "vtk_io.hpp"
@@ -9,6 +10,9 @@ namespace magenc {
 
 FemField::FemField(const std::filesystem::path& dir)
     : evaluator_(std::make_unique<fem::FieldEvaluator>(fem::read_solution_vtu(dir / "mesh.vtu"))) {}
+
+FemField::FemField(fem::FeSolution solution)
+    : evaluator_(std::make_unique<fem::FieldEvaluator>(std::move(solution))) {}
 
 Vec3 FemField::B_T(const Vec3& p) const {
   auto b = evaluator_->B_T(p);

@@ -1,5 +1,6 @@
-// FieldSource backed by a solve_field output directory: B evaluated directly
-// from the FE solution in DIR/mesh.vtu (P1 or P2), not from the grids.
+// FieldSource backed by an FE solution: a solve_field output directory
+// (DIR/mesh.vtu, P1 or P2) or a solution solved in this process; B evaluated
+// directly from the FE solution, not from the grids.
 #pragma once
 #include <filesystem>
 #include <memory>
@@ -13,6 +14,8 @@ class FemField final : public FieldSource {
  public:
   // Loads DIR/mesh.vtu; InputError if missing or malformed.
   explicit FemField(const std::filesystem::path& dir);
+  // Takes a solution solved in this process (e.g. MagnetostaticSolver::solution()).
+  explicit FemField(fem::FeSolution solution);
   std::string name() const override { return "fem"; }
   // B (T) at p (mm, magnet frame); InputError outside the mesh.
   Vec3 B_T(const Vec3& p_mm) const override;

@@ -226,37 +226,91 @@ TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][airgap]") {
   fs::remove_all(out);
 }
 
-TEST_CASE("harmonic_provenance study: tiny run with a coarse FE solution", "[studies][harmonic_provenance]") {
+// The study solves its FE variants in-process (field_solver/fem_variant.hpp); the variant "coarse P2" below has the
+// settings of coarse_field() (coarse.toml, order 2, mu_r = 1), so both paths must give the same spectra: the
+// in-process solve evaluated directly against fem:DIR (mesh.vtu written and read back), and its in-memory plane grid
+// against DIR/plane.vti. Same mesh (TetGen is deterministic), same CG up to OpenMP summation order: agreement to
+// 1e-6 deg, while P1 and P2 on this mesh differ by ~1.6 deg in pp (measured 2.64 vs 1.04 deg, symmetric mesh).
+// The variants' dx harmonics are held to kCoarseTolDeg like the directory's (coarse P1 measured 0.082 in c1,
+// 0.094 in c3).
+TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coarse solve_field directory",
+          "[studies][harmonic_provenance]") {
   const fs::path dir = coarse_field();
   const fs::path out = temp_out("harmonic_provenance");
-  const StudyRun r = run_study_exe("harmonic_provenance", out,
-                                   "--set sensor.steps=360 --set provenance.spacings_mm=0.2,0.1 "
-                                   "--set provenance.interps=nearest,cubic --set provenance.fem_dirs='" +
-                                       dir.string() + "'");
+  const std::string coarse = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
+  const StudyRun r = run_study_exe(
+      "harmonic_provenance", out,
+      "--set sensor.steps=360 --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic "
+      "--set 'provenance.fem_variants=coarse P1: config=" + coarse + " fem.order=1; "
+      "coarse P2: config=" + coarse + " fem.order=2' --set provenance.fem_dirs='" + dir.string() + "'");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "run.json"}) {
+  for (const char* f : {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "fem_artefacts.png",
+                        "run.json"}) {
     INFO(f);
     CHECK(fs::exists(out / f));
   }
   const auto rows = read_csv(out / "provenance.csv");
-  CHECK(rows.size() == 3 + 3 * 2 * 2 + 3);  // exact rows + cases x spacings x modes + fem rows
-  const std::map<std::string, std::string>* exact_dx = nullptr;
-  const std::map<std::string, std::string>* fem_dx = nullptr;
+  // exact rows + cases x spacings x modes + 3 FE solutions x (direct + via plane grid) x cases.
+  CHECK(rows.size() == 3 + 3 * 2 * 2 + 3 * 2 * 3);
+  auto find = [&](const std::string& source, const std::string& variant, const std::string& c) {
+    for (const auto& row : rows)
+      if (row.at("source") == source && row.at("variant") == variant && row.at("case") == c) return &row;
+    FAIL("no row " << source << " / " << variant << " / " << c);
+    return static_cast<const std::map<std::string, std::string>*>(nullptr);
+  };
   for (const auto& row : rows) {
     if (row.at("source") == "exact" && row.at("case") == "ideal") CHECK(num(row, "pp_deg") < 1e-9);
-    if (row.at("source") == "exact" && row.at("case") == "dx=0.10") exact_dx = &row;
-    if (row.at("source") == "fem" && row.at("case") == "dx=0.10") fem_dx = &row;
     // Cubic on a 0.1 mm grid: ideal-mount artefacts far below the nearest-neighbour ones.
     if (row.at("source") == "grid" && row.at("case") == "ideal" && row.at("interp") == "cubic")
       CHECK(num(row, "pp_deg") < 0.05);
   }
-  REQUIRE(exact_dx);
-  REQUIRE(fem_dx);
-  CHECK(std::abs(num(*fem_dx, "c1_deg") - num(*exact_dx, "c1_deg")) < kCoarseTolDeg);
-  CHECK(std::abs(num(*fem_dx, "c3_deg") - num(*exact_dx, "c3_deg")) < kCoarseTolDeg);
-  CHECK(slurp(out / "summary.md").find("Verdict per harmonic") != std::string::npos);
+  const auto* exact_dx = find("exact", "exact", "dx=0.10");
+  for (const std::string& v : std::vector<std::string>{"coarse P1", "coarse P2", dir.string()}) {
+    INFO(v);
+    const auto* fem_dx = find("fem", v, "dx=0.10");
+    CHECK(std::abs(num(*fem_dx, "c1_deg") - num(*exact_dx, "c1_deg")) < kCoarseTolDeg);
+    CHECK(std::abs(num(*fem_dx, "c3_deg") - num(*exact_dx, "c3_deg")) < kCoarseTolDeg);
+    // Ideal mount: the FE solution's own harmonics are numerical, non-zero on these meshes.
+    CHECK(num(*find("fem", v, "ideal"), "pp_deg") > 1e-6);
+    CHECK(find("fem_grid", v + " via plane grid", "ideal")->at("interp") == "cubic");
+  }
+  // In-process solve == solve_field + fem:DIR, directly and through the plane grid.
+  for (const std::string c : {"ideal", "sx=0.10", "dx=0.10"})
+    for (const char* col : {"c1_deg", "c2_deg", "c3_deg", "c4_deg", "c8_deg", "pp_deg"}) {
+      INFO(c << " " << col);
+      CHECK(num(*find("fem", "coarse P2", c), col) == Approx(num(*find("fem", dir.string(), c), col)).margin(1e-6));
+      CHECK(num(*find("fem_grid", "coarse P2 via plane grid", c), col) ==
+            Approx(num(*find("fem_grid", dir.string() + " via plane grid", c), col)).margin(1e-6));
+    }
+  // ... and the order matters: P1 on the same mesh is not the P2 solution.
+  CHECK(std::abs(num(*find("fem", "coarse P1", "ideal"), "pp_deg") - num(*find("fem", "coarse P2", "ideal"), "pp_deg")) > 0.1);
+  const std::string md = slurp(out / "summary.md");
+  CHECK(md.find("## FE artefacts against mesh size and element order") != std::string::npos);
+  CHECK(md.find("| coarse P1 | solved here | 1.000 | P1 |") != std::string::npos);
+  CHECK(md.find("| coarse P2 | solved here | 1.000 | P2 |") != std::string::npos);
+  CHECK(md.find("FE: worst artefact") != std::string::npos);
+  CHECK(md.find("Verdict per harmonic") != std::string::npos);
   fs::remove_all(out);
+}
+
+TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming provenance.fem_variants, exit 2, no output",
+          "[studies][harmonic_provenance]") {
+  const std::string coarse = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
+  for (const std::string& bad : std::vector<std::string>{"no label here", ": fem.order=1", "a: fem.order", "a: fem.order=3", "a: mesh.bogus=1",
+                                "a: magnet.mu_r=1.05", "a: config=/nonexistent/mesh.toml", "a: fem.order=1; a: fem.order=2",
+                                "a: config=" + coarse + " mesh.h_zone_mm=-1"}) {
+    const fs::path out = temp_out("provenance_badvariant");
+    const StudyRun r = run_study_exe("harmonic_provenance", out,
+                                     "--set sensor.steps=360 --set provenance.spacings_mm=0.2 "
+                                     "--set 'provenance.fem_variants=" + bad + "'");
+    INFO(bad << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find("provenance.fem_variants") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_FALSE(leftovers(out));
+  }
 }
 
 TEST_CASE("FEM-driven studies: a missing field directory exits non-zero, one line naming solve_field, no output",

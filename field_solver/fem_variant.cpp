@@ -1,0 +1,186 @@
+#include "fem_variant.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "errors.hpp"
+#include "study_output.hpp"
+
+namespace magenc::fem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+const char* kForm = "expected 'LABEL: config=FILE key=value ...' entries separated by ';'";
+
+bool settable(const std::string& key) {
+  for (const char* p : {"mesh.", "fem.", "grid."})
+    if (key.rfind(p, 0) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+std::vector<FemVariantSpec> parse_fem_variants(const std::string& text, const std::string& key) {
+  std::vector<FemVariantSpec> out;
+  std::set<std::string> labels;
+  std::stringstream entries(text);
+  for (std::string entry; std::getline(entries, entry, ';');) {
+    entry = trim(entry);
+    if (entry.empty()) continue;
+    const auto colon = entry.find(':');
+    if (colon == std::string::npos) throw InputError(key + ": '" + entry + "' has no label: " + kForm);
+    FemVariantSpec v;
+    v.label = trim(entry.substr(0, colon));
+    if (v.label.empty() || v.label.find(',') != std::string::npos)
+      throw InputError(key + ": '" + entry + "': the label before ':' must be non-empty and without ','; " + kForm);
+    if (!labels.insert(v.label).second) throw InputError(key + ": label '" + v.label + "' is used twice");
+    std::stringstream settings(entry.substr(colon + 1));
+    for (std::string s; settings >> s;) {
+      const auto eq = s.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
+        throw InputError(key + ": '" + v.label + "': setting '" + s + "' is not NAME=VALUE (config=FILE or a mesh.*, fem.*, grid.* key)");
+      v.settings.push_back(s);
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg, const std::string& key,
+                          const std::vector<fs::path>& search_dirs) {
+  const std::string where = key + ": '" + variant.label + "': ";
+  Config cfg(solve_field_schema());
+  // The study's magnet and sensing plane, mu_r = 1 (the exact field's), quiet solver.
+  const std::vector<std::string> fixed = {"magnet.radius_mm", "magnet.height_mm", "magnet.br_T", "magnet.magnetization_deg",
+                                          "sensor.plane_height_mm"};
+  for (const auto& k : fixed) cfg.set_value(k, study_cfg.real(k));
+  cfg.set_value("magnet.mu_r", 1.0);
+  cfg.set_value("fem.progress_every", 0L);
+  try {
+    for (const auto& s : variant.settings) {
+      const auto eq = s.find('=');
+      const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
+      if (name == "config") {
+        fs::path file = value;
+        if (file.is_relative())
+          for (const auto& d : search_dirs)
+            if (fs::is_regular_file(d / value)) {
+              file = d / value;
+              break;
+            }
+        if (!fs::is_regular_file(file)) {
+          std::string dirs;
+          for (const auto& d : search_dirs) dirs += (dirs.empty() ? "" : ", ") + d.string();
+          throw InputError("config file '" + value + "' not found" +
+                           (file.is_relative() && !dirs.empty() ? " (looked in " + dirs + ")" : ""));
+        }
+        cfg.load_toml_file(file.string());
+      } else if (settable(name)) {
+        std::string keys;
+        bool known = false;
+        for (const auto& k : cfg.schema())
+          if (settable(k.key)) {
+            keys += (keys.empty() ? "" : ", ") + k.key;
+            known = known || k.key == name;
+          }
+        if (!known) throw InputError("unknown key '" + name + "': allowed config=FILE and " + keys);
+        cfg.set(s);
+      } else {
+        throw InputError("'" + name + "' cannot be set per variant: allowed config=FILE and mesh.*, fem.*, grid.* keys "
+                         "(the magnet and sensing plane are the study's, with magnet.mu_r = 1)");
+      }
+    }
+    // A config file may hold any solve_field key: the magnet, the plane and the shaft must stay as above.
+    for (const auto& k : fixed)
+      if (cfg.real(k) != study_cfg.real(k))
+        throw InputError("sets " + k + " = " + fmt(cfg.real(k), 4) + ", the study uses " + fmt(study_cfg.real(k), 4) +
+                         ": variants differ only in mesh.*, fem.*, grid.* keys");
+    if (cfg.real("magnet.mu_r") != 1.0)
+      throw InputError("sets magnet.mu_r = " + fmt(cfg.real("magnet.mu_r"), 4) +
+                       ": variants are solved with mu_r = 1 (compared with the exact field)");
+    if (cfg.flag("shaft.enabled")) throw InputError("enables the shaft: variants are the bare magnet (compared with the exact field)");
+    (void)fem_settings_from_config(cfg);  // geometry and grids valid
+  } catch (const InputError& e) {
+    std::string why = e.what();
+    if (why.rfind("--set: ", 0) == 0) why.erase(0, 7);  // Config::set names its origin --set; here it is the variant
+    throw InputError(where + why);
+  }
+  return cfg;
+}
+
+SolvedFemField solve_fem_field(const Config& solve_cfg) {
+  SolvedFemField r;
+  r.settings = fem_settings_from_config(solve_cfg);
+  MagnetostaticSolver solver(r.settings.domain, r.settings.solver);
+  solver.run();
+  r.stats = solver.stats();
+  // The plane grid as solve_field writes it to plane.vti.
+  const GridSpec& g = r.settings.plane;
+  const Eigen::Matrix3Xd B = solver.evaluator().B_T(g.points());
+  if (!B.allFinite()) throw ComputeError("B on the plane grid contains NaN");
+  r.plane.origin_mm = g.origin_mm;
+  r.plane.spacing_mm = g.step_mm;
+  r.plane.dims = {g.dims[0], g.dims[1], g.dims[2]};
+  r.plane.Bx_T.resize(B.cols());
+  r.plane.By_T.resize(B.cols());
+  r.plane.Bz_T.resize(B.cols());
+  for (long i = 0; i < B.cols(); ++i) {
+    r.plane.Bx_T[i] = B(0, i);
+    r.plane.By_T[i] = B(1, i);
+    r.plane.Bz_T[i] = B(2, i);
+  }
+  r.plane.source = "plane grid of the in-process solve";
+  r.plane.validate();
+  r.field = std::make_shared<const FemField>(solver.solution());
+  const DomainSpec& d = r.settings.domain;
+  r.facts.order = r.stats.order;
+  r.facts.elements = r.stats.elements;
+  r.facts.dofs = r.stats.dofs;
+  r.facts.iterations = r.stats.iterations;
+  r.facts.h_magnet_mm = d.mesh.h_magnet_mm;
+  r.facts.h_zone_mm = d.mesh.h_zone_mm;
+  r.facts.h_core_mm = d.zone.core() ? d.mesh.h_core_mm : 0.0;
+  r.facts.mu_r = d.magnet.mu_r;
+  r.facts.t_total_s = r.stats.t_total_s;
+  r.facts.plane_step_mm = g.step_mm[0];
+  return r;
+}
+
+FemSolveFacts solve_json_facts(const fs::path& dir) {
+  const fs::path file = dir / "solve.json";
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open (a solve_field output directory has one)");
+  FemSolveFacts f;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    f.order = j.at("order").get<int>();
+    f.elements = j.at("elements").get<long>();
+    f.dofs = j.at("dofs").get<long>();
+    f.iterations = j.value("iterations", 0L);
+    f.t_total_s = j.value("t_total_s", NAN);
+    f.mu_r = j.contains("magnet") ? j["magnet"].value("mu_r", NAN) : NAN;
+    if (j.contains("domain")) {
+      const auto& d = j["domain"];
+      f.h_magnet_mm = d.value("h_magnet_mm", NAN);
+      f.h_zone_mm = d.value("h_zone_mm", NAN);
+      f.h_core_mm = d.contains("zone") ? d["zone"].value("h_core_mm", 0.0) : 0.0;
+    }
+    f.plane_step_mm = j.contains("plane_grid") ? j["plane_grid"].value("step_mm", NAN) : NAN;
+  } catch (const std::exception& e) {
+    throw InputError(file.string() + ": unreadable solve record (" + std::string(e.what()) + ")");
+  }
+  return f;
+}
+
+}  // namespace magenc::fem

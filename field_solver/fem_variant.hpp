@@ -1,0 +1,75 @@
+// FE variants solved inside a study: what solve_field does, without files.
+// A variant is a label plus solve_field settings applied on top of the
+// defaults, written in a study's config as one string (a declared string key):
+//   "coarse P1: config=meshes/coarse.toml fem.order=1; medium P2: config=meshes/coarse.toml mesh.h_zone_mm=0.4"
+// entries separated by ';', LABEL before ':', settings separated by blanks and
+// applied in order: config=FILE loads a TOML file of solve_field keys
+// (meshes/*.toml), key=value sets one mesh.*, fem.* or grid.* key. The magnet
+// and sensing plane are the study's, with magnet.mu_r = 1, so the solution can
+// be compared with the exact field (which has no permeability).
+// Sample: build/bin/harmonic_provenance --set 'provenance.fem_variants=P1: config=meshes/coarse.toml fem.order=1'
+#pragma once
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "fem_config.hpp"
+#include "fem_field.hpp"
+#include "grid_field.hpp"
+#include "magnetostatic_solver.hpp"
+
+namespace magenc::fem {
+
+struct FemVariantSpec {
+  std::string label;                  // e.g. "coarse P1" (no ',' ';' ':')
+  std::vector<std::string> settings;  // in order: "config=FILE" or "section.key=value"
+};
+
+// Parses the variant list (empty or blank text: none). InputError naming
+// `key` and the expected form for an entry without a label, an empty or
+// duplicate label, a setting that is not NAME=VALUE.
+std::vector<FemVariantSpec> parse_fem_variants(const std::string& text, const std::string& key);
+
+// The solve_field Config of one variant: solve_field's defaults, the study's
+// [magnet] keys and sensor.plane_height_mm with magnet.mu_r = 1 and
+// fem.progress_every = 0, then the variant's settings in order. A relative
+// config=FILE is looked up in each of search_dirs in turn. Only mesh.*, fem.*
+// and grid.* may be set (a file that changes the magnet, the plane or enables
+// the shaft is rejected); the settings are validated with
+// fem_settings_from_config. Every error is one InputError line
+// "<key>: 'LABEL': <reason>".
+Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg, const std::string& key,
+                          const std::vector<std::filesystem::path>& search_dirs);
+
+// Facts of an FE solution for summaries.
+struct FemSolveFacts {
+  int order = 0;
+  long elements = 0, dofs = 0, iterations = 0;
+  double h_magnet_mm = 0, h_zone_mm = 0;  // target tet edge lengths (TetGen volume bounds)
+  double h_core_mm = 0;                   // core cylinder about the plane; 0 = no core
+  double mu_r = 0;                        // magnet.mu_r of the solve
+  double t_total_s = 0;                   // mesh + assemble + solve + post-processing
+  double plane_step_mm = 0;               // plane grid spacing
+};
+
+// A solve made in this process.
+struct SolvedFemField {
+  FemSettings settings;
+  SolveStats stats;
+  FemSolveFacts facts;
+  std::shared_ptr<const FemField> field;  // the FE solution, evaluated directly
+  GridData plane;                         // B on settings.plane (what solve_field writes to plane.vti)
+};
+
+// Meshes, assembles, solves (MagnetostaticSolver) with fem_settings_from_config(cfg)
+// and returns the solution as a field source plus its plane grid. ComputeError
+// when the solve fails.
+SolvedFemField solve_fem_field(const Config& solve_cfg);
+
+// Facts recorded in DIR/solve.json (solve_field output); InputError naming
+// the file when it is missing or unreadable.
+FemSolveFacts solve_json_facts(const std::filesystem::path& dir);
+
+}  // namespace magenc::fem
