@@ -39,6 +39,9 @@ std::vector<KeySpec> fem_keys() {
       real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
+      bool_key("fem.quadrant_solve", true,
+               "with mesh.symmetric: solve on the quadrant x, y >= 0 with symmetry conditions and mirror the "
+               "solution (same result, 1/4 of the unknowns); false: solve the whole mirrored mesh"),
       bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
       real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
@@ -100,6 +103,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.threads = static_cast<int>(cfg.integer("fem.threads"));
   o.progress_every = static_cast<int>(cfg.integer("fem.progress_every"));
   o.recovery = cfg.flag("fem.recovery");
+  o.quadrant = cfg.flag("fem.quadrant_solve");
 
   // Grids.
   const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");

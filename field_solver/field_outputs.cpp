@@ -37,6 +37,8 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["elements"] = st.elements;
   j["nodes"] = st.nodes;
   j["dofs"] = st.dofs;
+  j["solved_dofs"] = st.solved_dofs;
+  j["solves"] = st.solves;
   j["nonzeros"] = st.nonzeros;
   j["order"] = st.order;
   j["iterations"] = st.iterations;
@@ -59,6 +61,7 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                  {"boundary", solver.options().robin ? "robin" : "dirichlet"},
                  {"segments", d.mesh.segments},
                  {"equal_area", d.mesh.equal_area},
+                 {"symmetric", d.mesh.symmetric},
                  {"polygon_radius_mm", polygon_radius(d.magnet.radius_mm, d.mesh.segments, d.mesh.equal_area)},
                  {"h_magnet_mm", d.mesh.h_magnet_mm},
                  {"h_zone_mm", d.mesh.h_zone_mm},

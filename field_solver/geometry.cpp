@@ -297,9 +297,15 @@ Plc build_plc(const DomainSpec& spec) {
   return plc;
 }
 
+TetMesh mesh_quadrant(const DomainSpec& spec) {
+  TetMesh q = tetrahedralize_plc(clip_plc_to_quadrant(build_plc(spec)), spec.mesh.mesher);
+  snap_quadrant_mesh(q);
+  return q;
+}
+
 TetMesh mesh_domain(const DomainSpec& spec) {
   if (!spec.mesh.symmetric) return tetrahedralize_plc(build_plc(spec), spec.mesh.mesher);
-  return mirror_quadrant_mesh(tetrahedralize_plc(clip_plc_to_quadrant(build_plc(spec)), spec.mesh.mesher));
+  return mirror_quadrant_mesh(mesh_quadrant(spec));
 }
 
 }  // namespace magenc::fem

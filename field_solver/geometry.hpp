@@ -84,4 +84,9 @@ Plc build_plc(const DomainSpec& spec);
 // PLC cut to one quadrant, meshed and mirrored into the other three.
 TetMesh mesh_domain(const DomainSpec& spec);
 
+// The quadrant x >= 0, y >= 0 of the domain, meshed (snap_quadrant_mesh:
+// boundary_faces = the outer boundary only). mesh_domain with mesh.symmetric
+// is its mirror image.
+TetMesh mesh_quadrant(const DomainSpec& spec);
+
 }  // namespace magenc::fem

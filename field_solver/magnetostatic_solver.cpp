@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "errors.hpp"
+#include "symmetric_mesh.hpp"
 #include "units.hpp"
 
 namespace magenc::fem {
@@ -97,7 +98,13 @@ void MagnetostaticSolver::run() {
 
 // 1. Mesh the regions (TetGen).
 void MagnetostaticSolver::make_mesh() {
-  mesh_ = mesh_domain(domain_);
+  quadrant_solve_ = domain_.mesh.symmetric && options_.quadrant;
+  if (domain_.mesh.symmetric) {
+    quad_ = mesh_quadrant(domain_);
+    mesh_ = mirror_quadrant_mesh(quad_);
+  } else {
+    mesh_ = mesh_domain(domain_);
+  }
   stats_.nodes = mesh_.num_nodes();
   stats_.elements = mesh_.num_tets();
   stats_.boundary_faces = mesh_.boundary_faces.cols();
@@ -118,10 +125,39 @@ void MagnetostaticSolver::setup_system() {
     mu_r_cell_[t] = domain_.mu_r(mesh_.region[t]);
     if (mesh_.region[t] == kRegionMagnet) br_cell_.col(t) = br;
   }
+  stats_.solved_dofs = stats_.dofs;
+  if (quadrant_solve_) {
+    quad_space_ = std::make_unique<FeSpace>(quad_, options_.order);
+    stats_.solved_dofs = quad_space_->num_dofs();
+  }
 }
 
 // 3. Stiffness (+ Robin) and load vector.
 void MagnetostaticSolver::assemble_system() {
+  if (quadrant_solve_) {
+    // The quadrant's cells carry the same materials; one load per non-zero
+    // component of Br (magnetization_deg = 0: x only).
+    const int nq = quad_.num_tets();
+    Eigen::VectorXd mu_q(nq);
+    for (int t = 0; t < nq; ++t) mu_q[t] = domain_.mu_r(quad_.region[t]);
+    K_ = assemble_stiffness(quad_, *quad_space_, mu_q, options_.robin, options_.threads);
+    const double a = deg_to_rad(domain_.magnet.magnetization_deg);
+    const double comp[2] = {std::cos(a), std::sin(a)};
+    quad_loads_.clear();
+    for (int c = 0; c < 2; ++c) {
+      if (std::abs(comp[c]) < 1e-12) continue;
+      Eigen::Matrix3Xd br_q = Eigen::Matrix3Xd::Zero(3, nq);
+      for (int t = 0; t < nq; ++t)
+        if (quad_.region[t] == kRegionMagnet) br_q(c, t) = domain_.magnet.br_T * comp[c];
+      quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, br_q));
+    }
+    if (!options_.robin) {
+      const std::vector<int> outer = boundary_dofs(quad_, *quad_space_);
+      for (auto& [c, f] : quad_loads_) apply_zero_dirichlet(K_, f, outer);
+    }
+    stats_.nonzeros = K_.nonZeros();
+    return;
+  }
   K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
   f_ = assemble_rhs(mesh_, *space_, br_cell_);
   if (!options_.robin) apply_zero_dirichlet(K_, f_, boundary_dofs(mesh_, *space_));
@@ -131,10 +167,45 @@ void MagnetostaticSolver::assemble_system() {
 // 4. Solve K psi = f with preconditioned CG.
 void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
-  if (options_.preconditioner == "ichol")
-    run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K_, f_, options_, psi_, stats_);
-  else
-    run_cg<Eigen::DiagonalPreconditioner<double>>(K_, f_, options_, psi_, stats_);
+  auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
+    SolveStats st;
+    if (options_.preconditioner == "ichol")
+      run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K, f, options_, x, st);
+    else
+      run_cg<Eigen::DiagonalPreconditioner<double>>(K, f, options_, x, st);
+    stats_.iterations += st.iterations;
+    stats_.residual = std::max(stats_.residual, st.residual);
+    ++stats_.solves;
+  };
+  stats_.iterations = 0;
+  stats_.residual = 0;
+  stats_.solves = 0;
+  if (quadrant_solve_) {
+    // Component c of Br gives a potential odd across the plane x_c = 0 (psi = 0
+    // there) and even across the other (natural condition): solve, then mirror
+    // with the sign of x_c.
+    const Eigen::Matrix3Xd& qp = quad_space_->dof_points();
+    const Eigen::Matrix3Xd& fp = space_->dof_points();
+    const std::vector<int> image = mirror_dof_map(fp, qp);
+    psi_ = Eigen::VectorXd::Zero(space_->num_dofs());
+    for (size_t k = 0; k < quad_loads_.size(); ++k) {
+      auto& [c, f] = quad_loads_[k];
+      std::vector<int> plane;
+      for (Eigen::Index i = 0; i < qp.cols(); ++i)
+        if (qp(c, i) == 0.0) plane.push_back(static_cast<int>(i));
+      SparseMatrix Kc;
+      if (k + 1 < quad_loads_.size()) Kc = K_;  // the last solve may overwrite K_
+      SparseMatrix& K = k + 1 < quad_loads_.size() ? Kc : K_;
+      apply_zero_dirichlet(K, f, plane);
+      Eigen::VectorXd psi_q;
+      cg(K, f, psi_q);
+      for (Eigen::Index i = 0; i < fp.cols(); ++i) psi_[i] += (fp(c, i) < 0 ? -1.0 : 1.0) * psi_q[image[static_cast<size_t>(i)]];
+    }
+    quad_loads_.clear();
+    quad_space_.reset();
+  } else {
+    cg(K_, f_, psi_);
+  }
   if (!psi_.allFinite()) throw ComputeError("solution psi contains NaN or Inf");
   K_ = SparseMatrix();  // release memory before post-processing
 }

@@ -31,13 +31,21 @@ struct SolverOptions {
   int threads = 0;                        // OpenMP threads (0: omp_get_max_threads)
   int progress_every = 500;               // stderr progress line every N CG iterations (0: quiet)
   bool recovery = true;                   // B from the recovered (node-averaged) gradient of psi
+  // With mesh.symmetric: solve on the quadrant x, y >= 0 only (psi = 0 on the
+  // plane across which the magnetization component is odd, natural condition
+  // on the other; one solve per non-zero component) and mirror the solution
+  // onto the whole mesh. Same discrete solution as the whole symmetric mesh
+  // (to the CG tolerance) with 1/4 of the unknowns. false: solve the whole mesh.
+  bool quadrant = true;
 };
 
 // What a solve cost and reached.
 struct SolveStats {
   long nodes = 0, elements = 0, boundary_faces = 0, dofs = 0, nonzeros = 0;
+  long solved_dofs = 0;  // unknowns of the system(s) solved (the quadrant's with a quadrant solve)
+  int solves = 0;        // linear solves (quadrant: one per magnetization component)
   int order = 0, threads = 0;
-  long iterations = 0;
+  long iterations = 0;  // CG iterations, summed over the solves
   double residual = 0;  // relative residual reported by CG
   double t_mesh_s = 0, t_setup_s = 0, t_assemble_s = 0, t_solve_s = 0, t_post_s = 0, t_total_s = 0;
 };
@@ -69,6 +77,10 @@ class MagnetostaticSolver {
   DomainSpec domain_;
   SolverOptions options_;
   TetMesh mesh_;                           // tets, region ids, outer boundary faces (mm)
+  TetMesh quad_;                           // mesh.symmetric: the quadrant mesh_ mirrors (outer faces only)
+  bool quadrant_solve_ = false;            // solve on quad_ and mirror (mesh.symmetric and options.quadrant)
+  std::unique_ptr<FeSpace> quad_space_;    // dofs on quad_ (quadrant solve)
+  std::vector<std::pair<int, Eigen::VectorXd>> quad_loads_;  // (magnetization component, load on quad_)
   std::unique_ptr<FeSpace> space_;         // P1/P2 dofs on mesh_
   Eigen::VectorXd mu_r_cell_;              // relative permeability per cell
   Eigen::Matrix3Xd br_cell_;               // remanence Br per cell (T), 0 outside the magnet

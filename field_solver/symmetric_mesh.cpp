@@ -174,15 +174,46 @@ Plc clip_plc_to_quadrant(const Plc& full) {
   return q;
 }
 
-TetMesh mirror_quadrant_mesh(const TetMesh& quad) {
-  const int n = quad.num_nodes(), nt = quad.num_tets();
+void snap_quadrant_mesh(TetMesh& quad) {
   const double tol = 1e-9 * quad.nodes.cwiseAbs().maxCoeff();
-  Eigen::Matrix3Xd p = quad.nodes;
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < quad.num_nodes(); ++i)
     for (int d = 0; d < 2; ++d) {
-      if (p(d, i) < -tol) throw ComputeError("symmetric mesh: a quadrant mesh node lies outside the quadrant");
-      if (std::abs(p(d, i)) <= tol) p(d, i) = 0.0;
+      if (quad.nodes(d, i) < -tol) throw ComputeError("symmetric mesh: a quadrant mesh node lies outside the quadrant");
+      if (std::abs(quad.nodes(d, i)) <= tol) quad.nodes(d, i) = 0.0;
     }
+  std::vector<int> keep;
+  for (Eigen::Index f = 0; f < quad.boundary_faces.cols(); ++f) {
+    bool on_plane = false;
+    for (int d = 0; d < 2; ++d) {
+      bool all = true;
+      for (int k = 0; k < 3; ++k) all = all && quad.nodes(d, quad.boundary_faces(k, f)) == 0.0;
+      on_plane = on_plane || all;
+    }
+    if (!on_plane) keep.push_back(static_cast<int>(f));
+  }
+  Eigen::Matrix3Xi outer(3, static_cast<Eigen::Index>(keep.size()));
+  for (size_t i = 0; i < keep.size(); ++i) outer.col(static_cast<Eigen::Index>(i)) = quad.boundary_faces.col(keep[i]);
+  quad.boundary_faces = outer;
+}
+
+std::vector<int> mirror_dof_map(const Eigen::Matrix3Xd& full, const Eigen::Matrix3Xd& quad) {
+  std::map<std::array<double, 3>, int> index;
+  for (Eigen::Index i = 0; i < quad.cols(); ++i) index.emplace(std::array<double, 3>{quad(0, i), quad(1, i), quad(2, i)}, i);
+  std::vector<int> map(static_cast<size_t>(full.cols()));
+  for (Eigen::Index i = 0; i < full.cols(); ++i) {
+    // std::abs maps -0.0 to +0.0, so points on a plane find their image too.
+    auto it = index.find({std::abs(full(0, i)), std::abs(full(1, i)), full(2, i)});
+    if (it == index.end()) throw ComputeError("symmetric mesh: a dof has no mirror image in the quadrant");
+    map[static_cast<size_t>(i)] = it->second;
+  }
+  return map;
+}
+
+TetMesh mirror_quadrant_mesh(const TetMesh& quad_in) {
+  TetMesh quad = quad_in;
+  snap_quadrant_mesh(quad);
+  const int n = quad.num_nodes(), nt = quad.num_tets();
+  const Eigen::Matrix3Xd& p = quad.nodes;
   // Copy c reflects x if (c & 1), y if (c & 2). A node on a symmetry plane is
   // its own mirror image there: it keeps the id it has in the copy without that reflection.
   std::array<std::vector<int>, 4> id;

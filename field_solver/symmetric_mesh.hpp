@@ -28,6 +28,12 @@ namespace magenc::fem {
 // symmetric or does not contain the z axis).
 Plc clip_plc_to_quadrant(const Plc& full);
 
+// Prepares a TetGen mesh of the quadrant for solving and mirroring: nodes
+// within 1e-9 of the domain size of a symmetry plane are snapped onto it
+// (ComputeError for a node outside the quadrant), and boundary_faces keeps
+// only the outer boundary (faces on x = 0 or y = 0 are symmetry faces).
+void snap_quadrant_mesh(TetMesh& quadrant);
+
 // Reflects a mesh of the quadrant (all nodes x >= 0, y >= 0 up to 1e-9 of the
 // domain size; nodes that close to a plane are snapped onto it) across x = 0
 // and y = 0. Nodes on a symmetry plane are shared, so the result is
@@ -35,5 +41,15 @@ Plc clip_plc_to_quadrant(const Plc& full);
 // Throws ComputeError if a face on a symmetry plane has no partner (the
 // boundary would then contain symmetry-plane faces).
 TetMesh mirror_quadrant_mesh(const TetMesh& quadrant);
+
+// Solving on the quadrant: for magnetization along x the potential is odd in
+// x and even in y (psi = 0 on x = 0, natural condition on y = 0), along y the
+// reverse. Parity of component c (0: x, 1: y) under reflecting axis d.
+inline bool odd_under_reflection(int component, int axis) { return component == axis; }
+
+// Maps every dof point of the whole domain (3 x n, mm) to the quadrant's dof
+// at (|x|, |y|, z) (3 x m points, mm; exact coordinates, as mirroring
+// produces them). ComputeError if a point has no image.
+std::vector<int> mirror_dof_map(const Eigen::Matrix3Xd& full_points_mm, const Eigen::Matrix3Xd& quadrant_points_mm);
 
 }  // namespace magenc::fem

@@ -29,9 +29,12 @@ int main(int argc, char** argv) {
     magenc::fem::write_field_outputs(out.path(), settings, solver, cfg.to_json());
     out.commit();
     const auto& st = solver.stats();
+    const std::string solved =
+        st.solved_dofs != st.dofs ? " (" + std::to_string(st.solved_dofs) + " solved on the symmetry quadrant)" : "";
     std::fprintf(stderr,
-                 "solve_field: P%d, %ld elements, %ld dofs, %ld CG iterations (residual %.2e), %.2f s; wrote %s\n",
-                 st.order, st.elements, st.dofs, st.iterations, st.residual, st.t_total_s, out.final_path().c_str());
+                 "solve_field: P%d, %ld elements, %ld dofs%s, %ld CG iterations (residual %.2e), %.2f s; wrote %s\n",
+                 st.order, st.elements, st.dofs, solved.c_str(), st.iterations, st.residual, st.t_total_s,
+                 out.final_path().c_str());
     return 0;
   });
 }
