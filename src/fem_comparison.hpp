@@ -9,6 +9,8 @@
 //   AcceptanceRule           |FEM - exact| <= max(rel*|exact|, abs_deg)
 //   comparison_csv           long table: one row per case, source and coefficient
 //   difference_figure        FEM - exact vs the swept offset, per coefficient
+// The run itself (every sweep on every source, fits, tables, plots) is
+// comparison_run.hpp's.
 #pragma once
 #include <filesystem>
 #include <string>

@@ -18,11 +18,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "analytic_field.hpp"
+#include "comparison_run.hpp"
 #include "errors.hpp"
-#include "fem_comparison.hpp"
 #include "fem_field_scheme.hpp"
-#include "field_factory.hpp"
 #include "plot.hpp"
 #include "study_output.hpp"
 #include "study_plots.hpp"
@@ -57,24 +55,10 @@ struct GapCase {
   Mount base;         // mount with the residual offsets (dz overwritten by the sweep)
 };
 
-struct SourceRun {
-  std::string label;                // "grid", "fem", "exact"
-  std::vector<SweepResult> sweeps;  // one per GapCase
-};
-
-struct ArrayRun {
-  ProbeSetup setup;
-  std::vector<SourceRun> fem;  // per FEM source
-  SourceRun exact;
-};
-
 void run(const Config& cfg, StudyOutput& out) {
   // 1. Inputs.
   register_fem_field_scheme();
-  const std::vector<FemSource> sources = fem_sources_from_config(cfg);
-  const AnalyticField exact(Magnet::from_config(cfg));
-  const Mount base = Mount::from_config(cfg);
-  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  const ComparisonInputs in = comparison_inputs_from_config(cfg);
   const auto coefs = split_list(cfg.str("dz_sweep.coefs"), "dz_sweep.coefs");
   check_coef_names(coefs, "dz_sweep.coefs");
   if (!(cfg.real("dz_sweep.max_mm") > cfg.real("dz_sweep.min_mm")))
@@ -82,69 +66,28 @@ void run(const Config& cfg, StudyOutput& out) {
   const auto dz = linspace(cfg.real("dz_sweep.min_mm"), cfg.real("dz_sweep.max_mm"),
                            static_cast<int>(cfg.integer("dz_sweep.points")));
   const double rsx = cfg.real("residual.sx_mm"), rdx = cfg.real("residual.dx_mm");
-  const Mount with_sx = with_offset(base, "sx_mm", base.sx_mm + rsx);
-  const Mount with_dx = with_offset(base, "dx_mm", base.dx_mm + rdx);
-  const Mount with_both = with_offset(with_sx, "dx_mm", base.dx_mm + rdx);
+  const Mount with_sx = with_offset(in.base, "sx_mm", in.base.sx_mm + rsx);
+  const Mount with_dx = with_offset(in.base, "dx_mm", in.base.dx_mm + rdx);
+  const Mount with_both = with_offset(with_sx, "dx_mm", in.base.dx_mm + rdx);
   const std::string sx_text = "sx=" + fmt(rsx, 2), dx_text = "dx=" + fmt(rdx, 2);
-  const std::vector<GapCase> cases = {{"dz alone", "alone", "none", base},
+  const std::vector<GapCase> cases = {{"dz alone", "alone", "none", in.base},
                                       {"dz with " + sx_text, "sx", sx_text, with_sx},
                                       {"dz with " + dx_text, "dx", dx_text, with_dx},
                                       {"dz with " + sx_text + " " + dx_text, "sxdx", sx_text + " " + dx_text, with_both}};
-  ProbeArray::parse(cfg.str("sensor.array"));  // unused (study.arrays), still checked
-  std::vector<ProbeSetup> setups;
-  for (const auto& a : arrays) setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
-  const std::string dir = cfg.str("fem_field.dir");
 
   // 2. Every case on every source and on the exact field; fits in dz.
-  const auto run_source = [&](const std::string& label, const FieldSource& f, const ProbeSetup& setup) {
-    SourceRun r;
-    r.label = label;
-    for (const auto& c : cases) r.sweeps.push_back(run_sweep(f, setup, {c.label, "dz_mm", dz, c.base}));
-    return r;
-  };
-  std::vector<ArrayRun> runs;
-  std::vector<FitRow> fits;
-  std::vector<ComparedCase> compared;
-  for (const auto& setup : setups) {
-    ArrayRun r;
-    r.setup = setup;
-    r.exact = run_source("exact", exact, setup);
-    for (const auto& s : sources) r.fem.push_back(run_source(s.label, *s.field, setup));
-    std::vector<const SourceRun*> all = {&r.exact};
-    for (const auto& f : r.fem) all.push_back(&f);
-    for (const SourceRun* sr : all)
-      for (const auto& s : sr->sweeps) {
-        auto f = fit_sweep(s, kStudy, coefs);
-        fits.insert(fits.end(), f.begin(), f.end());
-      }
-    for (const auto& f : r.fem)
-      for (std::size_t k = 0; k < cases.size(); ++k) {
-        auto c = compare_sweeps(f.sweeps[k], r.exact.sweeps[k], f.label);
-        compared.insert(compared.end(), c.begin(), c.end());
-      }
-    runs.push_back(std::move(r));
-  }
+  ComparisonPlan plan{kStudy, {}, coefs, std::nullopt, {}};
+  for (const auto& c : cases) plan.sweeps.push_back({c.label, "dz_mm", dz, c.base});
+  const ComparisonRun cr = run_comparison(in.sources, *in.exact, in.setups, plan);
+  const auto& runs = cr.arrays;
+  const auto& fits = cr.fits;
 
   // 3. Tables.
-  std::vector<SpectrumRow> rows;
-  for (const auto& r : runs) {
-    std::vector<const SourceRun*> all;
-    for (const auto& f : r.fem) all.push_back(&f);
-    all.push_back(&r.exact);
-    for (const SourceRun* sr : all)
-      for (const auto& s : sr->sweeps)
-        for (auto row : s.rows) {
-          row.extra.push_back({"source", sr->label});
-          rows.push_back(row);
-        }
-  }
-  out.write_text("spectra.csv", spectra_csv(rows));
-  out.write_text("comparison.csv", comparison_csv(compared, spectrum_columns()));
-  out.write_text("fits.csv", fits_csv(fits));
+  write_comparison_tables(out, cr);
 
   // 4. Plots.
-  const std::string primary = sources.front().label;
-  const std::string what = "FEM field via " + primary + ", r_0 = " + fmt(setups.front().r0_mm, 2) + " mm";
+  const std::string primary = in.sources.front().label;
+  const std::string what = "FEM field via " + primary + ", r_0 = " + fmt(in.setups.front().r0_mm, 2) + " mm";
   // eps(theta) of the sx+dx case at the sweep ends and dz = 0 (nearest value), first FEM source.
   std::size_t i0 = 0;
   for (std::size_t i = 0; i < dz.size(); ++i)
@@ -155,7 +98,7 @@ void run(const Config& cfg, StudyOutput& out) {
   for (const auto& r : runs) {
     std::vector<AngleErrorResult> e;
     for (std::size_t i : {std::size_t{0}, i0, dz.size() - 1})
-      e.push_back(angle_error(*sources.front().field, r.setup, with_offset(cases.back().base, "dz_mm", dz[i])));
+      e.push_back(angle_error(*in.sources.front().field, r.setup, with_offset(cases.back().base, "dz_mm", dz[i])));
     eps_runs.push_back(std::move(e));
   }
   for (std::size_t a = 0; a < runs.size(); ++a) {
@@ -170,34 +113,21 @@ void run(const Config& cfg, StudyOutput& out) {
   for (const auto& c : coefs)
     if (c != "pp_deg" && c != "a0_deg") diff_coefs.push_back(c);
   for (std::size_t k = 0; k < cases.size(); ++k) {
-    std::vector<SweepCase> sc;
-    std::vector<DifferenceCase> dc;
-    for (const auto& r : runs) {
-      const std::string a = plot_literal(r.setup.array.name);
-      sc.push_back({a + " " + primary, &r.fem.front().sweeps[k]});
-      sc.push_back({a + " exact", &r.exact.sweeps[k]});
-      for (const auto& f : r.fem) dc.push_back({a + " " + f.label, &f.sweeps[k], &r.exact.sweeps[k]});
-    }
     const std::string title = "air gap dz, " + (k == 0 ? std::string("no residual offset") : cases[k].residual + " mm");
-    write_plot(out.dir(), "coefficients_" + cases[k].tag,
-               coefficient_figure(title + " (" + what + "; exact field beside it)", "dz [mm]", sc, fits, coefs));
-    write_plot(out.dir(), "differences_" + cases[k].tag,
-               difference_figure("FEM - exact field, " + title, "dz [mm]", dc, diff_coefs));
-    pngs.push_back("coefficients_" + cases[k].tag + ".png");
-    pngs.push_back("differences_" + cases[k].tag + ".png");
+    const SweepPlotText text{cases[k].tag, "dz [mm]", title + " (" + what + "; exact field beside it)",
+                             "FEM - exact field, " + title};
+    for (const auto& p : write_comparison_plots(out.dir(), cr, k, text, diff_coefs)) pngs.push_back(p);
   }
 
   // 5. Summary (all numbers from the runs above).
   const auto deg = [](double v) { return fmt_auto(v, 4, kRoundingZeroDeg); };
-  const double mu_r = solve_mu_r(dir);
+  const double mu_r = solve_mu_r(in.dir);
   std::ostringstream md;
   md << "# airgap: the air-gap offset dz on the FEM field, beside the exact field\n\n"
-     << "FE solution `" << dir << "` (" << solve_description(dir) << "), used through ";
-  for (std::size_t i = 0; i < sources.size(); ++i)
-    md << (i ? " and " : "") << "`" << sources[i].spec << "`"
-       << (sources[i].label == "grid" ? " (" + cfg.str("fem_field.interp") + " interpolation)" : "");
-  md << "; the exact field of the same magnet beside every case. r0 = " << fmt(setups.front().r0_mm, 3) << " mm, "
-     << setups.front().steps << " samples per turn; dz swept over " << fmt(dz.front(), 2) << ".." << fmt(dz.back(), 2)
+     << fe_solution_text(in.dir, in.sources, cfg.str("fem_field.interp"))
+     << "; the exact field of the same magnet beside every case. r0 = " << fmt(in.setups.front().r0_mm, 3) << " mm, "
+     << in.setups.front().steps << " samples per turn; dz swept over " << fmt(dz.front(), 2) << ".."
+     << fmt(dz.back(), 2)
      << " mm (" << dz.size() << " values, + = farther from the magnet) alone and with residual eccentricities sx = "
      << fmt(rsx, 3) << " mm, dx = " << fmt(rdx, 3) << " mm (each alone and both). Tables: `spectra.csv` (columns "
      << "`sweep`, `source`), `comparison.csv` (FEM beside exact, diff = FEM - exact), `fits.csv` (cubics in dz_mm).\n\n";
@@ -205,17 +135,15 @@ void run(const Config& cfg, StudyOutput& out) {
     md << "Note: the solve used magnet mu_r = " << fmt(mu_r, 3)
        << "; the exact field has mu_r = 1, so part of each FEM - exact difference is that physics.\n\n";
 
+  const Mount& base = in.base;
   md << "## dz alone (" << (base.sx_mm == 0 && base.sy_mm == 0 && base.dx_mm == 0 && base.dy_mm == 0
                                 ? std::string("ideal mount")
                                 : "base mount of [mount]")
      << ")\n\nLargest peak-to-peak error and largest c1..c4 over the dz sweep (deg):\n\n";
   {
     std::vector<std::vector<std::string>> t;
-    for (const auto& r : runs) {
-      std::vector<const SourceRun*> all;
-      for (const auto& f : r.fem) all.push_back(&f);
-      all.push_back(&r.exact);
-      for (const SourceRun* sr : all) {
+    for (const auto& r : runs)
+      for (const SourceRun* sr : r.all()) {
         const SweepResult& s = sr->sweeps.front();
         std::vector<std::string> row{"`" + r.setup.array.name + "`", sr->label};
         for (const char* c : {"pp_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg"}) {
@@ -225,7 +153,6 @@ void run(const Config& cfg, StudyOutput& out) {
         }
         t.push_back(row);
       }
-    }
     md << md_table({"array", "source", "max pp", "max c1", "max c2", "max c3", "max c4"}, t) << "\n";
     double exact_worst = 0;
     for (const auto& r : runs)
@@ -263,25 +190,8 @@ void run(const Config& cfg, StudyOutput& out) {
        << "\n(fits.csv has the full cubics; a slope needs c_n well above the FEM artefacts of the 'dz alone' table to mean anything)\n\n";
   }
 
-  md << "## Largest |FEM - exact| over each dz sweep (deg)\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (std::size_t k = 0; k < cases.size(); ++k)
-      for (const auto& r : runs)
-        for (const auto& f : r.fem) {
-          std::vector<std::string> row{cases[k].label, "`" + r.setup.array.name + "`", f.label};
-          for (const auto& coef : diff_coefs) {
-            const auto v = f.sweeps[k].column(coef), e = r.exact.sweeps[k].column(coef);
-            double worst = 0;
-            for (std::size_t i = 0; i < v.size(); ++i) worst = std::max(worst, std::abs(v[i] - e[i]));
-            row.push_back(fmt(worst, 5));
-          }
-          t.push_back(row);
-        }
-    std::vector<std::string> header{"case", "array", "source"};
-    for (const auto& c : diff_coefs) header.push_back("max abs diff " + c.substr(0, c.find('_')));
-    md << md_table(header, t) << "\n";
-  }
+  md << "## Largest |FEM - exact| over each dz sweep (deg)\n\n" << max_difference_table(cr, "case", diff_coefs)
+     << "\n";
 
   md << "## Plots\n\n" << md_image("eps(theta) at three air gaps, per array", "eps.png") << "\n";
   for (const auto& p : pngs) md << md_image(p.substr(0, p.find('.')), p) << "\n";

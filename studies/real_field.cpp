@@ -21,11 +21,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "analytic_field.hpp"
+#include "comparison_run.hpp"
 #include "errors.hpp"
-#include "fem_comparison.hpp"
 #include "fem_field_scheme.hpp"
-#include "field_factory.hpp"
 #include "plot.hpp"
 #include "study_output.hpp"
 #include "study_plots.hpp"
@@ -56,39 +54,10 @@ std::vector<KeySpec> study_keys() {
   return k;
 }
 
-// All runs of one array on one field (a FEM source or the exact field).
-struct SourceRun {
-  std::string label;                 // "grid", "fem", "exact"
-  AngleErrorResult ideal;
-  std::vector<SweepResult> sweeps;   // one per offset
-  std::vector<AngleErrorResult> refs;  // one per offset at the reference value
-};
-
-struct ArrayRun {
-  ProbeSetup setup;
-  std::vector<SourceRun> fem;  // per FEM source, in fem_field.sources order
-  SourceRun exact;
-};
-
-SourceRun run_source(const std::string& label, const FieldSource& field, const ProbeSetup& setup, const Mount& base,
-                     const std::vector<std::string>& offsets, const std::vector<double>& values, double ref_mm) {
-  SourceRun r;
-  r.label = label;
-  r.ideal = angle_error(field, setup, base);
-  for (const auto& o : offsets) {
-    r.sweeps.push_back(run_sweep(field, setup, {offset_symbol(o), o, values, base}));
-    r.refs.push_back(angle_error(field, setup, with_offset(base, o, ref_mm)));
-  }
-  return r;
-}
-
 void run(const Config& cfg, StudyOutput& out) {
-  // 1. Inputs: the FEM sources (fails first if the solved directory is missing), the exact field.
+  // 1. Inputs: the FEM sources (fails first if the solved directory is missing), the exact field, the arrays.
   register_fem_field_scheme();
-  const std::vector<FemSource> sources = fem_sources_from_config(cfg);
-  const AnalyticField exact(Magnet::from_config(cfg));
-  const Mount base = Mount::from_config(cfg);
-  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  const ComparisonInputs in = comparison_inputs_from_config(cfg);
   const auto offsets = split_list(cfg.str("sweep.offsets"), "sweep.offsets");
   const auto coefs = split_list(cfg.str("sweep.coefs"), "sweep.coefs");
   const auto acc_arrays = split_list(cfg.str("acceptance.arrays"), "acceptance.arrays");
@@ -96,77 +65,41 @@ void run(const Config& cfg, StudyOutput& out) {
   check_coef_names(coefs, "sweep.coefs");
   check_coef_names(acc_coefs, "acceptance.coefs");
   for (const auto& o : offsets) {
-    with_offset(base, o, 0.0);  // validates the names
+    with_offset(in.base, o, 0.0);  // validates the names
     if (o == "dz_mm") throw InputError("sweep.offsets: dz_mm is the airgap study's (plane.vti has no dz)");
   }
   const double ref_mm = cfg.real("sweep.reference_mm");
   const auto values = linspace(0.0, cfg.real("sweep.max_mm"), static_cast<int>(cfg.integer("sweep.points")));
-  ProbeArray::parse(cfg.str("sensor.array"));  // unused here (study.arrays), but still checked
-  std::vector<ProbeSetup> setups;
-  for (const auto& a : arrays) setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
-  const std::string dir = cfg.str("fem_field.dir");
   const AcceptanceRule rule;  // the rule, deliberately not configurable
 
-  // 2. Per array: every case on every FEM source and on the exact field; fits.
-  std::vector<ArrayRun> runs;
-  std::vector<FitRow> fits;
-  std::vector<ComparedCase> compared;
-  for (const auto& setup : setups) {
-    ArrayRun r;
-    r.setup = setup;
-    r.exact = run_source("exact", exact, setup, base, offsets, values, ref_mm);
-    for (const auto& s : sources) r.fem.push_back(run_source(s.label, *s.field, setup, base, offsets, values, ref_mm));
-    std::vector<const SourceRun*> all = {&r.exact};
-    for (const auto& f : r.fem) all.push_back(&f);
-    for (const SourceRun* sr : all)
-      for (const auto& s : sr->sweeps) {
-        auto f = fit_sweep(s, kStudy, coefs);
-        fits.insert(fits.end(), f.begin(), f.end());
-      }
-    for (const auto& f : r.fem) {
-      compared.push_back({setup.array.name, "ideal", "", 0.0, f.label, f.ideal.spectrum, r.exact.ideal.spectrum});
-      for (std::size_t k = 0; k < offsets.size(); ++k) {
-        auto c = compare_sweeps(f.sweeps[k], r.exact.sweeps[k], f.label);
-        compared.insert(compared.end(), c.begin(), c.end());
-      }
-    }
-    runs.push_back(std::move(r));
+  // 2. Per array, on every FEM source and on the exact field: the ideal mount, each
+  //    offset at the reference value (points) and swept (sweeps, with fits).
+  ComparisonPlan plan{kStudy, {}, coefs, in.base, {}};
+  for (const auto& o : offsets) {
+    plan.sweeps.push_back({offset_symbol(o), o, values, in.base});
+    plan.points.push_back(with_offset(in.base, o, ref_mm));
   }
+  const ComparisonRun cr = run_comparison(in.sources, *in.exact, in.setups, plan);
+  const auto& runs = cr.arrays;
 
   // 3. Tables.
-  std::vector<SpectrumRow> rows;
-  const auto add_rows = [&](const SourceRun& sr, const std::string& field_name, const ProbeSetup& setup) {
-    rows.push_back({field_name, setup.array.name, setup.r0_mm, base, sr.ideal.spectrum,
-                    {{"sweep", "ideal"}, {"source", sr.label}}});
-    for (const auto& s : sr.sweeps)
-      for (auto row : s.rows) {
-        row.extra.push_back({"source", sr.label});
-        rows.push_back(row);
-      }
-  };
-  for (const auto& r : runs) {
-    for (std::size_t i = 0; i < sources.size(); ++i) add_rows(r.fem[i], sources[i].field->name(), r.setup);
-    add_rows(r.exact, exact.name(), r.setup);
-  }
-  out.write_text("spectra.csv", spectra_csv(rows));
-  out.write_text("comparison.csv", comparison_csv(compared, spectrum_columns()));
-  out.write_text("fits.csv", fits_csv(fits));
+  write_comparison_tables(out, cr);
 
   // 4. Plots: eps(theta) and harmonic bars on the first FEM source; coefficients
   //    (first FEM source and exact) and FEM - exact (every source) per offset.
-  const std::string primary = sources.front().label;
-  const std::string what = "FEM field via " + primary + ", r_0 = " + fmt(setups.front().r0_mm, 2) + " mm";
+  const std::string primary = in.sources.front().label;
+  const std::string what = "FEM field via " + primary + ", r_0 = " + fmt(in.setups.front().r0_mm, 2) + " mm";
   const int h = 60 + 330 * static_cast<int>(runs.size());
   PlotSpec eps_fig{"Angle error, ideal mount and reference offsets (" + what + ")", {}, 1, 1100, h};
   PlotSpec bar_fig{"Error harmonics, ideal mount and reference offsets (" + what + ", log axis)", {}, 1, 1100, h};
   for (const auto& r : runs) {
     const SourceRun& f = r.fem.front();
-    std::vector<EpsCase> ec{{"ideal mount", &f.ideal}};
-    std::vector<SpectrumCase> bc{{"ideal mount", f.ideal.spectrum}};
+    std::vector<EpsCase> ec{{"ideal mount", &*f.ideal}};
+    std::vector<SpectrumCase> bc{{"ideal mount", f.ideal->spectrum}};
     for (std::size_t k = 0; k < offsets.size(); ++k) {
       const std::string label = offset_symbol(offsets[k]) + " = " + fmt(ref_mm, 2) + " mm";
-      ec.push_back({label, &f.refs[k]});
-      bc.push_back({label, f.refs[k].spectrum});
+      ec.push_back({label, &f.points[k]});
+      bc.push_back({label, f.points[k].spectrum});
     }
     eps_fig.panels.push_back(eps_panel("array " + plot_literal(r.setup.array.name), ec));
     bar_fig.panels.push_back(harmonics_panel("array " + plot_literal(r.setup.array.name), bc, true, true));
@@ -176,38 +109,23 @@ void run(const Config& cfg, StudyOutput& out) {
   std::vector<std::string> pngs;
   for (std::size_t k = 0; k < offsets.size(); ++k) {
     const std::string sym = offset_symbol(offsets[k]);
-    std::vector<SweepCase> sc;
-    std::vector<DifferenceCase> dc;
-    for (const auto& r : runs) {
-      const std::string a = plot_literal(r.setup.array.name);
-      sc.push_back({a + " " + primary, &r.fem.front().sweeps[k]});
-      sc.push_back({a + " exact", &r.exact.sweeps[k]});
-      for (const auto& f : r.fem) dc.push_back({a + " " + f.label, &f.sweeps[k], &r.exact.sweeps[k]});
-    }
-    write_plot(out.dir(), "coefficients_" + sym,
-               coefficient_figure(offset_description(offsets[k]) + " (" + what + "; exact field beside it)",
-                                  sym + " [mm]", sc, fits, coefs));
-    write_plot(out.dir(), "differences_" + sym,
-               difference_figure("FEM - exact field, " + offset_description(offsets[k]) + " (r_0 = " +
-                                     fmt(setups.front().r0_mm, 2) + " mm)",
-                                 sym + " [mm]", dc, acc_coefs));
-    pngs.push_back("coefficients_" + sym + ".png");
-    pngs.push_back("differences_" + sym + ".png");
+    const SweepPlotText text{sym, sym + " [mm]",
+                             offset_description(offsets[k]) + " (" + what + "; exact field beside it)",
+                             "FEM - exact field, " + offset_description(offsets[k]) + " (r_0 = " +
+                                 fmt(in.setups.front().r0_mm, 2) + " mm)"};
+    for (const auto& p : write_comparison_plots(out.dir(), cr, k, text, acc_coefs)) pngs.push_back(p);
   }
 
   // 5. Summary (every number from the runs above).
   const auto deg = [](double v) { return fmt_auto(v, 4, kRoundingZeroDeg); };
-  const double mu_r = solve_mu_r(dir);
+  const double mu_r = solve_mu_r(in.dir);
   std::ostringstream md;
   md << "# real_field: mounting errors on the FEM field of the magnet, beside the exact field\n\n"
-     << "FE solution `" << dir << "` (" << solve_description(dir) << "), used through ";
-  for (std::size_t i = 0; i < sources.size(); ++i)
-    md << (i ? " and " : "") << "`" << sources[i].spec << "`"
-       << (sources[i].label == "grid" ? " (" + cfg.str("fem_field.interp") + " interpolation)" : "");
-  md << ". Exact field of the same magnet (R = " << fmt(cfg.real("magnet.radius_mm"), 2)
+     << fe_solution_text(in.dir, in.sources, cfg.str("fem_field.interp"))
+     << ". Exact field of the same magnet (R = " << fmt(cfg.real("magnet.radius_mm"), 2)
      << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
      << " T, plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face) beside every case. r0 = "
-     << fmt(setups.front().r0_mm, 3) << " mm, " << setups.front().steps << " samples per turn. Each of ";
+     << fmt(in.setups.front().r0_mm, 3) << " mm, " << in.setups.front().steps << " samples per turn. Each of ";
   for (std::size_t i = 0; i < offsets.size(); ++i) md << (i ? ", " : "") << offset_symbol(offsets[i]);
   md << " alone swept over " << fmt(values.front(), 2) << ".." << fmt(values.back(), 2) << " mm (" << values.size()
      << " values) with cubic fits. Tables: `spectra.csv` (columns `sweep`, `source`), `comparison.csv` "
@@ -222,9 +140,9 @@ void run(const Config& cfg, StudyOutput& out) {
     std::vector<std::vector<std::string>> t;
     for (const auto& r : runs)
       for (const auto& f : r.fem) {
-        const Spectrum& s = f.ideal.spectrum;
+        const Spectrum& s = f.ideal->spectrum;
         t.push_back({"`" + r.setup.array.name + "`", f.label, deg(s.c_deg[1]), deg(s.c_deg[2]), deg(s.c_deg[3]),
-                     deg(s.c_deg[4]), deg(s.pp_deg), deg(r.exact.ideal.spectrum.pp_deg)});
+                     deg(s.c_deg[4]), deg(s.pp_deg), deg(r.exact.ideal->spectrum.pp_deg)});
       }
     md << md_table({"array", "source", "c1", "c2", "c3", "c4", "pp", "pp exact"}, t) << "\n(deg)\n\n";
   }
@@ -246,7 +164,7 @@ void run(const Config& cfg, StudyOutput& out) {
         for (const auto& a : acc_arrays) judged = judged || a == r.setup.array.name;
         for (const auto& f : r.fem)
           for (const auto& coef : acc_coefs) {
-            const double v = f.refs[k].spectrum.column(coef), e = r.exact.refs[k].spectrum.column(coef);
+            const double v = f.points[k].spectrum.column(coef), e = r.exact.points[k].spectrum.column(coef);
             const double tol = rule.tolerance_deg(e);
             std::string verdict = "(not judged)";
             if (judged) {
@@ -273,25 +191,7 @@ void run(const Config& cfg, StudyOutput& out) {
     md << ".\n\n";
   }
 
-  md << "## Largest |FEM - exact| over each sweep (deg)\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (std::size_t k = 0; k < offsets.size(); ++k)
-      for (const auto& r : runs)
-        for (const auto& f : r.fem) {
-          std::vector<std::string> row{offset_symbol(offsets[k]), "`" + r.setup.array.name + "`", f.label};
-          for (const auto& coef : acc_coefs) {
-            const auto v = f.sweeps[k].column(coef), e = r.exact.sweeps[k].column(coef);
-            double worst = 0;
-            for (std::size_t i = 0; i < v.size(); ++i) worst = std::max(worst, std::abs(v[i] - e[i]));
-            row.push_back(fmt(worst, 5));
-          }
-          t.push_back(row);
-        }
-    std::vector<std::string> header{"offset", "array", "source"};
-    for (const auto& c : acc_coefs) header.push_back("max abs diff " + c.substr(0, c.find('_')));
-    md << md_table(header, t) << "\n";
-  }
+  md << "## Largest |FEM - exact| over each sweep (deg)\n\n" << max_difference_table(cr, "offset", acc_coefs) << "\n";
 
   md << "## Plots\n\n"
      << md_image("eps(theta), ideal mount and reference offsets, per array (" + primary + ")", "eps.png") << "\n"
