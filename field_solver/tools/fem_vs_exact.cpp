@@ -4,6 +4,7 @@
 // Usage: fem_vs_exact [--out=DIR] mesh.h_zone_mm=0.3 fem.order=2 magnet.mu_r=1
 // With --out=DIR it also writes solve_field's outputs (mesh.vtu, plane.vti,
 // box.vti, solve.json) to DIR, so one solve feeds error_spectrum --field fem:DIR.
+// Bad input (unknown key, value out of range): one line, exit 2 (run_main).
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
@@ -11,15 +12,22 @@
 #include "fem_config.hpp"
 #include "validation.hpp"
 #include "cli.hpp"
+#include "errors.hpp"
 #include "atomic_output.hpp"
 #include "field_outputs.hpp"
 #include <string>
 int main(int argc, char** argv) {
+  // run_main: one-line errors, exit codes, and the Debug builds' FP trap.
+  return magenc::run_main("fem_vs_exact", [&]() -> int {
   auto schema = magenc::fem::solve_field_schema();
   magenc::CommonOptions o;
   std::string out_dir;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::printf("usage: fem_vs_exact [--out=DIR] [section.key=value ...]  (solve_field keys; see solve_field --help)\n");
+      return 0;
+    }
     if (a.rfind("--out=", 0) == 0) out_dir = a.substr(6);
     else o.sets.push_back(a);
   }
@@ -54,4 +62,6 @@ int main(int argc, char** argv) {
   std::printf("P%d el=%ld dofs=%ld it=%ld mesh=%.2f asm=%.2f solve=%.2f post=%.2f | peak=%.5f max_rel=%.3e rms_rel=%.3e\n",
     st.order, st.elements, st.dofs, st.iterations, st.t_mesh_s, st.t_assemble_s, st.t_solve_s, st.t_post_s, e.peak_T, e.max_rel(), e.rms_rel());
   std::printf("t_total=%.2f peak_rss_mib=%.0f\n", st.t_total_s, magenc::fem::peak_rss_mib());
+  return 0;
+  });
 }
