@@ -20,7 +20,13 @@ std::vector<KeySpec> fem_keys() {
       bool_key("mesh.symmetric", true,
                "mesh one quadrant (x, y >= 0) and mirror it, so the mesh has the magnet's symmetry about x = 0 and "
                "y = 0 (false: one TetGen mesh of the whole domain)"),
-      real_key("mesh.zone_half_width_mm", 5.5, 0, 1000, "mm", "refinement zone half width in x and y", true),
+      int_key("mesh.symmetry_order", 16, 2, 64,
+              "with mesh.symmetric: order N of the mesh's dihedral symmetry (2: mirror planes x = 0, y = 0 only; "
+              "4..64, a power of two dividing mesh.segments: a wedge of 180/N deg is meshed and reflected, which "
+              "moves the mesh's ideal-mount artefacts to harmonics >= N; the zone box becomes an N-gon prism)"),
+      real_key("mesh.zone_half_width_mm", 7.0, 0, 1000, "mm",
+               "refinement zone half width in x and y (with mesh.symmetry_order N > 4 the inradius of the zone's "
+               "N-gon prism; 7 mm: the prism covers the plane grid's corners)", true),
       real_key("mesh.zone_half_height_mm", 1.3, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
       real_key("mesh.core_radius_mm", 3.2, 0, 1000, "mm",
                "radius of the core cylinder about the sensing plane inside the zone, meshed with mesh.h_core_mm "
@@ -78,6 +84,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   m.outer_radius_mm = cfg.real("mesh.outer_radius_mm");
   m.sphere_subdivisions = static_cast<int>(cfg.integer("mesh.sphere_subdivisions"));
   m.symmetric = cfg.flag("mesh.symmetric");
+  m.symmetry_order = static_cast<int>(cfg.integer("mesh.symmetry_order"));
   m.mesher.radius_edge_ratio = cfg.real("mesh.quality_ratio");
   m.mesher.min_dihedral_deg = cfg.real("mesh.min_dihedral_deg");
   // Refinement zone: z_s +- half height, but never closer to the magnet than h/2.

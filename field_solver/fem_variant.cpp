@@ -154,6 +154,7 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
   r.facts.mu_r = d.magnet.mu_r;
   r.facts.t_total_s = r.stats.t_total_s;
   r.facts.plane_step_mm = g.step_mm[0];
+  r.facts.symmetry_order = d.mesh.symmetric ? d.mesh.symmetry_order : 1;
   return r;
 }
 
@@ -175,6 +176,7 @@ FemSolveFacts solve_json_facts(const fs::path& dir) {
       f.h_magnet_mm = d.value("h_magnet_mm", NAN);
       f.h_zone_mm = d.value("h_zone_mm", NAN);
       f.h_core_mm = d.contains("zone") ? d["zone"].value("h_core_mm", 0.0) : 0.0;
+      f.symmetry_order = d.value("symmetry_order", d.value("symmetric", false) ? 2 : 1);
     }
     f.plane_step_mm = j.contains("plane_grid") ? j["plane_grid"].value("step_mm", NAN) : NAN;
   } catch (const std::exception& e) {

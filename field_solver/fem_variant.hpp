@@ -52,6 +52,7 @@ struct FemSolveFacts {
   double mu_r = 0;                        // magnet.mu_r of the solve
   double t_total_s = 0;                   // mesh + assemble + solve + post-processing
   double plane_step_mm = 0;               // plane grid spacing
+  int symmetry_order = 1;                 // mesh symmetry D_N (1: a whole-domain mesh, 2: mirror planes x, y)
 };
 
 // A solve made in this process.

@@ -92,6 +92,15 @@ void add_box(Plc& plc, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   for (const auto& q : quads) plc.facets.push_back({{b + q[0], b + q[1], b + q[2], b + q[3]}});
 }
 
+// Region seed at radius r, height z and the angle pi/128: strictly inside the
+// wedge 0 < phi < pi/N for every symmetry order N <= 64 (clip_plc_to_wedge
+// keeps the seeds), and inside the intended region for all rotationally
+// symmetric parts and the zone box (r < half width).
+Eigen::Vector3d seed_at(double r_mm, double z_mm) {
+  const double a = kPi / 128.0;
+  return {r_mm * std::cos(a), r_mm * std::sin(a), z_mm};
+}
+
 // Zone box [-w, w]^2 x [top, z_max] around a core cylinder (radius rc, N-gon at
 // the magnet's angles) from the magnet's top face (whose top ring of N points
 // starts at magnet_top_first) to core_z_max. The planar faces at z = top are
@@ -150,9 +159,8 @@ void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, 
     side.polygon.push_back(tc + i);
     plc.facets.push_back(side);
   }
-  plc.regions.push_back({Eigen::Vector3d(0.25 * rc, 0.25 * rc, 0.5 * (top + zc)), kRegionZone,
-                         tet_volume_for_edge(spec.mesh.h_core_mm)});
-  plc.regions.push_back({Eigen::Vector3d(0.9 * w, 0.9 * w, 0.5 * (top + zt)), kRegionZone,
+  plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (top + zc)), kRegionZone, tet_volume_for_edge(spec.mesh.h_core_mm)});
+  plc.regions.push_back({seed_at(0.5 * (rc + w), 0.5 * (top + zt)), kRegionZone,
                          tet_volume_for_edge(spec.mesh.h_zone_mm)});
 }
 
@@ -184,9 +192,15 @@ void DomainSpec::validate() const {
   const MeshSpec& m = mesh;
   if (m.segments < 8 || m.segments > 4096)
     throw InputError("mesh.segments = " + std::to_string(m.segments) + " is out of range: allowed [8, 4096]");
-  if (m.symmetric && m.segments % 2 != 0)
-    throw InputError("mesh.segments = " + std::to_string(m.segments) +
-                     " is out of range with mesh.symmetric = true: must be even (polygons symmetric about x = 0)");
+  if (m.symmetric) {
+    const int N = m.symmetry_order;
+    if (N < 2 || N > 64 || (N & (N - 1)) != 0)
+      throw InputError("mesh.symmetry_order = " + std::to_string(N) + " is out of range: allowed 2, 4, 8, 16, 32 or 64");
+    if (m.segments % N != 0)
+      throw InputError("mesh.segments = " + std::to_string(m.segments) + " is out of range with mesh.symmetric = true: " +
+                       "must be a multiple of mesh.symmetry_order = " + std::to_string(N) +
+                       " (polygons with the mesh's mirror symmetry)");
+  }
   if (m.sphere_subdivisions < 1 || m.sphere_subdivisions > 6)
     throw InputError("mesh.sphere_subdivisions = " + std::to_string(m.sphere_subdivisions) +
                      " is out of range: allowed [1, 6]");
@@ -264,22 +278,21 @@ Plc build_plc(const DomainSpec& spec) {
     add_sphere(plc, Eigen::Vector3d::Zero(), R, m.sphere_subdivisions, m.equal_area, false);
     top = R;
   }
-  // Every seed lies strictly inside the quadrant x > 0, y > 0 (clip_plc_to_quadrant keeps them).
-  plc.regions.push_back({Eigen::Vector3d(0.25 * R, 0.25 * R, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
+  plc.regions.push_back({seed_at(0.5 * R, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
   // 3. Refinement zone around the sensing plane.
   if (spec.zone.core_to_magnet()) {
     add_zone_with_core(plc, spec, magnet_base + m.segments, top);
   } else if (spec.zone.enabled) {
     const double w = spec.zone.half_width_mm;
     add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
-    Eigen::Vector3d seed(0.25 * w, 0.25 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
-    if (spec.zone.core()) {  // core cylinder nested inside the box; box seed in a corner
+    Eigen::Vector3d seed = seed_at(0.5 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
+    if (spec.zone.core()) {  // core cylinder nested inside the box; box seed between core and box side
       add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
                    spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
       const double rc = spec.zone.core_radius_mm;
-      plc.regions.push_back({Eigen::Vector3d(0.25 * rc, 0.25 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)),
-                             kRegionZone, tet_volume_for_edge(m.h_core_mm)});
-      seed = Eigen::Vector3d(0.9 * w, 0.9 * w, seed.z());
+      plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
+                             tet_volume_for_edge(m.h_core_mm)});
+      seed = seed_at(0.5 * (polygon_radius(rc, m.segments, m.equal_area) + w), seed.z());
     }
     plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
   }
@@ -288,18 +301,24 @@ Plc build_plc(const DomainSpec& spec) {
     const double z1 = -top - spec.shaft.gap_mm, z0 = z1 - spec.shaft.length_mm;
     add_cylinder(plc, polygon_radius(spec.shaft.radius_mm, m.segments, m.equal_area), m.segments, z0, z1);
     const double rs = spec.shaft.radius_mm;
-    plc.regions.push_back({Eigen::Vector3d(0.25 * rs, 0.25 * rs, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
+    plc.regions.push_back({seed_at(0.5 * rs, 0.5 * (z0 + z1)), kRegionShaft, tet_volume_for_edge(m.h_magnet_mm)});
   }
-  // Air seed: 0.9 R_out from the origin in the plane z = 0 at 45 deg, outside everything else
+  // Air seed: 0.9 R_out from the origin in the plane z = 0, outside everything else
   // (zone, shaft end within 0.9 R_out and off this plane; inside the faceted sphere).
-  const double a = 0.9 * m.outer_radius_mm / std::sqrt(2.0);
-  plc.regions.push_back({Eigen::Vector3d(a, a, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
+  plc.regions.push_back({seed_at(0.9 * m.outer_radius_mm, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
   return plc;
 }
 
 TetMesh mesh_quadrant(const DomainSpec& spec) {
-  TetMesh q = tetrahedralize_plc(clip_plc_to_quadrant(build_plc(spec)), spec.mesh.mesher);
+  const int N = spec.mesh.symmetry_order;
+  TetMesh q = replicate_wedge_to_quadrant(tetrahedralize_plc(clip_plc_to_wedge(build_plc(spec), N), spec.mesh.mesher), N);
   snap_quadrant_mesh(q);
+  // Every remaining boundary face must lie on the truncation sphere (a face
+  // left on an inner mirror plane would mean the wedge copies do not conform).
+  for (Eigen::Index f = 0; f < q.boundary_faces.cols(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (q.nodes.col(q.boundary_faces(k, f)).norm() < 0.5 * spec.mesh.outer_radius_mm)
+        throw ComputeError("symmetric mesh: the wedge copies do not conform (a boundary face inside the domain)");
   return q;
 }
 

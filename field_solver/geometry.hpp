@@ -52,6 +52,10 @@ struct MeshSpec {
   // Mesh the quadrant x >= 0, y >= 0 and mirror it (symmetric_mesh.hpp): the
   // mesh, and so the solution, has the domain's symmetry about x = 0 and y = 0.
   bool symmetric = true;
+  // Order N of the mesh's dihedral symmetry with `symmetric` (2: mirror x and
+  // y only; 4..64, a power of two dividing `segments`: a wedge of pi/N is
+  // meshed and reflected, see symmetric_mesh.hpp).
+  int symmetry_order = 2;
   MesherOptions mesher;
 };
 

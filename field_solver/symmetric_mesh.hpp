@@ -28,6 +28,20 @@ namespace magenc::fem {
 // symmetric or does not contain the z axis).
 Plc clip_plc_to_quadrant(const Plc& full);
 
+// More symmetry: every part is also symmetric under reflection across the
+// planes at phi = k*pi/N through the z axis (the dihedral group D_N; N a power
+// of two dividing mesh.segments). clip_plc_to_wedge cuts the PLC to the wedge
+// 0 <= phi <= pi/N (N = 2: the quadrant), and replicate_wedge_to_quadrant
+// reflects the wedge's mesh N/2 - 1 times to fill the quadrant with a mesh
+// that has the D_N symmetry (nodes on the shared planes shared). On such a
+// mesh the discrete field of magnetization along x has, besides its cos(phi)
+// part, only the angular harmonics n = kN +- 1, so the ideal-mount angle error
+// of `two` and `diff4` has no harmonics below N. Parts that are not D_N
+// symmetric (the square zone box) become their wedge's mirror images (an
+// N-gon prism of the box's inradius).
+Plc clip_plc_to_wedge(const Plc& full, int sectors);
+TetMesh replicate_wedge_to_quadrant(const TetMesh& wedge, int sectors);
+
 // Prepares a TetGen mesh of the quadrant for solving and mirroring: nodes
 // within 1e-9 of the domain size of a symmetry plane are snapped onto it
 // (ComputeError for a node outside the quadrant), and boundary_faces keeps

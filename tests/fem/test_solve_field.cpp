@@ -101,6 +101,9 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
       {"--set shaft.enabled=true --set shaft.length_mm=100", "shaft", 2},
       {"--set fem.max_iterations=1", "CG did not converge", 3},
       {"--set no.such_key=1", "no.such_key", 2},
+      // Mesh symmetry: order not a power of two; order not dividing the segments (32 in coarse.toml).
+      {"--set mesh.symmetry_order=12", "mesh.symmetry_order", 2},
+      {"--set mesh.symmetry_order=64", "mesh.segments", 2},
       // Zone core cylinder (default mesh; off in coarse.toml): radius inside the magnet, segment
       // count not a multiple of 8, top above the zone box, empty core.
       {"--set mesh.core_radius_mm=1.5 --set mesh.core_top_above_plane_mm=0.4 --set mesh.core_below_plane_mm=0.4",

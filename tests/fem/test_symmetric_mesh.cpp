@@ -9,7 +9,9 @@
 //    a whole-domain TetGen mesh does not (the check can fail);
 //  - end to end: the ideal-mount angle error of `two` has no c1, c2, c3 on a
 //    symmetric mesh (only c4, c8: the D2-symmetric field's harmonics 3, 5, 7),
-//    while the whole-domain mesh gives spurious c1, c3.
+//    none of c1..c8 on a D16 wedge mesh, while the whole-domain mesh gives
+//    spurious c1, c3;
+//  - a D_N wedge mesh (N = 4, 16) is invariant under D_N and keeps the magnet.
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -27,6 +29,7 @@
 #include "fem_test_util.hpp"
 #include "magnetostatic_solver.hpp"
 #include "symmetric_mesh.hpp"
+#include "units.hpp"
 
 using namespace magenc::fem;
 namespace fs = std::filesystem;
@@ -96,6 +99,47 @@ TEST_CASE("symmetric mesh: same domain and regions as the whole-domain mesh, mir
   // 3. The boundary is the truncation sphere only (no unmatched symmetry-plane faces).
   for (Eigen::Index f = 0; f < sym.boundary_faces.cols(); ++f)
     for (int k = 0; k < 3; ++k) REQUIRE(sym.nodes.col(sym.boundary_faces(k, f)).norm() > 0.9 * d.mesh.outer_radius_mm);
+}
+
+TEST_CASE("D_N wedge mesh: invariant under the rotations and reflections of D_N, same magnet and core", "[fem][mesh]") {
+  const int N = GENERATE(4, 16);
+  CAPTURE(N);
+  DomainSpec d = geometry("core");  // 32 segments: N = 4, 16 divide them
+  d.mesh.symmetry_order = 2;
+  const TetMesh d2 = mesh_domain(d);
+  d.mesh.symmetry_order = N;
+  const TetMesh dn = mesh_domain(d);
+  // 1. Magnet and core are D_N-symmetric polygon prisms: the same volumes as with N = 2.
+  const auto v2 = region_volumes(d2), vn = region_volumes(dn);
+  CHECK(std::abs(vn.at(kRegionMagnet) - v2.at(kRegionMagnet)) <= 1e-9 * v2.at(kRegionMagnet));
+  // 2. Node set invariant under rotation by 2 pi/N and reflection y -> -y (to 1e-9 mm:
+  //    rotated copies are computed in floating point). Keys on a 1e-7 mm lattice; a
+  //    point is found if a key within one lattice step exists.
+  const double q = 1e-7;
+  std::set<std::array<long long, 3>> keys;
+  auto key = [&](const Eigen::Vector3d& p) {
+    return std::array<long long, 3>{std::llround(p.x() / q), std::llround(p.y() / q), std::llround(p.z() / q)};
+  };
+  for (int i = 0; i < dn.num_nodes(); ++i) keys.insert(key(dn.nodes.col(i)));
+  auto found = [&](const Eigen::Vector3d& p) {
+    const auto k = key(p);
+    for (long long a = -1; a <= 1; ++a)
+      for (long long b = -1; b <= 1; ++b)
+        for (long long c = -1; c <= 1; ++c)
+          if (keys.count({k[0] + a, k[1] + b, k[2] + c})) return true;
+    return false;
+  };
+  const double a = 2.0 * magenc::kPi / N;
+  int missing = 0;
+  for (int i = 0; i < dn.num_nodes(); ++i) {
+    const Eigen::Vector3d p = dn.nodes.col(i);
+    missing += !found({std::cos(a) * p.x() - std::sin(a) * p.y(), std::sin(a) * p.x() + std::cos(a) * p.y(), p.z()});
+    missing += !found({p.x(), -p.y(), p.z()});
+  }
+  CHECK(missing == 0);
+  // 3. Only the truncation sphere is boundary.
+  for (Eigen::Index f = 0; f < dn.boundary_faces.cols(); ++f)
+    for (int k = 0; k < 3; ++k) REQUIRE(dn.nodes.col(dn.boundary_faces(k, f)).norm() > 0.9 * d.mesh.outer_radius_mm);
 }
 
 TEST_CASE("clip_plc_to_quadrant rejects seeds outside the quadrant", "[fem][mesh]") {
@@ -169,11 +213,12 @@ TEST_CASE("symmetric mesh end to end: ideal mount has no c1..c3, the whole-domai
   const fs::path dir = fs::temp_directory_path() / ("magenc_test_sym_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string bin = MAGENC_BIN_DIR, src = MAGENC_SOURCE_DIR;
-  auto harmonics = [&](const std::string& tag, bool symmetric) {
+  auto harmonics = [&](const std::string& tag, bool symmetric, int order = 2) {
     const fs::path field = dir / tag, csv = dir / (tag + ".csv");
     const std::string sym = symmetric ? "true" : "false";
     const std::string solve = bin + "/solve_field --config " + src + "/meshes/coarse.toml --set magnet.mu_r=1 " +
-                              "--set mesh.symmetric=" + sym + " --out " + field.string() + " > /dev/null 2>&1";
+                              "--set mesh.symmetric=" + sym + " --set mesh.symmetry_order=" + std::to_string(order) +
+                              " --out " + field.string() + " > /dev/null 2>&1";
     REQUIRE(std::system(solve.c_str()) == 0);
     const std::string spec = bin + "/error_spectrum --field fem:" + field.string() +
                              " --set magnet.mu_r=1 --array two --out " + csv.string() + " > /dev/null 2>&1";
@@ -193,8 +238,14 @@ TEST_CASE("symmetric mesh end to end: ideal mount has no c1..c3, the whole-domai
     }
     return v;
   };
-  const auto s = harmonics("sym", true), w = harmonics("whole", false);
+  const auto s = harmonics("sym", true), w = harmonics("whole", false), d16 = harmonics("d16", true, 16);
   fs::remove_all(dir);
+  // D16 wedge mesh: the artefacts move to c16 and above; c1..c8 vanish.
+  for (int n = 1; n <= 8; ++n) {
+    CAPTURE(n, d16.at("c" + std::to_string(n) + "_deg"));
+    CHECK(std::abs(d16.at("c" + std::to_string(n) + "_deg")) < 1e-9);
+  }
+  CHECK(d16.at("pp_deg") > 1e-3);  // the mesh's ripple (harmonics >= 16) is still there
   CAPTURE(s.at("c1_deg"), s.at("c2_deg"), s.at("c3_deg"), s.at("c4_deg"), w.at("c1_deg"), w.at("c3_deg"));
   for (const char* c : {"c1_deg", "c2_deg", "c3_deg", "c5_deg", "c6_deg", "c7_deg"}) CHECK(std::abs(s.at(c)) < 1e-9);
   CHECK(s.at("c4_deg") > 1e-4);  // the symmetric field's own artefact (coarse P1: ~0.008 deg) remains
