@@ -31,7 +31,7 @@ std::vector<KeySpec> fem_keys() {
       real_key("mesh.core_radius_mm", 3.2, 0, 1000, "mm",
                "radius of the core cylinder about the sensing plane inside the zone, meshed with mesh.h_core_mm "
                "(0 = none; > magnet radius, < 0.8x zone half width)"),
-      real_key("mesh.h_core_mm", 0.17, 0.01, 100, "mm", "target tet edge length in the zone's core cylinder", true),
+      real_key("mesh.h_core_mm", 0.10, 0.01, 100, "mm", "target tet edge length in the zone's core cylinder", true),
       real_key("mesh.core_top_above_plane_mm", 0.6, 0, 1000, "mm",
                "core cylinder top above the sensing plane (< mesh.zone_half_height_mm)"),
       real_key("mesh.core_below_plane_mm", 0.6, 0, 1000, "mm",
