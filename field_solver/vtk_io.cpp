@@ -18,6 +18,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include "errors.hpp"
+#include "fp_trap.hpp"
 
 namespace magenc::fem {
 namespace {
@@ -104,7 +105,12 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() + " does not exist");
   vtkNew<vtkXMLUnstructuredGridReader> r;
   r->SetFileName(path.c_str());
-  r->Update();
+  {
+    // An ascii .vtu is parsed with strtod, which raises FE_OVERFLOW for values such as 1e999:
+    // input parsing, untrapped (fp_trap.hpp).
+    const FpTrapPause parsing_input;
+    r->Update();
+  }
   vtkUnstructuredGrid* grid = r->GetOutput();
   if (!grid || grid->GetNumberOfCells() == 0) throw InputError(path.string() + ": no cells (not a solve_field mesh.vtu)");
   auto* psi = vtkDoubleArray::SafeDownCast(grid->GetPointData()->GetArray("psi"));

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "errors.hpp"
+#include "fp_trap.hpp"
 
 namespace magenc {
 
@@ -95,6 +96,9 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
       std::size_t pos = 0;
       double v = 0;
       try {
+        // strtod raises FE_OVERFLOW for out-of-range text such as 1e999 (and stod then throws):
+        // bad input, reported below as such, not a numerical bug, so untrapped (fp_trap.hpp).
+        const FpTrapPause parsing_input;
         v = std::stod(t, &pos);
       } catch (...) {
         return fail();
@@ -243,6 +247,9 @@ void walk_table(const toml::table& tbl, const std::string& prefix,
 void Config::load_toml_string(const std::string& text, const std::string& origin) {
   toml::table tbl;
   try {
+    // toml++ reads floats through strtod, which raises FE_OVERFLOW for 1e999 (a value the range
+    // checks below reject): input parsing, untrapped (fp_trap.hpp).
+    const FpTrapPause parsing_input;
     tbl = toml::parse(text, origin);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;

@@ -1,5 +1,7 @@
 #include "errors.hpp"
 
+#include "fp_trap.hpp"
+
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <sstream>
@@ -14,6 +16,7 @@ std::string num(double v) {
 }
 
 int run_main(const std::string& program, const std::function<int()>& body) {
+  enable_fp_trap();  // Debug builds only (fp_trap.hpp); before any OpenMP thread exists
   try {
     return body();
   } catch (const InputError& e) {

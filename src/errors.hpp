@@ -25,6 +25,7 @@ std::string num(double v);
 
 // Runs body() and turns exceptions into a one-line message on stderr and a
 // non-zero exit code: InputError -> 2, ComputeError -> 3, anything else -> 1.
+// In Debug builds it first enables the floating-point trap (fp_trap.hpp).
 int run_main(const std::string& program, const std::function<int()>& body);
 
 }  // namespace magenc

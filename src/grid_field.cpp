@@ -111,12 +111,15 @@ inline void interpolate(const Geo& g, const double* const* v, const double* p, d
   }
 }
 
+// A NaN coordinate is outside. The comparisons are the quiet ones (std::isgreaterequal,
+// std::islessequal): a plain >= or <= with a NaN operand raises FE_INVALID, which Debug builds trap
+// (fp_trap.hpp), while NaN points are expected input here (they must become an InputError).
 inline bool inside(const Geo& g, bool is3d, const double* p) {
   for (int d = 0; d < 2 + int(is3d); ++d) {
     const double t = (p[d] - g.o[d]) * g.ih[d];
-    if (!(t >= -kCellTol && t <= g.n[d] - 1 + kCellTol)) return false;
+    if (!(std::isgreaterequal(t, -kCellTol) && std::islessequal(t, g.n[d] - 1 + kCellTol))) return false;
   }
-  if (!is3d && !(std::abs(p[2] - g.o[2]) <= GridField::kPlaneTolerance_mm)) return false;
+  if (!is3d && !std::islessequal(std::abs(p[2] - g.o[2]), GridField::kPlaneTolerance_mm)) return false;
   return true;
 }
 
@@ -254,7 +257,7 @@ std::string GridField::extent_text() const {
 
 void GridField::throw_outside(const Vec3& p) const {
   const auto& g = grid_;
-  if (g.is_plane() && !(std::abs(p.z() - g.origin_mm.z()) <= kPlaneTolerance_mm))
+  if (g.is_plane() && !std::islessequal(std::abs(p.z() - g.origin_mm.z()), kPlaneTolerance_mm))  // quiet: p may be NaN
     throw InputError("grid " + g.source + ": point " + point_text(p) + " is off the grid's plane z = " +
                      fmt(g.origin_mm.z()) + " mm: a 2-D plane grid serves only dz = 0; use box.vti for air-gap offsets");
   throw InputError("grid " + g.source + ": point " + point_text(p) + " is outside the sampled region " + extent_text() +

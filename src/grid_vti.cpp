@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "errors.hpp"
+#include "fp_trap.hpp"
 #include "grid_field.hpp"
 
 namespace magenc {
@@ -28,7 +29,13 @@ GridData read_grid_vti(const std::filesystem::path& file) {
   if (!reader->CanReadFile(name.c_str()))
     throw InputError("grid file " + name + " is not VTK XML image data (.vti)");
   reader->SetFileName(name.c_str());
-  reader->Update();
+  {
+    // An ascii .vti is parsed with strtod, which raises FE_OVERFLOW for values such as 1e999: bad
+    // input, which the reader's error code or GridData::validate (finite values) turns into an
+    // InputError, so the read itself is untrapped (fp_trap.hpp).
+    const FpTrapPause parsing_input;
+    reader->Update();
+  }
   vtkImageData* img = reader->GetOutput();
   if (reader->GetErrorCode() != 0 || img == nullptr || img->GetNumberOfPoints() == 0)
     throw InputError("grid file " + name + " could not be read as VTK image data (empty or corrupt)");

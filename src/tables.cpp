@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "errors.hpp"
+#include "fp_trap.hpp"
 
 namespace magenc {
 
@@ -132,7 +133,12 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const std::string& text = cells[i];
       char* end = nullptr;
-      const double v = text.empty() ? NAN : std::strtod(text.c_str(), &end);
+      double v = NAN;
+      if (!text.empty()) {
+        // strtod raises FE_OVERFLOW for 1e999 (rejected just below as not finite): untrapped (fp_trap.hpp).
+        const FpTrapPause parsing_input;
+        v = std::strtod(text.c_str(), &end);
+      }
       if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
         throw InputError(at + ": column " + header[i] + " = '" + text +
                          "' is not a finite number: allowed finite numbers in mm");

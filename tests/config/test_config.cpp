@@ -52,4 +52,9 @@ TEST_CASE("bad input is rejected with the key and range named", "[config][bad-in
   CHECK_THAT(msg([&] { c.load_toml_string("[magnet]\nradius = 2\n"); }),
              Catch::Contains("unknown configuration key 'magnet.radius'"));
   CHECK_THAT(msg([&] { c.set("magnet.br_T=abc"); }), Catch::Contains("magnet.br_T"));
+  // Out-of-range numbers: strtod raises FE_OVERFLOW, which must stay an input error in Debug
+  // builds (fp_trap.hpp), not a SIGFPE.
+  CHECK_THAT(msg([&] { c.set("magnet.radius_mm=1e999"); }), Catch::Contains("magnet.radius_mm"));
+  CHECK_THAT(msg([&] { c.load_toml_string("[magnet]\nradius_mm = 1e999\n"); }),
+             Catch::Contains("malformed TOML") && Catch::Contains("1e999"));
 }

@@ -65,7 +65,7 @@ TEST_CASE("cases CSV: strict errors name the file, line and column", "[probe][ta
   };
   for (const Bad b : {Bad{"sx_mm,foo\n1,2\n", "unknown column 'foo'"}, Bad{"sx_mm,dy_mm\n1\n", ":2:"},
                       Bad{"sx_mm\nabc\n", "column sx_mm = 'abc'"}, Bad{"sx_mm\nnan\n", "'nan'"},
-                      Bad{"sx_mm\ninf\n", "'inf'"}, Bad{"sx_mm\n0.1x\n", "'0.1x'"},
+                      Bad{"sx_mm\ninf\n", "'inf'"}, Bad{"sx_mm\n1e999\n", "'1e999'"}, Bad{"sx_mm\n0.1x\n", "'0.1x'"},
                       Bad{"sx_mm,sx_mm\n1,2\n", "twice"}, Bad{"sx_mm\n", "no data rows"},
                       Bad{"", "empty file"}, Bad{"sx_mm,dx_mm\n1,\n", "column dx_mm = ''"}}) {
     const auto p = write_temp("bad.csv", b.text);
