@@ -40,6 +40,22 @@ const fs::path& coarse_field() {
   return dir;
 }
 
+// A finer solve (zone h 0.4 mm, D16 mesh; ~150k dofs, seconds) for checks of small
+// differences of large harmonics, which the coarse field's discretization error
+// (|c1 - exact| up to ~0.01-0.08 deg, varying between meshes) can swamp.
+const fs::path& medium_field() {
+  static const fs::path dir = [] {
+    const fs::path d = temp_out("medium_field");
+    const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
+                            "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set mesh.h_zone_mm=0.4 "
+                            "--set mesh.h_magnet_mm=0.5 --set mesh.symmetry_order=16 --out '" + d.string() +
+                            "' >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
+    return d;
+  }();
+  return dir;
+}
+
 // Runs error_spectrum with the given arguments; spectra rows (header + rows) or empty on failure.
 struct CliRun {
   int code;
@@ -86,7 +102,10 @@ const std::map<std::string, std::string>* find_cmp(const std::vector<std::map<st
 
 TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the exact field on a coarse solve",
           "[studies][fem_e2e]") {
-  const fs::path dir = coarse_field();
+  // The medium field: the dz effect on c1 checked below (0.165 deg between dz = -0.3 and
+  // +0.3 mm) is a 7 % change of c1, and on the coarse field it came out 0.08-0.17 deg
+  // depending on the mesh draw (Release vs Debug floating point gave different meshes).
+  const fs::path dir = medium_field();
   const std::string cases = (temp_out("cases") += ".csv").string();
   {
     std::ofstream f(cases);
