@@ -66,6 +66,21 @@ void run_cg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions
   }
 }
 
+// Relative permeability per cell of `mesh` (region ids -> domain materials).
+Eigen::VectorXd cell_mu_r(const DomainSpec& domain, const TetMesh& mesh) {
+  Eigen::VectorXd mu(mesh.num_tets());
+  for (int t = 0; t < mesh.num_tets(); ++t) mu[t] = domain.mu_r(mesh.region[t]);
+  return mu;
+}
+
+// Remanence per cell (T, 3 x n_tets): br in the magnet's cells, 0 elsewhere.
+Eigen::Matrix3Xd cell_br(const TetMesh& mesh, const Eigen::Vector3d& br_T) {
+  Eigen::Matrix3Xd b = Eigen::Matrix3Xd::Zero(3, mesh.num_tets());
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (mesh.region[t] == kRegionMagnet) b.col(t) = br_T;
+  return b;
+}
+
 }  // namespace
 
 MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions options)
@@ -116,15 +131,9 @@ void MagnetostaticSolver::setup_system() {
   stats_.dofs = space_->num_dofs();
   stats_.order = options_.order;
   stats_.threads = options_.threads;
-  const int nt = mesh_.num_tets();
-  mu_r_cell_.resize(nt);
-  br_cell_.setZero(3, nt);
   const double a = deg_to_rad(domain_.magnet.magnetization_deg);
-  const Eigen::Vector3d br(domain_.magnet.br_T * std::cos(a), domain_.magnet.br_T * std::sin(a), 0.0);
-  for (int t = 0; t < nt; ++t) {
-    mu_r_cell_[t] = domain_.mu_r(mesh_.region[t]);
-    if (mesh_.region[t] == kRegionMagnet) br_cell_.col(t) = br;
-  }
+  mu_r_cell_ = cell_mu_r(domain_, mesh_);
+  br_cell_ = cell_br(mesh_, Eigen::Vector3d(domain_.magnet.br_T * std::cos(a), domain_.magnet.br_T * std::sin(a), 0.0));
   stats_.solved_dofs = stats_.dofs;
   if (quadrant_solve_) {
     quad_space_ = std::make_unique<FeSpace>(quad_, options_.order);
@@ -137,19 +146,15 @@ void MagnetostaticSolver::assemble_system() {
   if (quadrant_solve_) {
     // The quadrant's cells carry the same materials; one load per non-zero
     // component of Br (magnetization_deg = 0: x only).
-    const int nq = quad_.num_tets();
-    Eigen::VectorXd mu_q(nq);
-    for (int t = 0; t < nq; ++t) mu_q[t] = domain_.mu_r(quad_.region[t]);
-    K_ = assemble_stiffness(quad_, *quad_space_, mu_q, options_.robin, options_.threads);
+    K_ = assemble_stiffness(quad_, *quad_space_, cell_mu_r(domain_, quad_), options_.robin, options_.threads);
     const double a = deg_to_rad(domain_.magnet.magnetization_deg);
     const double comp[2] = {std::cos(a), std::sin(a)};
     quad_loads_.clear();
     for (int c = 0; c < 2; ++c) {
       if (std::abs(comp[c]) < 1e-12) continue;
-      Eigen::Matrix3Xd br_q = Eigen::Matrix3Xd::Zero(3, nq);
-      for (int t = 0; t < nq; ++t)
-        if (quad_.region[t] == kRegionMagnet) br_q(c, t) = domain_.magnet.br_T * comp[c];
-      quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, br_q));
+      Eigen::Vector3d br = Eigen::Vector3d::Zero();
+      br[c] = domain_.magnet.br_T * comp[c];
+      quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
     }
     if (!options_.robin) {
       const std::vector<int> outer = boundary_dofs(quad_, *quad_space_);

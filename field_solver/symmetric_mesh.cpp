@@ -28,7 +28,7 @@ struct Plane {
   Point n;
   int axis = -1;
   double tol = 0;
-  double s(const Point& p) const { return axis >= 0 ? p[axis] * n[axis] : n.dot(p); }
+  double s(const Point& p) const { return axis >= 0 ? p[axis] : n.dot(p); }
   bool on(const Point& p) const { return std::abs(s(p)) <= tol; }
   bool inside(const Point& p) const { return s(p) > tol; }
   bool outside(const Point& p) const { return s(p) < -tol; }
@@ -221,8 +221,6 @@ Plc clip_plc_to_wedge(const Plc& full, int sectors) {
   }
   return q;
 }
-
-Plc clip_plc_to_quadrant(const Plc& full) { return clip_plc_to_wedge(full, 2); }
 
 TetMesh replicate_wedge_to_quadrant(const TetMesh& wedge, int sectors) {
   check_sectors(sectors);

@@ -1,45 +1,44 @@
-// Mirror-symmetric meshing. Every geometry of this solver (a coaxial magnet,
-// zone box and core, shaft, truncation sphere) is symmetric under the
-// reflections x -> -x and y -> -y. An unstructured TetGen mesh of the whole
-// domain is not, and its asymmetry shows up as small spurious angle-error
-// harmonics (ideal-mount c1, c3 of ~0.002 deg on the default mesh) that move
-// at random with any mesh change. Meshing one quadrant (x >= 0, y >= 0) and
-// reflecting it gives a mesh with the domain's symmetry, so the discrete
-// solution has it too (to the CG tolerance): for magnetization along x, psi
-// is odd in x and even in y, and the ideal-mount angle error of a quadrature
-// pair has only harmonics 4, 8, ...
+// Symmetric meshing. Every geometry of this solver (a coaxial magnet, zone
+// box and core, shaft, truncation sphere) is symmetric under the reflections
+// x -> -x and y -> -y, and all but the square zone box also under the
+// reflections across the planes at phi = k*pi/N through the z axis (the
+// dihedral group D_N; N a power of two dividing mesh.segments). An
+// unstructured TetGen mesh of the whole domain is not, and its asymmetry
+// shows up as small spurious angle-error harmonics (ideal-mount c1, c3 of
+// ~0.002 deg on the 0.1.0 default mesh) that move at random with any mesh
+// change. Meshing one wedge 0 <= phi <= pi/N and reflecting it gives a mesh
+// with the D_N symmetry, so the discrete solution has it too (to the CG
+// tolerance): for magnetization along x it has, besides its cos(phi) part,
+// only the angular harmonics kN +- 1, and the ideal-mount angle error of
+// `two` and `diff4` has no harmonics below N (N = 2: only 4, 8, ...).
 //
-//   clip_plc_to_quadrant   the full PLC cut to x >= 0, y >= 0, plus the two
-//                          symmetry facets (x = 0, y = 0) carrying every
-//                          intersection line of an internal surface
-//   mirror_quadrant_mesh   the quadrant's tets reflected into all four
-//                          quadrants, nodes on the symmetry planes shared
+//   clip_plc_to_wedge           the full PLC cut to the wedge, plus the two
+//                               symmetry facets carrying every intersection
+//                               line of an internal surface
+//   replicate_wedge_to_quadrant the wedge's tets reflected N/2 - 1 times to
+//                               fill the quadrant x, y >= 0 (N = 2: as is)
+//   snap_quadrant_mesh          nodes onto x = 0, y = 0; outer boundary only
+//   mirror_quadrant_mesh        the quadrant reflected into all four quadrants
+//   mirror_dof_map              dof images, for solving on the quadrant only
 #pragma once
 #include "mesh.hpp"
 
 namespace magenc::fem {
 
-// Cuts every facet of `full` to the quadrant x >= 0, y >= 0 (coordinates
-// within 1e-12 of the domain size of a plane are snapped onto it), drops the
-// pieces outside, and adds the symmetry facets. Facets with `outer` set bound
-// the domain; the symmetry facets are closed by their cut edges and the z
-// axis. Region seeds must lie strictly inside the quadrant. Throws
-// ComputeError when the cut does not close (a geometry that is not
-// symmetric or does not contain the z axis).
-Plc clip_plc_to_quadrant(const Plc& full);
-
-// More symmetry: every part is also symmetric under reflection across the
-// planes at phi = k*pi/N through the z axis (the dihedral group D_N; N a power
-// of two dividing mesh.segments). clip_plc_to_wedge cuts the PLC to the wedge
-// 0 <= phi <= pi/N (N = 2: the quadrant), and replicate_wedge_to_quadrant
-// reflects the wedge's mesh N/2 - 1 times to fill the quadrant with a mesh
-// that has the D_N symmetry (nodes on the shared planes shared). On such a
-// mesh the discrete field of magnetization along x has, besides its cos(phi)
-// part, only the angular harmonics n = kN +- 1, so the ideal-mount angle error
-// of `two` and `diff4` has no harmonics below N. Parts that are not D_N
-// symmetric (the square zone box) become their wedge's mirror images (an
-// N-gon prism of the box's inradius).
+// Cuts every facet of `full` to the wedge 0 <= phi <= pi/N (N = `sectors`:
+// 2, 4, ..., 64; N = 2 is the quadrant x, y >= 0; points within 1e-12 of the
+// domain size of a plane count as on it, and on x = 0 or y = 0 are snapped
+// onto it), drops the pieces outside, and adds the two symmetry facets, closed
+// by their cut edges of the outer boundary (facets with `outer` set) and the
+// z axis. Region seeds must lie strictly inside the wedge. Parts that are not
+// D_N symmetric (the square zone box for N > 4) become their wedge's mirror
+// images (an N-gon prism of the box's inradius). Throws ComputeError when the
+// cut does not close (a geometry that does not contain the z axis).
 Plc clip_plc_to_wedge(const Plc& full, int sectors);
+
+// Reflects a mesh of the wedge N/2 - 1 times (alternately across its two
+// planes) to fill the quadrant; the nodes on the shared planes keep one id,
+// so the result is conforming. N = 2 returns the mesh as is.
 TetMesh replicate_wedge_to_quadrant(const TetMesh& wedge, int sectors);
 
 // Prepares a TetGen mesh of the quadrant for solving and mirroring: nodes
@@ -58,9 +57,7 @@ TetMesh mirror_quadrant_mesh(const TetMesh& quadrant);
 
 // Solving on the quadrant: for magnetization along x the potential is odd in
 // x and even in y (psi = 0 on x = 0, natural condition on y = 0), along y the
-// reverse. Parity of component c (0: x, 1: y) under reflecting axis d.
-inline bool odd_under_reflection(int component, int axis) { return component == axis; }
-
+// reverse.
 // Maps every dof point of the whole domain (3 x n, mm) to the quadrant's dof
 // at (|x|, |y|, z) (3 x m points, mm; exact coordinates, as mirroring
 // produces them). ComputeError if a point has no image.

@@ -142,10 +142,13 @@ TEST_CASE("D_N wedge mesh: invariant under the rotations and reflections of D_N,
     for (int k = 0; k < 3; ++k) REQUIRE(dn.nodes.col(dn.boundary_faces(k, f)).norm() > 0.9 * d.mesh.outer_radius_mm);
 }
 
-TEST_CASE("clip_plc_to_quadrant rejects seeds outside the quadrant", "[fem][mesh]") {
+TEST_CASE("clip_plc_to_wedge rejects seeds outside the wedge", "[fem][mesh]") {
   Plc plc = build_plc(geometry("box"));
   plc.regions.front().seed_mm = Eigen::Vector3d(0, 0, 0);
-  CHECK_THROWS_AS(clip_plc_to_quadrant(plc), magenc::ComputeError);
+  CHECK_THROWS_AS(clip_plc_to_wedge(plc, 2), magenc::ComputeError);
+  plc.regions.front().seed_mm = Eigen::Vector3d(1.0, 0.3, 0);  // inside the quadrant, outside the 11.25 deg wedge
+  CHECK_NOTHROW(clip_plc_to_wedge(plc, 2));
+  CHECK_THROWS_AS(clip_plc_to_wedge(plc, 16), magenc::ComputeError);
 }
 
 TEST_CASE("symmetric mesh: B mirrors exactly; a whole-domain mesh's does not", "[fem][physics]") {
