@@ -27,16 +27,19 @@ namespace {
 
 constexpr double kCoarseTolDeg = 0.15;
 
+// solve_field on meshes/coarse.toml, order 2, mu_r = 1, plus `extra` settings, into temp_out(name).
+fs::path solve_coarse_config(const std::string& name, const std::string& extra) {
+  const fs::path d = temp_out(name);
+  const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
+                          "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 " + extra + " --out '" +
+                          d.string() + "' >/dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
+  return d;
+}
+
 // A coarse order-2, mu_r = 1 solve in a temp directory (made once per process).
 const fs::path& coarse_field() {
-  static const fs::path dir = [] {
-    const fs::path d = temp_out("coarse_field");
-    const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
-                            "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --out '" + d.string() +
-                            "' >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
-    return d;
-  }();
+  static const fs::path dir = solve_coarse_config("coarse_field", "");
   return dir;
 }
 
@@ -44,15 +47,8 @@ const fs::path& coarse_field() {
 // differences of large harmonics, which the coarse field's discretization error
 // (|c1 - exact| up to ~0.01-0.08 deg, varying between meshes) can swamp.
 const fs::path& medium_field() {
-  static const fs::path dir = [] {
-    const fs::path d = temp_out("medium_field");
-    const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
-                            "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set mesh.h_zone_mm=0.4 "
-                            "--set mesh.h_magnet_mm=0.5 --set mesh.symmetry_order=16 --out '" + d.string() +
-                            "' >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
-    return d;
-  }();
+  static const fs::path dir = solve_coarse_config(
+      "medium_field", "--set mesh.h_zone_mm=0.4 --set mesh.h_magnet_mm=0.5 --set mesh.symmetry_order=16");
   return dir;
 }
 
