@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <unistd.h>
 
 #include "errors.hpp"
 
@@ -68,6 +69,65 @@ std::vector<KeySpec> fem_keys() {
 
 std::vector<KeySpec> solve_field_schema() { return merge_schemas(common_keys(), fem_keys()); }
 
+namespace {
+
+double physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? double(pages) * double(page) : 16e9;
+}
+
+// Absurd sizes are refused before meshing, with an estimate, instead of after minutes of TetGen or an
+// out-of-memory kill. Tetrahedra: each refinement region's volume / (h^3 / (6 sqrt 2)) (regular tets),
+// times 3.6, the ratio TetGen's quality meshes show on the default mesh (1,831,072 tets against an
+// estimate of 508k). Memory per tet: measured peak RSS / tets (README benchmarks): 1.0 KiB (P2, quadrant
+// solve of a symmetric mesh), 3.3 KiB (P2, whole mesh); P1 one third. Refused when the estimate
+// exceeds the machine's physical memory. Grid nodes: checked as doubles, before any integer cast.
+void check_memory_estimate(const Config& cfg, const FemSettings& s) {
+  const double pi = 3.14159265358979323846, per_h3 = 6 * std::sqrt(2.0) * 3.6;
+  const auto& d = s.domain;
+  const auto& m = d.mesh;
+  struct Part {
+    const char* key;
+    double tets;
+  };
+  const double zone_h = std::max(0.0, d.zone.z_max_mm - d.zone.z_min_mm);
+  const Part parts[] = {
+      {"mesh.h_magnet_mm", pi * d.magnet.radius_mm * d.magnet.radius_mm * d.magnet.height_mm * per_h3 /
+                               std::pow(m.h_magnet_mm, 3)},
+      {"mesh.h_zone_mm", 4 * d.zone.half_width_mm * d.zone.half_width_mm * zone_h * per_h3 / std::pow(m.h_zone_mm, 3)},
+      {"mesh.h_core_mm", pi * d.zone.core_radius_mm * d.zone.core_radius_mm *
+                             std::max(0.0, d.zone.core_z_max_mm - d.zone.core_z_min_mm) * per_h3 /
+                             std::pow(m.h_core_mm, 3)},
+      {"mesh.h_air_mm", 4.0 / 3.0 * pi * std::pow(m.outer_radius_mm, 3) * per_h3 / std::pow(m.h_air_mm, 3)},
+  };
+  double tets = 0;
+  const Part* worst = &parts[0];
+  for (const auto& p : parts) {
+    tets += p.tets;
+    if (p.tets > worst->tets) worst = &p;
+  }
+  const bool quadrant = m.symmetric && cfg.flag("fem.quadrant_solve");
+  const double per_tet = (quadrant ? 1.0 : 3.3) * 1024 * (cfg.integer("fem.order") == 2 ? 1.0 : 1.0 / 3);
+  const double need = tets * per_tet, have = physical_memory_bytes();
+  if (need > have)
+    throw InputError("mesh would have about " + num(tets) + " tetrahedra, needing about " + num(need / 1073741824.0) +
+                     " GiB (this machine has " + num(have / 1073741824.0) + " GiB): " + worst->key + " = " +
+                     num(cfg.real(worst->key)) + " mm is too small for this domain");
+  // Grids: nodes = prod(floor(extent / step) + 1), B (3 doubles) held by the solver, VTK and the writer.
+  const auto nodes = [](double lo, double hi, double step) { return std::floor((hi - lo) / step + 1e-9) + 1; };
+  const double np = std::pow(nodes(cfg.real("grid.plane_min_mm"), cfg.real("grid.plane_max_mm"),
+                                   cfg.real("grid.plane_step_mm")), 2);
+  const double bs = cfg.real("grid.box_step_mm");
+  const double nb = std::pow(nodes(cfg.real("grid.box_xy_min_mm"), cfg.real("grid.box_xy_max_mm"), bs), 2) *
+                    nodes(-cfg.real("grid.box_z_below_mm"), cfg.real("grid.box_z_above_mm"), bs);
+  for (const auto& [key, n] : {std::pair<const char*, double>{"grid.plane_step_mm", np}, {"grid.box_step_mm", nb}})
+    if (n > 2e8)
+      throw InputError(std::string(key) + " = " + num(cfg.real(key)) + " mm gives " + num(n) + " grid nodes (about " +
+                       num(n * 72 / 1073741824.0) + " GiB): allowed at most 2e8 nodes, increase the step");
+}
+
+}  // namespace
+
 FemSettings fem_settings_from_config(const Config& cfg) {
   FemSettings s;
   DomainSpec& d = s.domain;
@@ -111,6 +171,8 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.progress_every = static_cast<int>(cfg.integer("fem.progress_every"));
   o.recovery = cfg.flag("fem.recovery");
   o.quadrant = cfg.flag("fem.quadrant_solve");
+
+  check_memory_estimate(cfg, s);
 
   // Grids.
   const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");

@@ -158,6 +158,22 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
   return r;
 }
 
+namespace {
+// nlohmann's get<int>/get<long> static_casts a stored double (1e300 -> undefined behaviour): integers of
+// solve.json are read through this range check instead.
+long json_integer(const nlohmann::json& j, const char* key, long fallback, bool required, long lo, long hi) {
+  if (!j.contains(key)) {
+    if (required) throw std::out_of_range(std::string("key '") + key + "' not found");
+    return fallback;
+  }
+  const auto& v = j.at(key);
+  if (!v.is_number_integer() || v.get<double>() < double(lo) || v.get<double>() > double(hi))
+    throw std::out_of_range(std::string("'") + key + "' is not an integer in [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "]");
+  return v.get<long>();
+}
+}  // namespace
+
 FemSolveFacts solve_json_facts(const fs::path& dir) {
   const fs::path file = dir / "solve.json";
   std::ifstream in(file);
@@ -165,10 +181,12 @@ FemSolveFacts solve_json_facts(const fs::path& dir) {
   FemSolveFacts f;
   try {
     const nlohmann::json j = nlohmann::json::parse(in);
-    f.order = j.at("order").get<int>();
-    f.elements = j.at("elements").get<long>();
-    f.dofs = j.at("dofs").get<long>();
-    f.iterations = j.value("iterations", 0L);
+    if (!j.is_object()) throw std::invalid_argument("not a JSON object");
+    const long big = 1L << 50;
+    f.order = static_cast<int>(json_integer(j, "order", 0, true, 1, 2));
+    f.elements = json_integer(j, "elements", 0, true, 0, big);
+    f.dofs = json_integer(j, "dofs", 0, true, 0, big);
+    f.iterations = json_integer(j, "iterations", 0, false, 0, big);
     f.t_total_s = j.value("t_total_s", NAN);
     f.mu_r = j.contains("magnet") ? j["magnet"].value("mu_r", NAN) : NAN;
     if (j.contains("domain")) {
@@ -176,7 +194,8 @@ FemSolveFacts solve_json_facts(const fs::path& dir) {
       f.h_magnet_mm = d.value("h_magnet_mm", NAN);
       f.h_zone_mm = d.value("h_zone_mm", NAN);
       f.h_core_mm = d.contains("zone") ? d["zone"].value("h_core_mm", 0.0) : 0.0;
-      f.symmetry_order = d.value("symmetry_order", d.value("symmetric", false) ? 2 : 1);
+      f.symmetry_order = static_cast<int>(
+          json_integer(d, "symmetry_order", d.value("symmetric", false) ? 2 : 1, false, 1, 64));
     }
     f.plane_step_mm = j.contains("plane_grid") ? j["plane_grid"].value("step_mm", NAN) : NAN;
   } catch (const std::exception& e) {

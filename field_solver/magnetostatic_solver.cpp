@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <Eigen/IterativeLinearSolvers>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,8 +19,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Wraps an Eigen preconditioner; Eigen's CG calls solve() once per iteration,
-// which is where the progress line is printed.
+// Wraps an Eigen preconditioner; Eigen's CG calls solve(r_k) once per iteration with the current
+// residual r_k (and once before the loop with r_0), which is where the progress line is printed and
+// the residual history is kept. A residual that is not finite (breakdown on an indefinite or singular
+// system) or that has grown 1e8-fold above its smallest value (divergence) stops the solve at once.
 template <class Inner>
 class ProgressPreconditioner {
  public:
@@ -28,19 +31,37 @@ class ProgressPreconditioner {
   template <class M> ProgressPreconditioner& factorize(const M& m) { inner_.factorize(m); return *this; }
   template <class M> ProgressPreconditioner& compute(const M& m) { inner_.compute(m); return *this; }
   template <class Rhs> Eigen::VectorXd solve(const Rhs& b) const {
-    ++calls_;
-    if (every_ > 0 && calls_ % every_ == 0) {
-      std::fprintf(stderr, "solve_field: CG iteration %ld (%.1f s)\n", calls_, seconds_since(t0_));
+    const long k = calls_++;
+    if (every_ > 0 && k > 0 && k % every_ == 0) {
+      std::fprintf(stderr, "solve_field: CG iteration %ld (%.1f s)\n", k, seconds_since(t0_));
     }
+    const double rel = rhs_norm_ > 0 ? b.norm() / rhs_norm_ : b.norm();
+    history_.record(k, rel);
+    if (!std::isfinite(rel))
+      throw ComputeError("CG broke down at iteration " + std::to_string(k) +
+                         ": residual is not finite (K not symmetric positive definite?); " + history_.text());
+    if (rel > 1e8 * history_.min_rel)
+      throw ComputeError("CG diverged at iteration " + std::to_string(k) + ": relative residual " + num(rel) +
+                         " is 1e8 times its minimum " + num(history_.min_rel) +
+                         " (K not symmetric positive definite?); " + history_.text());
     return inner_.solve(b);
   }
   Eigen::ComputationInfo info() { return inner_.info(); }
-  void configure(int every) { every_ = every; calls_ = 0; t0_ = Clock::now(); }
+  void configure(int every, double rhs_norm) {
+    every_ = every;
+    calls_ = 0;
+    rhs_norm_ = rhs_norm;
+    history_ = CgResidualHistory{};
+    t0_ = Clock::now();
+  }
+  const CgResidualHistory& history() const { return history_; }
 
  private:
   Inner inner_;
   int every_ = 0;
+  double rhs_norm_ = 1;
   mutable long calls_ = 0;
+  mutable CgResidualHistory history_;
   Clock::time_point t0_ = Clock::now();
 };
 
@@ -50,21 +71,56 @@ void run_cg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, ProgressPreconditioner<Precond>> cg;
   cg.setTolerance(o.tolerance);
   cg.setMaxIterations(o.max_iterations);
-  cg.preconditioner().configure(o.progress_every);
+  cg.preconditioner().configure(o.progress_every, f.norm());
   cg.compute(K);
   if (cg.info() != Eigen::Success) throw ComputeError("preconditioner setup failed (fem.preconditioner = " + o.preconditioner + ")");
   psi = cg.solve(f);
   st.iterations = cg.iterations();
   st.residual = cg.error();
-  if (cg.info() != Eigen::Success) {
+  if (cg.info() != Eigen::Success || !std::isfinite(st.residual) || !psi.allFinite()) {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "CG did not converge: relative residual %.3g > fem.tolerance = %.3g after %ld iterations "
-                  "(fem.max_iterations = %d)",
+                  "(fem.max_iterations = %d); ",
                   st.residual, o.tolerance, st.iterations, o.max_iterations);
-    throw ComputeError(buf);
+    throw ComputeError(buf + cg.preconditioner().history().text());
   }
 }
+
+}  // namespace
+
+void CgResidualHistory::record(long iteration, double rel) {
+  ++count;
+  if (std::isfinite(rel)) min_rel = std::min(min_rel, rel);
+  // Iterations 0, 1, 2, 4, 8, ... and the last few: a short history whatever the iteration count.
+  if (iteration > 0 && (iteration & (iteration - 1)) == 0) {
+    sampled.emplace_back(iteration, rel);
+  } else if (iteration == 0) {
+    sampled.emplace_back(0, rel);
+  }
+  last[static_cast<std::size_t>(iteration % long(last.size()))] = {iteration, rel};
+}
+
+std::string CgResidualHistory::text() const {
+  std::vector<std::pair<long, double>> all = sampled;
+  for (const auto& p : last)
+    if (p.first >= 0 && std::none_of(all.begin(), all.end(), [&](const auto& q) { return q.first == p.first; }))
+      all.push_back(p);
+  std::sort(all.begin(), all.end());
+  std::string t = "residual history (iteration: |r|/|f|)";
+  for (std::size_t i = 0; i < all.size(); ++i) t += (i ? ", " : " ") + std::to_string(all[i].first) + ": " + num(all[i].second);
+  return t;
+}
+
+void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions& o, Eigen::VectorXd& psi,
+               SolveStats& st) {
+  if (o.preconditioner == "ichol")
+    run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K, f, o, psi, st);
+  else
+    run_cg<Eigen::DiagonalPreconditioner<double>>(K, f, o, psi, st);
+}
+
+namespace {
 
 // Relative permeability per cell of `mesh` (region ids -> domain materials).
 Eigen::VectorXd cell_mu_r(const DomainSpec& domain, const TetMesh& mesh) {
@@ -174,10 +230,7 @@ void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
     SolveStats st;
-    if (options_.preconditioner == "ichol")
-      run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K, f, options_, x, st);
-    else
-      run_cg<Eigen::DiagonalPreconditioner<double>>(K, f, options_, x, st);
+    solve_pcg(K, f, options_, x, st);
     stats_.iterations += st.iterations;
     stats_.residual = std::max(stats_.residual, st.residual);
     ++stats_.solves;

@@ -12,8 +12,12 @@
 // Sample: build/bin/solve_field --set fem.order=2 --out output/field
 #pragma once
 #include <Eigen/Core>
+#include <array>
+#include <limits>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "assembly.hpp"
 #include "fe_solution.hpp"
@@ -49,6 +53,24 @@ struct SolveStats {
   double residual = 0;  // relative residual reported by CG
   double t_mesh_s = 0, t_setup_s = 0, t_assemble_s = 0, t_solve_s = 0, t_post_s = 0, t_total_s = 0;
 };
+
+// Relative residuals |r_k| / |f| of a CG solve, kept short: iterations 0, 1, 2, 4, 8, ... and the
+// last 4. text() is the history part of the one-line error of a failed solve.
+struct CgResidualHistory {
+  std::vector<std::pair<long, double>> sampled;
+  std::array<std::pair<long, double>, 4> last{{{-1, 0}, {-1, 0}, {-1, 0}, {-1, 0}}};
+  double min_rel = std::numeric_limits<double>::infinity();
+  long count = 0;
+  void record(long iteration, double rel);
+  std::string text() const;
+};
+
+// Solves K psi = f (K symmetric positive definite) with Eigen's preconditioned CG (o.preconditioner,
+// o.tolerance, o.max_iterations, o.progress_every). ComputeError with the residual history when the
+// iteration cap is reached, when the residual stops being finite (breakdown) or grows 1e8-fold
+// (divergence: K indefinite). st.iterations, st.residual: what CG reached.
+void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions& o, Eigen::VectorXd& psi,
+               SolveStats& st);
 
 class MagnetostaticSolver {
  public:

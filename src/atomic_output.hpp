@@ -6,6 +6,22 @@
 
 namespace magenc {
 
+// One run at a time per output: an exclusive flock on "<path>.lock", held while the output is being
+// written and removed afterwards. A second run into the same output is refused at once with an
+// InputError ("another run is writing ..."), so neither run's files are corrupted. Under the lock,
+// temporaries a killed run left behind ("<path>.tmp.<pid>", "<path>.old.<pid>") are removed.
+class OutputLock {
+ public:
+  explicit OutputLock(const std::filesystem::path& path);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+ private:
+  std::filesystem::path lock_;
+  int fd_ = -1;
+};
+
 // A file written under "<path>.tmp.<pid>" and renamed to <path> by commit().
 // If commit() is never reached (exception), the destructor removes the temp.
 class AtomicFile {
@@ -20,6 +36,7 @@ class AtomicFile {
 
  private:
   std::filesystem::path path_, tmp_;
+  OutputLock lock_;
   std::ofstream out_;
   bool committed_ = false;
 };
@@ -28,8 +45,11 @@ class AtomicFile {
 void write_file_atomic(const std::filesystem::path& path, const std::string& text);
 
 // An output directory built under "<dir>.tmp.<pid>" and swapped in place of
-// <dir> by commit() (an old <dir> is removed only then). On failure the
-// destructor removes the temporary directory and leaves any old <dir> intact.
+// <dir> by commit() in one atomic step (renameat2 RENAME_EXCHANGE; the old <dir>
+// is removed only then). On failure the destructor removes the temporary
+// directory and leaves any old <dir> intact. A process killed at any moment
+// leaves either the old complete <dir>, or the new complete one (plus temporaries
+// that the next run into <dir> removes).
 class AtomicDir {
  public:
   explicit AtomicDir(std::filesystem::path dir);
@@ -44,6 +64,7 @@ class AtomicDir {
 
  private:
   std::filesystem::path dir_, tmp_;
+  OutputLock lock_;
   bool committed_ = false;
 };
 

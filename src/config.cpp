@@ -192,9 +192,11 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
     case KeySpec::Type::Int: {
       long i;
       if (auto q = std::get_if<long>(&v)) i = *q;
-      else if (auto p = std::get_if<double>(&v); p && std::isfinite(*p) && *p == std::floor(*p))
+      else if (auto p = std::get_if<double>(&v); p && std::isfinite(*p) && *p == std::floor(*p)) {
+        // Range-checked as a double first: casting 1e300 to long is undefined (float-cast-overflow).
+        if (*p < s.min || *p > s.max) range_fail(fmt_num(*p));
         i = static_cast<long>(*p);
-      else throw InputError(where + s.key + " must be an integer: allowed " + allowed_range(s));
+      } else throw InputError(where + s.key + " must be an integer: allowed " + allowed_range(s));
       if (static_cast<double>(i) < s.min || static_cast<double>(i) > s.max)
         range_fail(std::to_string(i));
       values_[s.key] = i;
@@ -244,7 +246,58 @@ void walk_table(const toml::table& tbl, const std::string& prefix,
 }
 }  // namespace
 
+namespace {
+// toml++ parses recursively: a 50,000-level dotted header ([a.a.a...]) or deeply nested inline
+// tables/arrays overflow the stack. Every declared key is "section.name" (a few levels at most), so
+// bound the input before parsing: size, dotted-key depth per line, bracket/brace nesting.
+constexpr std::size_t kMaxTomlBytes = std::size_t(1) << 20;  // 1 MiB
+constexpr int kMaxTomlDepth = 8;
+void check_toml_bounds(const std::string& text, const std::string& origin) {
+  if (text.size() > kMaxTomlBytes)
+    throw InputError(origin + ": " + std::to_string(text.size()) + " bytes: allowed at most " +
+                     std::to_string(kMaxTomlBytes) + " bytes of TOML");
+  int line = 1, dots = 0;
+  std::string open;  // stack of the '[' and '{' not yet closed
+  char quote = 0;
+  bool comment = false, value = false;  // value: after '=' of the current key (dots there are decimals)
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      dots = 0;
+      comment = false;
+      if (open.empty()) value = false;  // arrays and inline tables may continue on the next line
+      quote = 0;  // single-line strings end here (an unterminated one is toml++'s error to report)
+      continue;
+    }
+    if (comment) continue;
+    if (quote) {
+      if (c == '\\' && quote == '"') ++i;
+      else if (c == quote) quote = 0;
+      continue;
+    }
+    if (c == '"' || c == '\'') quote = c;
+    else if (c == '#') comment = true;
+    else if (c == '=') value = true, dots = 0;
+    else if (c == '.' && !value) ++dots;
+    else if (c == '[' || c == '{') {
+      open.push_back(c);
+      if (c == '{') value = false, dots = 0;  // an inline table starts with a key
+    } else if (c == ']' || c == '}') {
+      if (!open.empty()) open.pop_back();
+      if (c == '}') value = true;  // the inline table was the value of the enclosing key
+    } else if (c == ',' && !open.empty() && open.back() == '{') value = false, dots = 0;
+    const int nest = static_cast<int>(open.size());
+    if (dots > kMaxTomlDepth || nest > kMaxTomlDepth)
+      throw InputError(origin + ": line " + std::to_string(line) + ": keys or tables nested deeper than " +
+                       std::to_string(kMaxTomlDepth) + " levels: allowed section.key (at most " +
+                       std::to_string(kMaxTomlDepth) + ")");
+  }
+}
+}  // namespace
+
 void Config::load_toml_string(const std::string& text, const std::string& origin) {
+  check_toml_bounds(text, origin);
   toml::table tbl;
   try {
     // toml++ reads floats through strtod, which raises FE_OVERFLOW for 1e999 (a value the range

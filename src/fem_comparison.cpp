@@ -32,14 +32,28 @@ std::vector<KeySpec> fem_field_keys(const std::string& default_grid_file) {
 
 namespace {
 
+// DIR/solve.json, or {} when there is none. A file that is there but is not a JSON object (truncated,
+// corrupted) is an InputError, not a silently skipped check.
 nlohmann::json read_solve_json(const fs::path& dir) {
   std::ifstream in(dir / "solve.json");
   if (!in) return {};
+  nlohmann::json j;
   try {
-    return nlohmann::json::parse(in);
-  } catch (...) {
-    return {};
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError((dir / "solve.json").string() + ": not valid JSON (" + std::string(e.what()) + ")");
   }
+  if (!j.is_object()) throw InputError((dir / "solve.json").string() + ": not a JSON object (expected solve_field's record)");
+  return j;
+}
+
+// A number of solve.json (NaN when absent); InputError when present with another type.
+double json_number(const nlohmann::json& obj, const char* key, const fs::path& dir) {
+  if (!obj.is_object() || !obj.contains(key)) return std::numeric_limits<double>::quiet_NaN();
+  const auto& v = obj.at(key);
+  if (!v.is_number())
+    throw InputError((dir / "solve.json").string() + ": '" + key + "' is not a number (expected solve_field's record)");
+  return v.get<double>();
 }
 
 }  // namespace
@@ -47,16 +61,18 @@ nlohmann::json read_solve_json(const fs::path& dir) {
 std::string solve_mismatch(const fs::path& dir, const Config& cfg) {
   const nlohmann::json j = read_solve_json(dir);
   if (!j.contains("magnet")) return "";
+  if (!j["magnet"].is_object())
+    throw InputError((dir / "solve.json").string() + ": 'magnet' is not an object (expected solve_field's record)");
   const auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); };
   for (const char* k : {"radius_mm", "height_mm", "br_T"}) {
-    const double solved = j["magnet"].value(k, std::numeric_limits<double>::quiet_NaN());
+    const double solved = json_number(j["magnet"], k, dir);
     const double want = cfg.real(std::string("magnet.") + k);
     if (differs(solved, want))
       return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
              ": solve again with the study's [magnet] keys";
   }
   if (j.contains("plane_z_mm")) {
-    const double solved = j["plane_z_mm"].get<double>();
+    const double solved = json_number(j, "plane_z_mm", dir);
     const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");
     if (differs(solved, want))
       return "has its sensing plane at z = " + fmt(solved, 4) + " mm, the study uses z_s = " + fmt(want, 4) +
@@ -101,10 +117,10 @@ std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
 }
 
 std::string solve_description(const fs::path& dir) {
-  const nlohmann::json j = read_solve_json(dir);
-  if (j.empty()) return "";
   std::ostringstream s;
   try {
+    const nlohmann::json j = read_solve_json(dir);
+    if (j.empty()) return "";
     s << "order " << j.value("order", 0) << ", " << j.value("elements", 0L) << " tetrahedra, "
       << j.value("dofs", 0L) << " dofs";
     if (j.contains("domain")) {
@@ -124,8 +140,8 @@ std::string solve_description(const fs::path& dir) {
 
 double solve_mu_r(const fs::path& dir) {
   const nlohmann::json j = read_solve_json(dir);
-  if (!j.contains("magnet") || !j["magnet"].contains("mu_r")) return std::numeric_limits<double>::quiet_NaN();
-  return j["magnet"]["mu_r"].get<double>();
+  if (!j.contains("magnet")) return std::numeric_limits<double>::quiet_NaN();
+  return json_number(j["magnet"], "mu_r", dir);
 }
 
 double AcceptanceRule::tolerance_deg(double exact_deg) const { return std::max(rel * std::abs(exact_deg), abs_deg); }

@@ -58,3 +58,37 @@ TEST_CASE("bad input is rejected with the key and range named", "[config][bad-in
   CHECK_THAT(msg([&] { c.load_toml_string("[magnet]\nradius_mm = 1e999\n"); }),
              Catch::Contains("malformed TOML") && Catch::Contains("1e999"));
 }
+
+// Issue 13: hostile TOML. A 50,000-level dotted table header overflowed the stack inside toml++
+// (reached from Config::load_toml_string); sensor.steps = 1e300 was cast to long before the range
+// check (undefined: float-cast-overflow; the message said -9223372036854775808).
+TEST_CASE("hostile TOML: deep nesting, huge input and huge integers are input errors", "[config][bad-input]") {
+  Config c(common_keys());
+  auto msg = [&](const std::string& toml) {
+    try {
+      c.load_toml_string(toml, "hostile.toml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string header = "[a";
+  for (int i = 0; i < 50000; ++i) header += ".a";
+  CHECK_THAT(msg(header + "]\nx = 1\n"), Catch::Contains("hostile.toml") && Catch::Contains("nested deeper"));
+  std::string key = "a";
+  for (int i = 0; i < 50000; ++i) key += ".a";
+  CHECK_THAT(msg(key + " = 1\n"), Catch::Contains("nested deeper"));
+  CHECK_THAT(msg("x = {" + key + " = 1}\n"), Catch::Contains("nested deeper"));
+  CHECK_THAT(msg("x = " + std::string(50000, '[') + std::string(50000, ']') + "\n"), Catch::Contains("nested deeper"));
+  CHECK_THAT(msg("x = " + std::string(50000, '{') + "\n"), Catch::Contains("nested deeper"));
+  CHECK_THAT(msg(std::string(2 << 20, '#')), Catch::Contains("bytes"));
+  // Within the bounds: ordinary files, decimals and strings with dots are not mistaken for nesting.
+  CHECK(msg("[magnet]\nradius_mm = 2.5 # a.b.c.d.e.f.g.h.i.j\n[sensor]\narray = \"a.b.c.d.e.f.g.h.i.j\"\n") ==
+        "no error");
+  CHECK(c.real("magnet.radius_mm") == 2.5);
+  CHECK_THAT(msg("[sensor]\nsteps = 1e300\n"),
+             Catch::Contains("sensor.steps = 1e+300 is out of range") && Catch::Contains("integer in [16, 10000000]"));
+  CHECK_THAT(msg("[sensor]\nsteps = -1e300\n"), Catch::Contains("sensor.steps = -1e+300 is out of range"));
+  CHECK(c.integer("sensor.steps") == 3600);
+  CHECK_THAT(msg("[sensor]\nsteps = 9223372036854775807\n"), Catch::Contains("sensor.steps"));
+}

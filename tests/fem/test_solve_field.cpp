@@ -52,7 +52,7 @@ bool leftovers(const fs::path& out) {
 
 }  // namespace
 
-TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json; FemField reads them", "[fem][cli]") {
+TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json, and FemField reads them", "[fem][cli]") {
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const fs::path out = scratch("ok_p" + std::to_string(order));

@@ -151,7 +151,7 @@ TEST_CASE("clip_plc_to_wedge rejects seeds outside the wedge", "[fem][mesh]") {
   CHECK_THROWS_AS(clip_plc_to_wedge(plc, 16), magenc::ComputeError);
 }
 
-TEST_CASE("symmetric mesh: B mirrors exactly; a whole-domain mesh's does not", "[fem][physics]") {
+TEST_CASE("symmetric mesh: B mirrors exactly, a whole-domain mesh's does not", "[fem][physics]") {
   // M along x: B_x even in x, B_y and B_z odd in x; B_x, B_z even in y, B_y odd.
   auto asymmetry = [](bool symmetric) {
     DomainSpec d = test::coarse_domain(0.6);

@@ -1,0 +1,23 @@
+// libFuzzer target: the TOML configuration reader (Config::load_toml_string, --config) and the --set
+// parser, with solve_field's full key table (common keys + [fem] + [mesh] ...).
+#include "fem_config.hpp"
+#include "errors.hpp"
+#include "fuzz_common.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const auto schema = magenc::fem::solve_field_schema();
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  magenc::Config cfg(schema);
+  try {
+    cfg.load_toml_string(text, "fuzz.toml");
+    (void)cfg.to_toml();
+    (void)cfg.to_json();
+  } catch (const magenc::InputError&) {
+  }
+  magenc::Config cfg2(schema);
+  try {
+    cfg2.set(text);
+  } catch (const magenc::InputError&) {
+  }
+  return 0;
+}
