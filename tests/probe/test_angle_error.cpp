@@ -1,4 +1,4 @@
-// Probe-path pipeline (src/mounting.*, probe_array.*, angle_error.*) on the
+// Probe-path pipeline (src/probe/mounting.*, probe_array.*, angle_error.*) on the
 // exact field: ideal mounts give no error, magnetization direction gives a
 // constant offset (including the wrap at +-180), symmetries of physics.md,
 // and input validation.
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <limits>
 
-#include "analytic_field.hpp"
-#include "angle_error.hpp"
-#include "errors.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
+#include "core/errors.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 
