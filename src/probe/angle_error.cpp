@@ -56,42 +56,57 @@ void check_paths_outside_magnet(const AnalyticField& field, const ProbeSetup& se
 
 }  // namespace
 
-Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount) {
-  const int M = setup.steps;
+Eigen::VectorXd uniform_theta_deg(int steps) {
+  Eigen::VectorXd theta_deg(steps);
+  for (int m = 0; m < steps; ++m) theta_deg[m] = 360.0 * m / steps;
+  return theta_deg;
+}
+
+namespace {
+
+Eigen::VectorXd uniform_theta_rad(int steps) {
+  Eigen::VectorXd theta_rad(steps);
+  for (int m = 0; m < steps; ++m) theta_rad[m] = 2.0 * kPi * m / steps;
+  return theta_rad;
+}
+
+Eigen::Matrix3Xd probe_paths_at_rad(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_rad) {
+  const auto M = theta_rad.size();
   const std::size_t K = setup.array.size();
-  Eigen::Matrix3Xd p(3, static_cast<Eigen::Index>(M) * static_cast<Eigen::Index>(K));
+  Eigen::Matrix3Xd p(3, M * static_cast<Eigen::Index>(K));
   std::vector<double> px(K), py(K);
   for (std::size_t k = 0; k < K; ++k) {
     const double b_rad = deg_to_rad(setup.array.angle_deg[k]);
     px[k] = setup.r0_mm * std::cos(b_rad);
     py[k] = setup.r0_mm * std::sin(b_rad);
   }
-  for (int m = 0; m < M; ++m) {
-    const double theta_rad = 2.0 * kPi * m / M;
+  for (Eigen::Index m = 0; m < M; ++m) {
     for (std::size_t k = 0; k < K; ++k)
-      p.col(static_cast<Eigen::Index>(m) * K + k) =
-          probe_position_mm(mount, px[k], py[k], theta_rad, setup.plane_z_mm);
+      p.col(m * static_cast<Eigen::Index>(K) + static_cast<Eigen::Index>(k)) =
+          probe_position_mm(mount, px[k], py[k], theta_rad[m], setup.plane_z_mm);
   }
   return p;
 }
 
-AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, const Mount& mount) {
+// The pipeline at rotor angles theta_rad (theta_deg: the same angles in degrees, as reported).
+AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+                                    const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& theta_rad) {
   // 1. Validate the setup, the mount and (exact field) that no path enters the magnet.
   validate_setup(setup, mount);
   if (const auto* exact = dynamic_cast<const AnalyticField*>(&field))
     check_paths_outside_magnet(*exact, setup, mount);
 
   // 2. All probe positions, then one batch field evaluation (OpenMP inside).
-  const int M = setup.steps;
+  const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());
-  const Eigen::VectorXd B = field.Bz_T(probe_paths_mm(setup, mount));  // tilt == 0: normal is z
+  const Eigen::VectorXd B = field.Bz_T(probe_paths_at_rad(setup, mount, theta_rad));  // tilt == 0: normal is z
 
   // 3. Channels, angle and error per theta.
   AngleErrorResult res;
-  res.theta_deg.resize(M);
+  res.theta_deg = theta_deg;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
-  for (int m = 0; m < M; ++m) {
+  for (Eigen::Index m = 0; m < M; ++m) {
     double ch_cos = 0, ch_sin = 0;
     for (Eigen::Index k = 0; k < K; ++k) {
       const double b = B[m * K + k];
@@ -99,16 +114,35 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
       ch_cos += setup.array.w_cos[k] * b;
       ch_sin += setup.array.w_sin[k] * b;
     }
-    const double theta_rad = 2.0 * kPi * m / M;
     const double phi_rad = std::atan2(ch_sin, ch_cos);
-    res.theta_deg[m] = 360.0 * m / M;
-    res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad));
+    res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
     if (!std::isfinite(res.eps_deg[m]))
-      throw ComputeError(field.name() + " field gave a non-finite angle at theta = " +
-                         num(res.theta_deg[m]) + " deg");
+      throw ComputeError(field.name() + " field gave a non-finite angle at theta = " + num(theta_deg[m]) +
+                         " deg");
   }
+  return res;
+}
 
-  // 4. Spectrum.
+}  // namespace
+
+Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_deg) {
+  return probe_paths_at_rad(setup, mount, theta_deg * (kPi / 180.0));
+}
+
+Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount) {
+  return probe_paths_at_rad(setup, mount, uniform_theta_rad(setup.steps));
+}
+
+AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+                                const Eigen::VectorXd& theta_deg) {
+  return angle_error_at_rad(field, setup, mount, theta_deg, theta_deg * (kPi / 180.0));
+}
+
+AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, const Mount& mount) {
+  validate_setup(setup, mount);  // before the sample grid is built from setup.steps
+  AngleErrorResult res =
+      angle_error_at_rad(field, setup, mount, uniform_theta_deg(setup.steps), uniform_theta_rad(setup.steps));
+  // 4. Spectrum of the uniform samples.
   res.spectrum = spectrum_of(res.eps_deg);
   return res;
 }

@@ -27,6 +27,10 @@ struct AngleErrorResult {
 // Probe positions for every theta: returns 3 x (M*K) in the magnet frame (mm),
 // column m*K + k = probe k at theta_m.
 Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount);
+// The same for arbitrary rotor angles theta_deg (M values): 3 x (M*K).
+Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_deg);
+// The M = steps uniform rotor angles 360*m/M of one turn, in degrees.
+Eigen::VectorXd uniform_theta_deg(int steps);
 
 // Runs the pipeline for one mounting case: all M*K probe positions, one batch
 // field call (OpenMP inside the source), channels, atan2, wrap, spectrum.
@@ -47,6 +51,11 @@ Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount);
 // Throws ComputeError if the field gives a non-finite angle.
 AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, const Mount& mount);
 
+// The error curve at arbitrary rotor angles theta_deg (any order, any spacing; e.g. a measured curve's
+// angles): theta_deg, eps_deg and probe_B_T are filled, spectrum is left empty (it needs uniform samples).
+// setup.steps is not used. Same validation and errors as angle_error().
+AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+                                const Eigen::VectorXd& theta_deg);
 // Convenience: only the spectrum.
 Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const Mount& mount);
 
