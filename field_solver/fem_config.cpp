@@ -5,7 +5,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 
 namespace magenc::fem {
 

@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "symmetric_mesh.hpp"
-#include "units.hpp"
+#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {

@@ -1,7 +1,7 @@
 // libFuzzer target: the mounting-cases CSV reader (error_spectrum --cases FILE.csv).
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fuzz_common.hpp"
-#include "tables.hpp"
+#include "io/tables.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto path = magenc_fuzz::write_input("cases.csv", data, size);

@@ -1,8 +1,8 @@
 // libFuzzer target: the solve.json readers of a solve_field output directory (fem:DIR facts,
 // the studies' magnet/plane consistency check, the summaries' description and mu_r).
-#include "comparison_run.hpp"
-#include "errors.hpp"
-#include "fem_comparison.hpp"
+#include "report/comparison_run.hpp"
+#include "core/errors.hpp"
+#include "analysis/fem_comparison.hpp"
 #include "fem_variant.hpp"
 #include "fuzz_common.hpp"
 

@@ -1,7 +1,7 @@
 // libFuzzer target: the TOML configuration reader (Config::load_toml_string, --config) and the --set
 // parser, with solve_field's full key table (common keys + [fem] + [mesh] ...).
 #include "fem_config.hpp"
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,8 +1,8 @@
 // libFuzzer target: the .vti grid reader (grid:FILE.vti, GridField::from_file), through the
 // interpolating field source so that whatever the reader accepts is also sampled.
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fuzz_common.hpp"
-#include "grid_field.hpp"
+#include "fields/grid_field.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto path = magenc_fuzz::write_input("grid.vti", data, size);
