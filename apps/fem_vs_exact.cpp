@@ -1,7 +1,7 @@
 // fem_vs_exact: developer check. Solves with the given key=value overrides
 // (solve_field keys) and prints the Bz error on the plane grid (-5..5 mm,
 // 0.1 mm) against the exact AnalyticField, plus sizes and timings.
-// Usage: fem_vs_exact [--out=DIR] mesh.h_zone_mm=0.3 fem.order=2 magnet.mu_r=1
+// Usage: fem_vs_exact [--config F] [--set k=v]... [--out DIR] [mesh.h_zone_mm=0.3 fem.order=2 ...]
 // With --out=DIR it also writes solve_field's outputs (mesh.vtu, plane.vti,
 // box.vti, solve.json) to DIR, so one solve feeds error_spectrum --field fem:DIR.
 // Bad input (unknown key, value out of range): one line, exit 2 (run_main).
@@ -15,30 +15,32 @@
 #include "core/errors.hpp"
 #include "core/atomic_output.hpp"
 #include "field_outputs.hpp"
+#include <optional>
 #include <string>
+#include <vector>
 int main(int argc, char** argv) {
   // run_main: one-line errors, exit codes, and the Debug builds' FP trap.
   return magenc::run_main("fem_vs_exact", [&]() -> int {
   auto schema = magenc::fem::solve_field_schema();
   magenc::CommonOptions o;
-  std::string out_dir;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::printf("usage: fem_vs_exact [--out=DIR] [section.key=value ...]  (solve_field keys; see solve_field --help)\n");
-      return 0;
-    }
-    if (a.rfind("--out=", 0) == 0) out_dir = a.substr(6);
-    else o.sets.push_back(a);
-  }
+  // The common options (--config, --set, --out, --help with the key table) and, as before, bare
+  // key=value arguments (applied after --set).
+  CLI::App app{"fem_vs_exact: solve, then the Bz error on the plane against the exact field"};
+  magenc::add_common_options(app, o, schema);
+  std::vector<std::string> bare_sets;
+  app.add_option("assignments", bare_sets, "section.key=value overrides (same as --set)");
+  magenc::parse_cli(app, argc, argv);
+  o.sets.insert(o.sets.end(), bare_sets.begin(), bare_sets.end());
+  const std::string out_dir = o.out;
   auto cfg = magenc::load_config(schema, o);
   auto s = magenc::fem::fem_settings_from_config(cfg);
+  std::optional<magenc::AtomicDir> out;  // opened before the solve: a bad --out fails at once
+  if (!out_dir.empty()) out.emplace(out_dir);
   magenc::fem::MagnetostaticSolver solver(s.domain, s.solver);
   solver.run();
-  if (!out_dir.empty()) {
-    magenc::AtomicDir out(out_dir);
-    magenc::fem::write_field_outputs(out.path(), s, solver, cfg.to_json());
-    out.commit();
+  if (out) {
+    magenc::fem::write_field_outputs(out->path(), s, solver, cfg.to_json());
+    out->commit();
   }
   magenc::AnalyticField exact(s.domain.magnet);
   auto g = magenc::fem::GridSpec::from_range({-5, -5, s.plane_z_mm}, {5, 5, s.plane_z_mm}, {0.1, 0.1, 1});

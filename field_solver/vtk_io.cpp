@@ -19,6 +19,7 @@
 
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
+#include "io/vtk_messages.hpp"
 
 namespace magenc::fem {
 namespace {
@@ -103,6 +104,7 @@ void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const 
 
 FeSolution read_solution_vtu(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() + " does not exist");
+  const VtkMessageCapture vtk_messages;  // VTK's multi-line messages become the one-line error below
   vtkNew<vtkXMLUnstructuredGridReader> r;
   r->SetFileName(path.c_str());
   {
@@ -112,6 +114,9 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
     r->Update();
   }
   vtkUnstructuredGrid* grid = r->GetOutput();
+  if (r->GetErrorCode() != 0 || vtk_messages.error())
+    throw InputError(path.string() + ": could not be read as a VTK unstructured grid (truncated or corrupt: " +
+                     vtk_messages.first_message() + ")");
   if (!grid || grid->GetNumberOfCells() == 0) throw InputError(path.string() + ": no cells (not a solve_field mesh.vtu)");
   auto* psi = vtkDoubleArray::SafeDownCast(grid->GetPointData()->GetArray("psi"));
   auto* region = vtkIntArray::SafeDownCast(grid->GetCellData()->GetArray("region"));
@@ -119,6 +124,10 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
   auto* br = vtkDoubleArray::SafeDownCast(grid->GetCellData()->GetArray("Br"));
   if (!psi || !region || !mu || !br)
     throw InputError(path.string() + ": missing array psi, region, mu_r or Br (not a solve_field mesh.vtu)");
+  if (psi->GetNumberOfTuples() != grid->GetNumberOfPoints() || region->GetNumberOfTuples() != grid->GetNumberOfCells() ||
+      mu->GetNumberOfTuples() != grid->GetNumberOfCells() || br->GetNumberOfTuples() != grid->GetNumberOfCells() ||
+      br->GetNumberOfComponents() != 3)
+    throw InputError(path.string() + ": arrays psi, region, mu_r, Br do not match the points and cells");
   FeSolution s;
   const int type = grid->GetCellType(0);
   if (type == VTK_TETRA) s.order = 1;
@@ -144,7 +153,10 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
     const vtkIdType* ids;
     grid->GetCellPoints(c, n, ids);
     if (n != nd) throw InputError(path.string() + ": cell with unexpected node count");
-    for (int k = 0; k < nd; ++k) s.cell_dofs(k, c) = static_cast<int>(ids[k]);
+    for (int k = 0; k < nd; ++k) {
+      if (ids[k] < 0 || ids[k] >= np) throw InputError(path.string() + ": a cell refers to a point that does not exist");
+      s.cell_dofs(k, c) = static_cast<int>(ids[k]);
+    }
     s.region[c] = region->GetValue(c);
     s.mu_r[c] = mu->GetValue(c);
     double b[3];

@@ -14,6 +14,8 @@ PKGS=(
   nlohmann-json3-dev       # JSON (solve.json)
   libbenchmark-dev         # Google Benchmark (bench target)
   gnuplot-nox              # plots (PNG via pngcairo)
+  clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh; ASan/UBSan runtimes)
+  llvm-14                  # llvm-symbolizer: readable sanitizer stack traces
 )
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
