@@ -1,6 +1,7 @@
 #include "core/config.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -322,6 +323,13 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
 }
 
 void Config::load_toml_file(const std::string& path) {
+  std::error_code ec;
+  // A directory opens as an empty stream (it read as an empty TOML: defaults, silently).
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError("--config " + path + ": not a file (" +
+                     (std::filesystem::exists(path, ec) ? "a directory or special file" : "does not exist") + ")");
+  if (std::filesystem::file_size(path, ec) > kMaxTomlBytes)
+    throw InputError("--config " + path + ": larger than " + std::to_string(kMaxTomlBytes) + " bytes of TOML");
   std::ifstream in(path);
   if (!in) throw InputError("--config " + path + ": cannot open file");
   std::stringstream ss;

@@ -299,9 +299,10 @@ TEST_CASE("bad-input matrix: grid, FE and cases files; geometry; absurd sizes", 
     fs::copy(s.dir / "field", s.dir / "badfem", fs::copy_options::overwrite_existing);
     std::ofstream(s.dir / "badfem" / file, std::ios::binary | std::ios::trunc) << text;
     inputs.push_back("badfem");
-    m.check("fem:DIR " + cls, es, {"--field", "fem:badfem", "--array", "two", "--r0", "2.4", "--steps", "256", "--out",
-                                   "o.csv"},
-            s, inputs, {"badfem"});
+    if (file == "mesh.vtu")  // fem:DIR reads mesh.vtu only
+      m.check("fem:DIR " + cls, es, {"--field", "fem:badfem", "--array", "two", "--r0", "2.4", "--steps", "256",
+                                     "--out", "o.csv"},
+              s, inputs, {"badfem"});
     m.check("study fem_field.dir " + cls, kBin / "real_field",
             {"--set", "fem_field.dir=badfem", "--set", "sensor.steps=256", "--out", "study"}, s, inputs, {"badfem"});
     fs::remove_all(s.dir / "badfem");
