@@ -72,6 +72,8 @@ std::vector<std::string> incomplete_files(const fs::path& dir, int& checked) {
       continue;
     }
     if (!it->is_regular_file()) continue;
+    // "<out>.lock": the (empty) lock file a killed run could not remove; its flock died with it.
+    if (it->path().extension() == ".lock" && fs::file_size(it->path()) == 0) continue;
     ++checked;
     if (const std::string why = parse_problem(it->path()); !why.empty())
       bad.push_back(fs::relative(it->path(), dir).string() + ": " + why);
@@ -104,6 +106,7 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
     for (const auto& f : job.files) REQUIRE(fs::exists(out / f));
     // 2. Killed (SIGKILL) at fractions of that time, once without and once with a previous output.
     for (const bool previous : {false, true}) {
+      if (previous) REQUIRE(run(kBin / job.exe, job.args, s.dir).exit_code == 0);
       for (const double frac : {0.05, 0.2, 0.4, 0.6, 0.8, 0.95}) {
         if (!previous) fs::remove_all(s.dir / "out");
         Child c(kBin / job.exe, job.args, s.dir, {}, s.dir.parent_path());
