@@ -241,7 +241,7 @@ std::string vti(const std::string& whole = "0 2 0 2 0 0", const std::string& pie
 }
 }  // namespace
 
-TEST_CASE("bad-input matrix: grid, FE and cases files; geometry; absurd sizes", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", "[reliability][bad-input]") {
   Matrix m;
   const fs::path es = kBin / "error_spectrum", sf = kBin / "solve_field";
   ScratchDir s("magenc_matrix_inputs");

@@ -134,7 +134,7 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
   WARN("kill tests: " << kills << " runs killed, " << checked << " files checked after the kills");
 }
 
-TEST_CASE("faults: a second run into the same output while one is running is refused; neither is corrupted",
+TEST_CASE("faults: a second run into the same output while one is running is refused and neither is corrupted",
           "[reliability][faults]") {
   ScratchDir s("magenc_lock");
   const std::vector<std::string> args = {"--config", kCoarse, "--set", "fem.order=2", "--out", "field"};
