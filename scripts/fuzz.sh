@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]: builds the libFuzzer targets (tests/fuzz/) with
 # clang-14 + ASan + UBSan into build-fuzz/ and runs each for SECONDS_PER_TARGET (default 25) on a copy
-# of its seed corpus tests/fuzz/corpus/<target>/ (new inputs go to build-fuzz/corpus/<target>/, not
+# of its seed corpus tests/fuzz/corpus/<target>/ and the fixed findings tests/fuzz/regressions/ (new inputs go to build-fuzz/corpus/<target>/, not
 # into the repo). Exit status non-zero when a target finds a crash, a sanitizer report or an uncaught
 # exception other than magenc::InputError; the reproducer is build-fuzz/artifacts/<target>/.
 # Statistics (executions, coverage) of each run: build-fuzz/logs/<target>.log, summary on stdout.
@@ -25,6 +25,7 @@ printf "%-12s %6s %12s %8s %6s %s\n" target secs executions exec/s cov result
 for t in "${TARGETS[@]}"; do
   mkdir -p "build-fuzz/corpus/$t" "build-fuzz/artifacts/$t" build-fuzz/logs
   cp -n tests/fuzz/corpus/"$t"/* "build-fuzz/corpus/$t/" 2>/dev/null || true
+  cp -n tests/fuzz/regressions/"$t"_* "build-fuzz/corpus/$t/" 2>/dev/null || true
   log="build-fuzz/logs/$t.log"
   set +e
   "build-fuzz/fuzz/fuzz_$t" -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb=4096 -timeout=30 \

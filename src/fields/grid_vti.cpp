@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <system_error>
 #include <unistd.h>
 
@@ -95,6 +96,104 @@ void check_vti_structure(const std::string& name) {
   }
   if (pieces != 1)
     throw InputError(bad + std::to_string(pieces) + " <Piece> elements: allowed exactly one covering the whole grid");
+  // Data arrays: ascii, or raw appended data whose block headers fit the declared extent and the file.
+  // VTK trusts those headers: a header that claims 2^32 blocks makes it allocate gigabytes (found by
+  // fuzz_vti: a mangled header_type attribute), so each one is checked here before VTK reads it.
+  const auto vtkfile = xml.find("<VTKFile");
+  const std::string file_tag = vtkfile == std::string::npos ? "" : xml.substr(vtkfile, xml.find('>', vtkfile) - vtkfile);
+  const auto attr = [](const std::string& tag, const std::string& name) -> std::optional<std::string> {
+    const auto a = tag.find(" " + name + "=\"");
+    if (a == std::string::npos) return std::nullopt;
+    const auto b = a + name.size() + 3;
+    const auto e = tag.find('"', b);
+    if (e == std::string::npos) return std::nullopt;
+    return tag.substr(b, e - b);
+  };
+  const std::string header_type = attr(file_tag, "header_type").value_or("UInt32");
+  if (header_type != "UInt32" && header_type != "UInt64")
+    throw InputError(bad + "header_type '" + header_type + "': allowed UInt32 or UInt64");
+  const int hw = header_type == "UInt64" ? 8 : 4;
+  const bool compressed = attr(file_tag, "compressor").has_value();
+  long long data_start = -1;
+  std::string encoding;
+  if (appended != std::string::npos) {
+    const std::string app_tag = head.substr(appended, head.find('>', appended) - appended);
+    encoding = attr(app_tag, "encoding").value_or("");
+    if (encoding != "raw" && encoding != "base64")
+      throw InputError(bad + "appended data encoding '" + encoding + "': allowed raw or base64");
+    const auto underscore = head.find('_', appended + app_tag.size());
+    if (underscore == std::string::npos) throw InputError(bad + "truncated appended data");
+    data_start = static_cast<long long>(underscore) + 1;
+  }
+  // The first n bytes of the data at file position `at` (base64: decoded from 4 ceil(n / 3) characters).
+  const auto bytes_at = [&](long long at, unsigned long long n) {
+    const bool b64 = encoding == "base64";
+    const unsigned long long chars = b64 ? 4 * ((n + 2) / 3) : n;
+    if (at < 0 || static_cast<unsigned long long>(at) + chars > static_cast<unsigned long long>(size))
+      throw InputError(bad + "truncated (a data block header lies beyond the end)");
+    std::string raw(chars, '\0');
+    in.clear();
+    in.seekg(at);
+    in.read(raw.data(), static_cast<std::streamsize>(chars));
+    if (!b64) return raw;
+    std::string out;
+    unsigned int acc = 0;
+    int bits = 0;
+    for (char c : raw) {
+      int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
+              : c == '+' ? 62 : c == '/' ? 63 : -1;
+      if (v < 0) break;  // '=' padding or the end of this block
+      acc = (acc << 6) | unsigned(v);
+      bits += 6;
+      if (bits >= 8) {
+        bits -= 8;
+        out.push_back(char((acc >> bits) & 0xff));
+      }
+    }
+    if (out.size() < n) throw InputError(bad + "corrupted base64 data block header");
+    return out;
+  };
+  const auto word = [&](const std::string& b, unsigned long long i) {
+    unsigned long long v = 0;
+    for (int k = hw - 1; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[i * hw + unsigned(k)]);
+    return v;  // little endian (byte_order checked below)
+  };
+  const auto read_uint = [&](long long at) { return word(bytes_at(at, hw), 0); };
+  if (attr(file_tag, "byte_order").value_or("LittleEndian") != "LittleEndian")
+    throw InputError(bad + "byte_order must be LittleEndian");
+  for (auto p = xml.find("<DataArray", img); p != std::string::npos; p = xml.find("<DataArray", p + 1)) {
+    const std::string tag = xml.substr(p, xml.find('>', p) - p);
+    const std::string format = attr(tag, "format").value_or("");
+    if (format == "ascii") continue;
+    if (format != "appended" || data_start < 0)
+      throw InputError(bad + "DataArray format '" + format + "': allowed ascii or raw appended data");
+    const std::string type = attr(tag, "type").value_or("");
+    const int type_size = type == "Float64" || type == "Int64" || type == "UInt64" ? 8
+                          : type == "Float32" || type == "Int32" || type == "UInt32" ? 4
+                          : type == "Int16" || type == "UInt16" ? 2
+                          : type == "Int8" || type == "UInt8" ? 1 : 0;
+    if (type_size == 0) throw InputError(bad + "DataArray type '" + type + "' is not supported");
+    const long long comps = std::atoll(attr(tag, "NumberOfComponents").value_or("1").c_str());
+    const long long offset = std::atoll(attr(tag, "offset").value_or("-1").c_str());
+    if (comps < 1 || comps > 9 || offset < 0) throw InputError(bad + "DataArray NumberOfComponents or offset invalid");
+    const unsigned long long expected = static_cast<unsigned long long>(nodes) * comps * type_size;
+    const long long at = data_start + offset;
+    if (!compressed) {
+      if (read_uint(at) != expected || (encoding == "raw" && at + hw + static_cast<long long>(expected) > size))
+        throw InputError(bad + "a data array's size does not match the WholeExtent (or the file is truncated)");
+      continue;
+    }
+    const std::string h3 = bytes_at(at, 3ULL * hw);
+    const unsigned long long blocks = word(h3, 0), block = word(h3, 1), last = word(h3, 2);
+    const unsigned long long total = blocks == 0 ? 0 : (last == 0 ? blocks * block : (blocks - 1) * block + last);
+    if (blocks > static_cast<unsigned long long>(size) / hw || block == 0 || last > block || total != expected)
+      throw InputError(bad + "a compressed data array's block header does not match the WholeExtent");
+    const std::string h = bytes_at(at, (3 + blocks) * hw);
+    unsigned long long stored = 0;
+    for (unsigned long long b = 0; b < blocks; ++b) stored += word(h, 3 + b);
+    if (encoding == "raw" && at + static_cast<long long>((3 + blocks) * hw + stored) > size)
+      throw InputError(bad + "truncated (compressed data runs past the end of the file)");
+  }
   // Closing tags: </Piece> and </ImageData> in the XML part, </VTKFile> at the very end.
   std::string tail(std::size_t(std::min<long long>(size, 256)), '\0');
   in.seekg(size - static_cast<long long>(tail.size()));

@@ -9,8 +9,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const auto field = magenc::GridField::from_file(path, magenc::Interp::Linear);
     const auto& g = field->grid();
-    (void)field->B_T(g.origin_mm + 0.5 * (g.spacing_mm.cwiseProduct(
-                                               magenc::Vec3(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1))));
+    const magenc::Vec3 centre =
+        g.origin_mm + 0.5 * g.spacing_mm.cwiseProduct(magenc::Vec3(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
+    (void)field->B_T(centre);
   } catch (const magenc::InputError&) {
   }
   return 0;

@@ -275,6 +275,10 @@ TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", 
     grid_case("vti corrupted (compressed data)", add("corrupt.vti", bad));
   }
   grid_case("vti empty", add("empty.vti", ""));
+  // fuzz_vti's finding: a mangled header_type made VTK read a block header claiming 5.4 GB (malloc).
+  grid_case("vti block header claims gigabytes",
+            add("fuzz_oom.vti", slurp(std::string(MAGENC_SOURCE_DIR) +
+                                      "/tests/fuzz/regressions/vti_block_header_claims_5GB.vti")));
   fs::create_directories(s.dir / "dir.vti");
   inputs.push_back("dir.vti");
   grid_case("vti is a directory", "dir.vti");
