@@ -48,4 +48,15 @@ PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
                             const std::vector<SweepCase>& sweeps, const std::vector<FitRow>& fits,
                             const std::vector<std::string>& coefs, int columns = 3);
 
+// A labelled pair of sweeps (FEM source and exact field, same spec).
+struct DifferenceCase {
+  std::string label;          // legend entry (enhanced text)
+  const SweepResult* value;   // on the FEM source
+  const SweepResult* exact;   // on the exact field
+};
+// One panel per coefficient: value - exact (deg) vs the swept offset.
+PlotSpec difference_figure(const std::string& title, const std::string& xlabel,
+                           const std::vector<DifferenceCase>& cases, const std::vector<std::string>& coefs,
+                           int columns = 2);
+
 }  // namespace magenc
