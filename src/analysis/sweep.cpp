@@ -1,7 +1,6 @@
 #include "analysis/sweep.hpp"
 
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 
 #include "core/errors.hpp"

@@ -1,7 +1,6 @@
 #include "io/tables.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>

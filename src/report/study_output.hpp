@@ -5,7 +5,9 @@
 //                 config.toml (the values used) and run.json (version, git
 //                 revision, date, command line, wall time), then commits. A
 //                 failure anywhere leaves no output directory behind.
-//   md_*()        small builders for summary.md (numbers: core/format.hpp).
+//   md_*()        small builders for summary.md (numbers: core/format.hpp and
+//                 fmt_deg below); dominant_harmonics()/harmonics_text() for
+//                 the harmonic lists of summaries.
 #pragma once
 #include <filesystem>
 #include <functional>

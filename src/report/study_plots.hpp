@@ -4,6 +4,8 @@
 //   coefficient_figure one panel per spectrum coefficient: value vs swept
 //                      offset (points) with its cubic fit (line), one colour
 //                      per sweep
+//   difference_figure  one panel per coefficient: FEM - exact vs the swept
+//                      offset, one series per FEM source and array
 #pragma once
 #include <string>
 #include <vector>
