@@ -9,15 +9,15 @@
 //   comparison_inputs_from_config  the FEM sources, exact field, base mount and
 //                                  probe setups of the configuration
 //   run_comparison                 all sweeps on all sources, fits, FEM/exact pairs
-//   AcceptanceRule, judge_acceptance  |FEM - exact| <= max(rel*|exact|, abs_deg), cell by cell
+//   AcceptanceRule                 |FEM - exact| <= max(rel*|exact|, abs_deg)
+//                                  (judged cell by cell in fem_field_studies.hpp)
 //   comparison_csv                 long table: one row per case, source and coefficient
 #pragma once
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "analysis/sweep.hpp"
 #include "core/config.hpp"
