@@ -7,19 +7,13 @@
 #include <sstream>
 
 #include "core/errors.hpp"
-#include "report/study_output.hpp"
+#include "core/format.hpp"
 
 namespace magenc::fem {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
 
 const char* kForm = "expected 'LABEL: config=FILE key=value ...' entries separated by ';'";
 
@@ -63,6 +57,7 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
   Config cfg(solve_field_schema());
   // The study's magnet and sensing plane, mu_r = 1 (the exact field's), quiet solver.
   const std::vector<std::string> fixed = {"magnet.radius_mm", "magnet.height_mm", "magnet.br_T", "magnet.magnetization_deg",
+                                          "magnet.magnetization_elevation_deg",
                                           "sensor.plane_height_mm"};
   for (const auto& k : fixed) cfg.set_value(k, study_cfg.real(k));
   cfg.set_value("magnet.mu_r", 1.0);
@@ -173,6 +168,14 @@ long json_integer(const nlohmann::json& j, const char* key, long fallback, bool 
   return v.get<long>();
 }
 }  // namespace
+
+std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const std::string& key,
+                                                 const std::vector<fs::path>& search_dirs) {
+  std::vector<FemVariant> out;
+  for (const auto& v : parse_fem_variants(study_cfg.str(key), key))
+    out.push_back({v.label, fem_variant_config(v, study_cfg, key, search_dirs)});
+  return out;
+}
 
 FemSolveFacts solve_json_facts(const fs::path& dir) {
   const fs::path file = dir / "solve.json";

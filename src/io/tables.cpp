@@ -1,13 +1,13 @@
 #include "io/tables.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/fp_trap.hpp"
 
 namespace magenc {
@@ -15,11 +15,7 @@ namespace magenc {
 namespace {
 
 // Numbers in tables: 10 significant digits (%.10g), enough for every result.
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string table_num(double v) { return fmt_sig(v, 10); }
 
 // A text cell, quoted (RFC 4180) when it holds a comma, quote or newline.
 std::string cell(const std::string& s) {
@@ -27,13 +23,6 @@ std::string cell(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
   return q + "\"";
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
 }
 
 std::vector<std::string> split_commas(const std::string& line) {
@@ -73,10 +62,10 @@ std::string spectra_csv(const std::vector<SpectrumRow>& rows) {
     for (const auto& [name, text] : rows.front().extra) os << ',' << cell(name);
   os << '\n';
   for (const auto& r : rows) {
-    os << cell(r.field) << ',' << cell(r.array) << ',' << fmt(r.r0_mm) << ',' << fmt(r.mount.sx_mm) << ','
-       << fmt(r.mount.sy_mm) << ',' << fmt(r.mount.dx_mm) << ',' << fmt(r.mount.dy_mm) << ','
-       << fmt(r.mount.dz_mm);
-    for (const auto& c : spectrum_columns()) os << ',' << fmt(r.spectrum.column(c));
+    os << cell(r.field) << ',' << cell(r.array) << ',' << table_num(r.r0_mm) << ',' << table_num(r.mount.sx_mm) << ','
+       << table_num(r.mount.sy_mm) << ',' << table_num(r.mount.dx_mm) << ',' << table_num(r.mount.dy_mm) << ','
+       << table_num(r.mount.dz_mm);
+    for (const auto& c : spectrum_columns()) os << ',' << table_num(r.spectrum.column(c));
     for (const auto& [name, text] : r.extra) os << ',' << cell(text);
     os << '\n';
   }
@@ -92,7 +81,7 @@ std::string fits_csv(const std::vector<FitRow>& rows) {
   os << '\n';
   for (const auto& r : rows) {
     os << cell(r.study) << ',' << cell(r.swept) << ',' << cell(r.coef);
-    for (double v : r.p) os << ',' << fmt(v);
+    for (double v : r.p) os << ',' << table_num(v);
     for (const auto& [name, text] : r.extra) os << ',' << cell(text);
     os << '\n';
   }
@@ -101,7 +90,12 @@ std::string fits_csv(const std::vector<FitRow>& rows) {
 
 std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
   const std::string where = "--cases " + path.string();
-  const std::string allowed_cols = "allowed columns sx_mm, sy_mm, dx_mm, dy_mm, dz_mm";
+  const std::string allowed_cols =
+      "allowed columns sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg, magnet_tilt_deg, "
+      "magnet_tilt_azimuth_deg";
+  static const char* const known[] = {"sx_mm",      "sy_mm",      "dx_mm",           "dy_mm",
+                                      "dz_mm",      "tilt_x_deg", "tilt_y_deg",      "magnet_tilt_deg",
+                                      "magnet_tilt_azimuth_deg"};
   std::ifstream in(path);
   if (!in) throw InputError(where + ": cannot open file");
 
@@ -117,7 +111,9 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
     if (header.empty()) {
       // 1. Header: known, distinct column names.
       for (const auto& name : cells) {
-        if (name != "sx_mm" && name != "sy_mm" && name != "dx_mm" && name != "dy_mm" && name != "dz_mm")
+        bool ok = false;
+        for (const char* k : known) ok = ok || name == k;
+        if (!ok)
           throw InputError(at + ": unknown column '" + name + "': " + allowed_cols);
         for (const auto& h : header)
           if (h == name) throw InputError(at + ": column '" + name + "' appears twice: " + allowed_cols);
@@ -141,12 +137,21 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
       }
       if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
         throw InputError(at + ": column " + header[i] + " = '" + text +
-                         "' is not a finite number: allowed finite numbers in mm");
+                         "' is not a finite number: allowed finite numbers (mm, deg)");
       if (header[i] == "sx_mm") m.sx_mm = v;
       else if (header[i] == "sy_mm") m.sy_mm = v;
       else if (header[i] == "dx_mm") m.dx_mm = v;
       else if (header[i] == "dy_mm") m.dy_mm = v;
-      else m.dz_mm = v;
+      else if (header[i] == "dz_mm") m.dz_mm = v;
+      else if (header[i] == "tilt_x_deg") m.tilt_x_deg = v;
+      else if (header[i] == "tilt_y_deg") m.tilt_y_deg = v;
+      else if (header[i] == "magnet_tilt_deg") m.magnet_tilt_deg = v;
+      else m.magnet_tilt_azimuth_deg = v;
+    }
+    try {
+      m.validate();  // tilt ranges
+    } catch (const InputError& e) {
+      throw InputError(at + ": " + e.what());
     }
     cases.push_back(m);
   }
