@@ -19,7 +19,7 @@
 
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
-#include "io/vtk_messages.hpp"
+#include "core/vtk_messages.hpp"
 
 namespace magenc::fem {
 namespace {

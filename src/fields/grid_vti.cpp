@@ -23,7 +23,7 @@
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
 #include "fields/grid_field.hpp"
-#include "io/vtk_messages.hpp"
+#include "core/vtk_messages.hpp"
 
 namespace magenc {
 
