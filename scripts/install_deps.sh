@@ -14,6 +14,7 @@ PKGS=(
   nlohmann-json3-dev       # JSON (solve.json)
   libbenchmark-dev         # Google Benchmark (bench target)
   gnuplot-nox              # plots (PNG via pngcairo)
+  libceres-dev             # Ceres Solver: nonlinear least squares (diagnose)
 )
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on

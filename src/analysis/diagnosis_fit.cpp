@@ -1,0 +1,591 @@
+#include "analysis/diagnosis_fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <iterator>
+#include <set>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "core/units.hpp"
+#include "probe/spectrum.hpp"
+
+namespace magenc {
+
+// ---------------------------------------------------------------------------------------------------------
+// 1. The parameter table. One line per parameter: name, key, json name, unit, bounds, typical scale, setter,
+// getter, words. Bounds are generous fit limits (the model itself rejects degenerate mounts).
+// ---------------------------------------------------------------------------------------------------------
+namespace {
+
+#define MAGENC_MOUNT_PARAM(NAME, FIELD, UNIT, LO, HI, SCALE, WHAT)                                             \
+  FitParameter {                                                                                                \
+    NAME, "mount." #FIELD, #FIELD, UNIT, LO, HI, SCALE, [](ModelState& s, double v) { s.mount.FIELD = v; },     \
+        [](const ModelState& s) { return s.mount.FIELD; }, WHAT                                                  \
+  }
+
+std::vector<FitParameter> make_table() {
+  return {
+      MAGENC_MOUNT_PARAM("sx", sx_mm, "mm", -1.0, 1.0, 0.05, "static eccentricity x (sensor off the axis)"),
+      MAGENC_MOUNT_PARAM("sy", sy_mm, "mm", -1.0, 1.0, 0.05, "static eccentricity y"),
+      MAGENC_MOUNT_PARAM("dx", dx_mm, "mm", -1.0, 1.0, 0.05, "dynamic eccentricity x (magnet off the axis)"),
+      MAGENC_MOUNT_PARAM("dy", dy_mm, "mm", -1.0, 1.0, 0.05, "dynamic eccentricity y"),
+      MAGENC_MOUNT_PARAM("dz", dz_mm, "mm", -0.5, 0.5, 0.1, "air-gap offset (+ = farther)"),
+  };
+}
+
+#undef MAGENC_MOUNT_PARAM
+
+constexpr double kZeroScaleDeg = 0.1;  // typical zero offset between the encoders (scaling only)
+constexpr double kFdStep = 1e-4;       // central-difference step in scaled units (1e-4 of the typical size)
+
+std::string fmt_sci(double v) {
+  std::ostringstream os;
+  os.precision(2);
+  os << std::scientific << v;
+  return os.str();
+}
+
+std::string join_words(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i == 0 ? "" : i + 1 == v.size() ? " and " : ", ") + v[i];
+  return s;
+}
+
+std::string ordinal(int n) {
+  const char* suf = (n % 10 == 1 && n != 11) ? "st" : (n % 10 == 2 && n != 12) ? "nd" : (n % 10 == 3 && n != 13) ? "rd" : "th";
+  return std::to_string(n) + suf;
+}
+
+// Amplitudes |a0|, c1..c8 from harmonics_ls coefficients.
+std::vector<double> amplitudes(const Eigen::VectorXd& h) {
+  std::vector<double> a{std::abs(h[0])};
+  for (int n = 1; 2 * n < h.size(); ++n) a.push_back(std::hypot(h[2 * n - 1], h[2 * n]));
+  return a;
+}
+
+std::set<int> loaded_harmonics(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& v) {
+  const auto a = amplitudes(harmonics_ls(theta_deg, v));
+  const double mx = *std::max_element(a.begin(), a.end());
+  std::set<int> s;
+  if (mx <= 0) return s;
+  for (std::size_t n = 0; n < a.size(); ++n)
+    if (a[n] >= 0.1 * mx) s.insert(static_cast<int>(n));
+  return s;
+}
+
+std::string harmonics_words(const std::set<int>& h) {
+  std::vector<std::string> w;
+  for (int n : h) w.push_back(n == 0 ? std::string("DC") : "the " + ordinal(n) + " harmonic");
+  return w.empty() ? std::string("nothing") : join_words(w);
+}
+
+}  // namespace
+
+const std::vector<FitParameter>& fit_parameters() {
+  static const std::vector<FitParameter> table = make_table();
+  return table;
+}
+
+int fit_parameter_index(const std::string& name) {
+  const auto& t = fit_parameters();
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i].name == name || t[i].json_name == name || t[i].key == name) return static_cast<int>(i);
+  return -1;
+}
+
+const FitParameter& fit_parameter(const std::string& name) {
+  const int i = fit_parameter_index(name);
+  if (i < 0) {
+    std::vector<std::string> names;
+    for (const auto& p : fit_parameters()) names.push_back(p.name);
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
+    throw InputError("fit parameter '" + name + "' is unknown: allowed " + list);
+  }
+  return fit_parameters()[i];
+}
+
+std::pair<int, CurveOverride> parse_curve_set(const std::string& text, int curves) {
+  const std::string form = "allowed N:key=value or N:key+=value, N = 1.." + std::to_string(curves) +
+                           ", key a fit parameter (e.g. 2:mount.dz_mm+=0.5)";
+  const auto colon = text.find(':');
+  if (colon == std::string::npos || colon == 0) throw InputError("--curve-set '" + text + "': " + form);
+  int n = 0;
+  try {
+    std::size_t used = 0;
+    n = std::stoi(text.substr(0, colon), &used);
+    if (used != colon) throw std::invalid_argument("n");
+  } catch (const std::exception&) {
+    throw InputError("--curve-set '" + text + "': curve number is not an integer: " + form);
+  }
+  if (n < 1 || n > curves) throw InputError("--curve-set '" + text + "': curve " + std::to_string(n) + " does not exist: " + form);
+  const std::string rest = text.substr(colon + 1);
+  const auto eq = rest.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--curve-set '" + text + "': " + form);
+  CurveOverride o;
+  o.add = rest[eq - 1] == '+';
+  const std::string key = rest.substr(0, o.add ? eq - 1 : eq);
+  o.param = fit_parameter_index(key);
+  if (o.param < 0) throw InputError("--curve-set '" + text + "': '" + key + "' is not a fit parameter: " + form);
+  const std::string val = rest.substr(eq + 1);
+  char* end = nullptr;
+  o.value = std::strtod(val.c_str(), &end);
+  if (val.empty() || *end != '\0' || !std::isfinite(o.value))
+    throw InputError("--curve-set '" + text + "': value '" + val + "' is not a finite number: " + form);
+  return {n - 1, o};
+}
+
+std::string harmonic_loading(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& v) {
+  return harmonics_words(loaded_harmonics(theta_deg, v));
+}
+
+Eigen::VectorXd model_curve_deg(const FieldSource& field, const CurveInput& c, const std::vector<double>& values) {
+  const auto& t = fit_parameters();
+  ModelState s = c.base;
+  for (std::size_t i = 0; i < t.size(); ++i) t[i].set(s, values[i]);
+  for (const auto& o : c.overrides) t[o.param].set(s, o.add ? values[o.param] + o.value : o.value);
+  return angle_error_at(field, s.setup, s.mount, c.curve.theta_deg).eps_deg;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// 2. The least-squares problem in scaled variables u: shared free parameters, then one zero offset per curve.
+// ---------------------------------------------------------------------------------------------------------
+namespace {
+
+struct Problem {
+  const FieldSource& field;
+  const std::vector<CurveInput>& curves;
+  std::vector<int> free_idx;     // table indices of the shared free parameters
+  bool free_zero = true;
+  std::vector<double> base;      // table values at the configured point (curve 1's base)
+  std::vector<double> scale;     // per variable
+  int n_shared() const { return static_cast<int>(free_idx.size()); }
+  int n_vars() const { return n_shared() + (free_zero ? static_cast<int>(curves.size()) : 0); }
+
+  std::vector<double> values(const double* u) const {
+    std::vector<double> v = base;
+    for (int j = 0; j < n_shared(); ++j) v[free_idx[j]] = u[j] * scale[j];
+    return v;
+  }
+  double zero(const double* u, int c) const { return free_zero ? u[n_shared() + c] * kZeroScaleDeg : 0.0; }
+  // Residuals of curve c (deg); throws InputError/ComputeError where the model is undefined.
+  Eigen::VectorXd residual(int c, const double* u) const {
+    const Eigen::VectorXd m = model_curve_deg(field, curves[c], values(u));
+    const Eigen::VectorXd& y = curves[c].curve.error_deg;
+    Eigen::VectorXd r(m.size());
+    const double z = zero(u, c);
+    for (Eigen::Index i = 0; i < m.size(); ++i) r[i] = wrap_deg(m[i] + z - y[i]);
+    return r;
+  }
+  // Residual and scaled Jacobian (N x n_vars) of curve c by central differences (zero offsets exact).
+  void jacobian(int c, const double* u, Eigen::VectorXd* r, Eigen::MatrixXd* J) const {
+    std::vector<double> w(u, u + n_vars());
+    if (r) *r = residual(c, w.data());
+    const auto N = curves[c].curve.theta_deg.size();
+    J->setZero(N, n_vars());
+    for (int j = 0; j < n_shared(); ++j) {
+      const double u0 = w[j];
+      w[j] = u0 + kFdStep;
+      const Eigen::VectorXd rp = residual(c, w.data());
+      w[j] = u0 - kFdStep;
+      const Eigen::VectorXd rm = residual(c, w.data());
+      w[j] = u0;
+      for (Eigen::Index i = 0; i < N; ++i) (*J)(i, j) = wrap_deg(rp[i] - rm[i]) / (2 * kFdStep);
+    }
+    if (free_zero) J->col(n_shared() + c).setConstant(kZeroScaleDeg);
+  }
+};
+
+class CurveCost final : public ceres::CostFunction {
+ public:
+  CurveCost(const Problem& p, int c) : p_(p), c_(c) {
+    set_num_residuals(static_cast<int>(p.curves[c].curve.theta_deg.size()));
+    mutable_parameter_block_sizes()->push_back(p.n_vars());
+  }
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    try {
+      Eigen::VectorXd r;
+      if (jacobians && jacobians[0]) {
+        Eigen::MatrixXd J;
+        p_.jacobian(c_, params[0], &r, &J);
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            jacobians[0], J.rows(), J.cols()) = J;
+      } else {
+        r = p_.residual(c_, params[0]);
+      }
+      Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
+      return r.allFinite();
+    } catch (const InputError&) {
+      return false;  // the step left the model's domain (e.g. a probe path into the magnet): Ceres shrinks it
+    } catch (const ComputeError&) {
+      return false;
+    }
+  }
+
+ private:
+  const Problem& p_;
+  int c_;
+};
+
+Eigen::MatrixXd stacked_jacobian(const Problem& p, const double* u, Eigen::VectorXd* r_all) {
+  std::vector<Eigen::MatrixXd> Js;
+  std::vector<Eigen::VectorXd> rs;
+  Eigen::Index rows = 0;
+  for (int c = 0; c < static_cast<int>(p.curves.size()); ++c) {
+    Eigen::MatrixXd J;
+    Eigen::VectorXd r;
+    p.jacobian(c, u, &r, &J);
+    rows += J.rows();
+    Js.push_back(std::move(J));
+    rs.push_back(std::move(r));
+  }
+  Eigen::MatrixXd J(rows, p.n_vars());
+  if (r_all) r_all->resize(rows);
+  Eigen::Index at = 0;
+  for (std::size_t c = 0; c < Js.size(); ++c) {
+    J.middleRows(at, Js[c].rows()) = Js[c];
+    if (r_all) r_all->segment(at, rs[c].size()) = rs[c];
+    at += Js[c].rows();
+  }
+  return J;
+}
+
+// Theta of the stacked rows (for harmonic loadings: each curve's own angles).
+Eigen::VectorXd stacked_theta(const std::vector<CurveInput>& curves) {
+  Eigen::Index n = 0;
+  for (const auto& c : curves) n += c.curve.theta_deg.size();
+  Eigen::VectorXd t(n);
+  Eigen::Index at = 0;
+  for (const auto& c : curves) {
+    t.segment(at, c.curve.theta_deg.size()) = c.curve.theta_deg;
+    at += c.curve.theta_deg.size();
+  }
+  return t;
+}
+
+std::vector<double> base_values(const std::vector<CurveInput>& curves) {
+  std::vector<double> v;
+  for (const auto& p : fit_parameters()) v.push_back(p.get(curves.front().base));
+  return v;
+}
+
+void check_inputs(const std::vector<CurveInput>& curves, const DiagnosisOptions& opts) {
+  if (curves.empty()) throw InputError("diagnose needs at least one measured curve (--measured FILE.csv)");
+  if (opts.starts < 1) throw InputError("--starts " + std::to_string(opts.starts) + " is invalid: allowed >= 1");
+  if (!(opts.cond_limit > 1)) throw InputError("--cond-limit " + num(opts.cond_limit) + " is invalid: allowed > 1");
+}
+
+// Circular mean of (measured - model) for a zero offset start value.
+double zero_start(const Problem& p, int c, const double* u) {
+  std::vector<double> w(u, u + p.n_vars());
+  if (p.free_zero) w[p.n_shared() + c] = 0;
+  const Eigen::VectorXd r = p.residual(c, w.data());  // model - measured
+  double s = 0, co = 0;
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    s += std::sin(deg_to_rad(-r[i]));
+    co += std::cos(deg_to_rad(-r[i]));
+  }
+  return rad_to_deg(std::atan2(s, co));
+}
+
+// Unit-norm columns; returns the SVD of the normalised matrix and the column norms.
+struct NormSvd {
+  Eigen::VectorXd norms, s;
+  Eigen::MatrixXd V;
+};
+NormSvd normalised_svd(const Eigen::MatrixXd& J) {
+  NormSvd out;
+  out.norms = J.colwise().norm().transpose();
+  Eigen::MatrixXd Jn = J;
+  for (Eigen::Index j = 0; j < J.cols(); ++j)
+    if (out.norms[j] > 0) Jn.col(j) /= out.norms[j];
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Jn, Eigen::ComputeThinV);
+  out.s = svd.singularValues();
+  out.V = svd.matrixV();
+  return out;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------
+// 3. Default free set: greedy in table order at the configured point.
+// ---------------------------------------------------------------------------------------------------------
+std::vector<std::string> default_free_set(const FieldSource& field, const std::vector<CurveInput>& curves,
+                                          const DiagnosisOptions& opts, std::string* note) {
+  check_inputs(curves, opts);
+  const auto& t = fit_parameters();
+  Problem all{field, curves, {}, opts.free_zero, base_values(curves), {}};
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    all.free_idx.push_back(static_cast<int>(i));
+    all.scale.push_back(t[i].scale);
+  }
+  std::vector<double> u(all.n_vars(), 0.0);
+  for (int j = 0; j < all.n_shared(); ++j) u[j] = all.base[j] / all.scale[j];
+  const Eigen::MatrixXd J = stacked_jacobian(all, u.data(), nullptr);  // deg per typical size
+  const Eigen::VectorXd theta = stacked_theta(curves);
+  const auto rows = static_cast<double>(J.rows());
+
+  std::vector<int> kept;  // columns of J
+  for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c) kept.push_back(all.n_shared() + c);
+  std::ostringstream os;
+  os << "Default free set: parameters taken in table order at the configured point, each kept only if the "
+        "column-normalised Jacobian (with the free zero offsets) keeps a condition number <= "
+     << num(opts.cond_limit) << ".";
+  std::vector<std::string> chosen;
+  for (int j = 0; j < all.n_shared(); ++j) {
+    const double rms = J.col(j).norm() / std::sqrt(rows);  // deg per typical size
+    if (rms < 1e-9) {
+      os << " " << t[j].json_name << ": no first-order effect at this point (RMS " << fmt_sci(rms) << " deg per "
+         << num(t[j].scale) << " " << t[j].unit << ").";
+      continue;
+    }
+    std::vector<int> trial = kept;
+    trial.push_back(j);
+    Eigen::MatrixXd Jt(J.rows(), static_cast<Eigen::Index>(trial.size()));
+    for (std::size_t k = 0; k < trial.size(); ++k) Jt.col(static_cast<Eigen::Index>(k)) = J.col(trial[k]);
+    const NormSvd ns = normalised_svd(Jt);
+    const double cond = ns.s[0] / ns.s[ns.s.size() - 1];
+    if (cond <= opts.cond_limit) {
+      kept = trial;
+      chosen.push_back(t[j].name);
+      continue;
+    }
+    // Which kept parameters it is confounded with: components of the smallest singular vector.
+    const Eigen::VectorXd v = ns.V.col(ns.V.cols() - 1);
+    std::vector<std::string> partners;
+    std::set<int> shared = loaded_harmonics(theta, J.col(j));
+    for (std::size_t k = 0; k + 1 < trial.size(); ++k)
+      if (std::abs(v[static_cast<Eigen::Index>(k)]) > 0.1 * v.cwiseAbs().maxCoeff()) {
+        const int col = trial[k];
+        partners.push_back(col >= all.n_shared() ? std::string("the zero offset") : t[col].json_name);
+        std::set<int> h = loaded_harmonics(theta, J.col(col)), inter;
+        std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));
+        if (!inter.empty()) shared = inter;
+      }
+    os << " " << t[j].json_name << ": left out, it and " << join_words(partners) << " all load "
+       << harmonics_words(shared) << " (condition " << fmt_sci(cond) << ").";
+  }
+  if (note) *note = os.str();
+  return chosen;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// 4. The fit.
+// ---------------------------------------------------------------------------------------------------------
+DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<CurveInput>& curves,
+                                const DiagnosisOptions& opts) {
+  check_inputs(curves, opts);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& t = fit_parameters();
+  DiagnosisResult res;
+  std::vector<std::string> free_names = opts.free;
+  if (free_names.empty()) free_names = default_free_set(field, curves, opts, &res.default_free_note);
+
+  // 4.1 Variables.
+  Problem p{field, curves, {}, opts.free_zero, base_values(curves), {}};
+  for (const auto& n : free_names) {
+    const int i = fit_parameter_index(n);
+    if (i < 0) fit_parameter(n);  // throws the listing error
+    if (std::find(p.free_idx.begin(), p.free_idx.end(), i) != p.free_idx.end())
+      throw InputError("--free lists '" + n + "' twice: allowed each parameter once");
+    p.free_idx.push_back(i);
+  }
+  std::sort(p.free_idx.begin(), p.free_idx.end());
+  for (int i : p.free_idx) p.scale.push_back(t[i].scale);
+  for (std::size_t c = 0; c < curves.size() && opts.free_zero; ++c) p.scale.push_back(kZeroScaleDeg);
+  const int nv = p.n_vars(), ns = p.n_shared();
+  int N = 0;
+  for (const auto& c : curves) N += static_cast<int>(c.curve.theta_deg.size());
+  if (N <= nv) throw InputError("diagnose: " + std::to_string(N) + " samples for " + std::to_string(nv) + " free parameters: allowed more samples than parameters");
+
+  // 4.2 Starts: the configured values, then seeded random points within +-1.5 typical sizes (both signs: the
+  // mirror-image minima), each with its zero offsets set to the circular mean of measured - model.
+  std::mt19937 rng(opts.seed);
+  std::uniform_real_distribution<double> uni(-1.5, 1.5);
+  std::vector<std::vector<double>> starts;
+  for (int s = 0; s < opts.starts; ++s) {
+    std::vector<double> u(nv, 0.0);
+    for (int j = 0; j < ns; ++j) {
+      const FitParameter& fp = t[p.free_idx[j]];
+      const double v = s == 0 ? p.base[p.free_idx[j]] : uni(rng) * fp.scale;
+      u[j] = std::clamp(v, fp.lower, fp.upper) / fp.scale;
+    }
+    starts.push_back(u);
+  }
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<double> best_u;
+  for (int s = 0; s < static_cast<int>(starts.size()); ++s) {
+    std::vector<double> u = starts[s];
+    try {
+      for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c)
+        u[ns + c] = zero_start(p, c, u.data()) / kZeroScaleDeg;
+    } catch (const InputError&) {
+      res.start_costs.push_back(std::numeric_limits<double>::quiet_NaN());  // start outside the model's domain
+      continue;
+    }
+    ceres::Problem problem;
+    for (int c = 0; c < static_cast<int>(curves.size()); ++c)
+      problem.AddResidualBlock(new CurveCost(p, c), nullptr, u.data());
+    for (int j = 0; j < ns; ++j) {
+      const FitParameter& fp = t[p.free_idx[j]];
+      problem.SetParameterLowerBound(u.data(), j, fp.lower / fp.scale);
+      problem.SetParameterUpperBound(u.data(), j, fp.upper / fp.scale);
+    }
+    for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c) {
+      problem.SetParameterLowerBound(u.data(), ns + c, -180.0 / kZeroScaleDeg);
+      problem.SetParameterUpperBound(u.data(), ns + c, 180.0 / kZeroScaleDeg);
+    }
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = opts.max_iterations;
+    so.function_tolerance = 1e-14;
+    so.parameter_tolerance = 1e-12;
+    so.gradient_tolerance = 1e-16;
+    so.num_threads = 1;  // the field batch evaluation is OpenMP-parallel itself
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary sum;
+    ceres::Solve(so, &problem, &sum);
+    const double cost = sum.IsSolutionUsable() ? sum.final_cost : std::numeric_limits<double>::quiet_NaN();
+    res.start_costs.push_back(cost);
+    if (std::isfinite(cost) && cost < best_cost) {
+      best_cost = cost;
+      best_u = u;
+      res.best_start = s;
+      res.iterations = static_cast<int>(sum.iterations.size()) - 1;
+    }
+  }
+  if (best_u.empty()) throw ComputeError("diagnose: no start converged (every start left the model's domain)");
+
+  // 4.3 Jacobian at the optimum in physical units; uncertainty through the column-normalised SVD.
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J = stacked_jacobian(p, best_u.data(), &r);
+  for (int j = 0; j < nv; ++j) J.col(j) /= p.scale[j];  // deg per physical unit
+  res.rss_deg2 = r.squaredNorm();
+  res.n_points = N;
+  res.n_free = nv;
+  res.residual_rms_deg = std::sqrt(res.rss_deg2 / N);
+  const double s2 = res.rss_deg2 / (N - nv);
+  const NormSvd sv = normalised_svd(J);
+  res.singular_values = sv.s;
+  const double smax = sv.s[0];
+  res.condition = sv.s[sv.s.size() - 1] > 0 ? smax / sv.s[sv.s.size() - 1] : std::numeric_limits<double>::infinity();
+  const double tol = smax / opts.cond_limit;
+  Eigen::MatrixXd covn = Eigen::MatrixXd::Zero(nv, nv);  // covariance of the normalised variables
+  std::vector<bool> unidentifiable(nv, false);
+  const Eigen::VectorXd theta = stacked_theta(curves);
+  std::vector<std::string> var_names;
+  for (int j = 0; j < ns; ++j) var_names.push_back(t[p.free_idx[j]].json_name);
+  for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c)
+    var_names.push_back(c == 0 ? std::string("zero_offset_deg") : "zero_offset_deg_" + std::to_string(c + 1));
+  for (Eigen::Index k = 0; k < sv.s.size(); ++k) {
+    const Eigen::VectorXd v = sv.V.col(k);
+    if (sv.s[k] > tol) {
+      covn += v * v.transpose() / (sv.s[k] * sv.s[k]);
+      continue;
+    }
+    Confounding cf;
+    cf.rel_singular = sv.s[k] / smax;
+    std::set<int> shared;
+    bool first = true;
+    const double vmax = v.cwiseAbs().maxCoeff();
+    for (int j = 0; j < nv; ++j)
+      if (std::abs(v[j]) > 0.1 * vmax) {
+        unidentifiable[j] = true;
+        cf.names.push_back(var_names[j]);
+        cf.weights.push_back(v[j]);
+        if (sv.norms[j] == 0) continue;
+        std::set<int> h = loaded_harmonics(theta, J.col(j));
+        if (first) {
+          shared = h;
+          first = false;
+        } else {
+          std::set<int> inter;
+          std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));
+          shared = inter.empty() ? shared : inter;
+        }
+      }
+    cf.harmonics = harmonics_words(shared);
+    std::ostringstream os;
+    if (cf.names.size() == 1)
+      os << cf.names[0] << " has (almost) no effect on the curve here";
+    else
+      os << join_words(cf.names) << " all load " << cf.harmonics << ": the data fix only a combination of them";
+    os << " (singular value " << fmt_sci(cf.rel_singular) << " of the largest)";
+    cf.text = os.str();
+    res.confounded.push_back(cf);
+  }
+  Eigen::VectorXd sigma(nv);
+  for (int j = 0; j < nv; ++j)
+    sigma[j] = unidentifiable[j] || sv.norms[j] == 0 ? std::numeric_limits<double>::infinity()
+                                                      : std::sqrt(s2 * covn(j, j)) / sv.norms[j];
+  // A direction can be well conditioned and still barely move the curve: a parameter whose sigma exceeds
+  // its typical size is not determined by these data either.
+  for (int j = 0; j < nv; ++j)
+    if (!unidentifiable[j] && std::isfinite(sigma[j]) && sigma[j] > p.scale[j]) {
+      const std::string unit = j < ns ? t[p.free_idx[j]].unit : std::string("deg");
+      Confounding cf;
+      cf.names = {var_names[j]};
+      cf.weights = {1.0};
+      cf.rel_singular = std::nan("");
+      cf.harmonics = sv.norms[j] > 0 ? harmonics_words(loaded_harmonics(theta, J.col(j))) : "nothing";
+      cf.text = var_names[j] + ": sigma " + num(sigma[j]) + " " + unit + " exceeds its typical size " +
+                num(p.scale[j]) + " " + unit + ": the curve barely depends on it here";
+      res.confounded.push_back(cf);
+      unidentifiable[j] = true;
+      sigma[j] = std::numeric_limits<double>::infinity();
+    }
+  res.correlation.resize(nv, nv);
+  for (int a = 0; a < nv; ++a)
+    for (int b = 0; b < nv; ++b)
+      res.correlation(a, b) = (std::isfinite(sigma[a]) && std::isfinite(sigma[b]))
+                                  ? covn(a, b) / std::sqrt(covn(a, a) * covn(b, b))
+                                  : std::numeric_limits<double>::quiet_NaN();
+
+  // 4.4 Values: every table parameter, then the zero offsets.
+  const std::vector<double> vals = p.values(best_u.data());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    ParamValue pv{t[i].name, t[i].json_name, t[i].unit, vals[i], 0.0, false};
+    const auto it = std::find(p.free_idx.begin(), p.free_idx.end(), static_cast<int>(i));
+    if (it != p.free_idx.end()) {
+      pv.free = true;
+      pv.sigma = sigma[it - p.free_idx.begin()];
+    }
+    res.params.push_back(pv);
+  }
+  for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
+    ParamValue pv{"zero", var_names.size() > static_cast<std::size_t>(ns + c) ? var_names[ns + c] : "zero_offset_deg", "deg",
+                  p.zero(best_u.data(), c), 0.0, opts.free_zero};
+    if (!opts.free_zero) pv.json_name = c == 0 ? "zero_offset_deg" : "zero_offset_deg_" + std::to_string(c + 1);
+    if (opts.free_zero) pv.sigma = sigma[ns + c];
+    res.params.push_back(pv);
+  }
+  for (int j = 0; j < nv; ++j) {
+    res.free.push_back(var_names[j]);
+    if (unidentifiable[j]) res.not_identifiable.push_back(var_names[j]);
+  }
+
+  // 4.5 Curves: fitted, residual, spectra.
+  for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
+    CurveFit cf;
+    const Eigen::VectorXd rr = p.residual(c, best_u.data());
+    cf.residual_deg = rr;
+    cf.fitted_deg = curves[c].curve.error_deg + rr;
+    for (Eigen::Index i = 0; i < cf.fitted_deg.size(); ++i) cf.fitted_deg[i] = wrap_deg(cf.fitted_deg[i]);
+    cf.residual_rms_deg = std::sqrt(rr.squaredNorm() / static_cast<double>(rr.size()));
+    cf.measured_h = harmonics_ls(curves[c].curve.theta_deg, curves[c].curve.error_deg);
+    cf.fitted_h = harmonics_ls(curves[c].curve.theta_deg, cf.fitted_deg);
+    cf.residual_h = harmonics_ls(curves[c].curve.theta_deg, rr);
+    res.curves.push_back(std::move(cf));
+  }
+  res.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace magenc
