@@ -22,6 +22,7 @@
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/omp_wait.hpp"
 #include "fem_field_scheme.hpp"
 #include "fields/field_factory.hpp"
 #include "report/diagnosis_report.hpp"
@@ -147,5 +148,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  magenc::prefer_passive_omp_wait(argc, argv);  // many small parallel regions (core/omp_wait.hpp)
   return magenc::run_main("diagnose", [&] { return run(argc, argv); });
 }

@@ -1,6 +1,7 @@
 #include "analysis/diagnosis_fit.hpp"
 
 #include <ceres/ceres.h>
+#include <omp.h>
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -184,23 +185,46 @@ struct Problem {
     for (Eigen::Index i = 0; i < m.size(); ++i) r[i] = wrap_deg(m[i] + z - y[i]);
     return r;
   }
-  // Residual and scaled Jacobian (N x n_vars) of curve c by central differences (zero offsets exact).
+  // Residual and scaled Jacobian (N x n_vars) of curve c by central differences (zero offsets exact). The
+  // 2*n_shared + 1 model evaluations run in parallel (one OpenMP region per Jacobian: the field's own batch
+  // parallelism is nested inside and runs serially there), so a Jacobian costs one barrier, not 2p + 1 —
+  // which matters on a loaded machine, where every barrier waits for a time slice.
   void jacobian(int c, const double* u, Eigen::VectorXd* r, Eigen::MatrixXd* J) const {
-    std::vector<double> w(u, u + n_vars());
-    if (r) *r = residual(c, w.data());
+    const int ns = n_shared(), evals = 2 * ns + 1;
+    std::vector<Eigen::VectorXd> out(evals);
+    std::vector<std::string> err(evals);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int e = 0; e < evals; ++e) {
+      std::vector<double> w(u, u + n_vars());
+      if (e > 0) w[(e - 1) / 2] += (e % 2 == 1 ? kFdStep : -kFdStep);
+      try {
+        out[e] = residual(c, w.data());
+      } catch (const std::exception& ex) {
+        err[e] = ex.what();
+      }
+    }
+    for (int e = 0; e < evals; ++e)
+      if (!err[e].empty()) throw InputError(err[e]);
+    if (r) *r = out[0];
     const auto N = curves[c].curve.theta_deg.size();
     J->setZero(N, n_vars());
-    for (int j = 0; j < n_shared(); ++j) {
-      const double u0 = w[j];
-      w[j] = u0 + kFdStep;
-      const Eigen::VectorXd rp = residual(c, w.data());
-      w[j] = u0 - kFdStep;
-      const Eigen::VectorXd rm = residual(c, w.data());
-      w[j] = u0;
-      for (Eigen::Index i = 0; i < N; ++i) (*J)(i, j) = wrap_deg(rp[i] - rm[i]) / (2 * kFdStep);
-    }
-    if (free_zero) J->col(n_shared() + c).setConstant(kZeroScaleDeg);
+    for (int j = 0; j < ns; ++j)
+      for (Eigen::Index i = 0; i < N; ++i) (*J)(i, j) = wrap_deg(out[2 * j + 1][i] - out[2 * j + 2][i]) / (2 * kFdStep);
+    if (free_zero) J->col(ns + c).setConstant(kZeroScaleDeg);
   }
+};
+
+// Runs the enclosed model evaluations on one thread (restores the previous count): a single residual
+// evaluation is too small to pay for an OpenMP barrier on a loaded machine.
+class SerialScope {
+ public:
+  SerialScope() : prev_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SerialScope() { omp_set_num_threads(prev_); }
+  SerialScope(const SerialScope&) = delete;
+  SerialScope& operator=(const SerialScope&) = delete;
+
+ private:
+  int prev_;
 };
 
 class CurveCost final : public ceres::CostFunction {
@@ -218,6 +242,7 @@ class CurveCost final : public ceres::CostFunction {
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             jacobians[0], J.rows(), J.cols()) = J;
       } else {
+        SerialScope serial;
         r = p_.residual(c_, params[0]);
       }
       Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
@@ -327,7 +352,7 @@ std::vector<std::string> default_free_set(const FieldSource& field, const std::v
     all.scale.push_back(t[i].scale);
   }
   std::vector<double> u(all.n_vars(), 0.0);
-  for (int j = 0; j < all.n_shared(); ++j) u[j] = all.base[j] / all.scale[j];
+  for (int j = 0; j < all.n_shared(); ++j) u[j] = all.base[j] / all.scale[j] + opts.nominal_shift;
   const Eigen::MatrixXd J = stacked_jacobian(all, u.data(), nullptr);  // deg per typical size
   const Eigen::VectorXd theta = stacked_theta(curves);
   const auto rows = static_cast<double>(J.rows());
@@ -337,12 +362,14 @@ std::vector<std::string> default_free_set(const FieldSource& field, const std::v
   std::ostringstream os;
   os << "Default free set: parameters taken in table order at the configured point, each kept only if the "
         "column-normalised Jacobian (with the free zero offsets) keeps a condition number <= "
-     << num(opts.cond_limit) << ".";
+     << num(opts.cond_limit) << " and it moves the curve by >= " << num(opts.min_effect_deg)
+     << " deg RMS per typical size; evaluated at the configured values + " << num(opts.nominal_shift)
+     << " typical sizes on every parameter.";
   std::vector<std::string> chosen;
   for (int j = 0; j < all.n_shared(); ++j) {
     const double rms = J.col(j).norm() / std::sqrt(rows);  // deg per typical size
-    if (rms < 1e-9) {
-      os << " " << t[j].json_name << ": no first-order effect at this point (RMS " << fmt_sci(rms) << " deg per "
+    if (rms < opts.min_effect_deg) {
+      os << " " << t[j].json_name << ": left out, it barely moves the curve here (RMS " << fmt_sci(rms) << " deg per "
          << num(t[j].scale) << " " << t[j].unit << ").";
       continue;
     }
@@ -419,16 +446,20 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     }
     starts.push_back(u);
   }
+  struct Final {
+    double cost;
+    std::vector<double> u;
+  };
+  std::vector<Final> finals;
   double best_cost = std::numeric_limits<double>::infinity();
   std::vector<double> best_u;
-  for (int s = 0; s < static_cast<int>(starts.size()); ++s) {
-    std::vector<double> u = starts[s];
+  const auto solve_from = [&](std::vector<double> u, int s) {
     try {
       for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c)
         u[ns + c] = zero_start(p, c, u.data()) / kZeroScaleDeg;
     } catch (const InputError&) {
       res.start_costs.push_back(std::numeric_limits<double>::quiet_NaN());  // start outside the model's domain
-      continue;
+      return;
     }
     ceres::Problem problem;
     for (int c = 0; c < static_cast<int>(curves.size()); ++c)
@@ -448,18 +479,31 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     so.function_tolerance = 1e-14;
     so.parameter_tolerance = 1e-12;
     so.gradient_tolerance = 1e-16;
-    so.num_threads = 1;  // the field batch evaluation is OpenMP-parallel itself
+    so.num_threads = 1;  // the Jacobian's model evaluations are parallel themselves
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary sum;
     ceres::Solve(so, &problem, &sum);
     const double cost = sum.IsSolutionUsable() ? sum.final_cost : std::numeric_limits<double>::quiet_NaN();
     res.start_costs.push_back(cost);
-    if (std::isfinite(cost) && cost < best_cost) {
+    if (!std::isfinite(cost)) return;
+    finals.push_back({cost, u});
+    if (cost < best_cost) {
       best_cost = cost;
       best_u = u;
       res.best_start = s;
       res.iterations = static_cast<int>(sum.iterations.size()) - 1;
     }
+  };
+  for (int s = 0; s < static_cast<int>(starts.size()); ++s) solve_from(starts[s], s);
+  // The mirror image of the best point (all shared parameters negated) as one more start: for arrays whose
+  // error is even in the offsets (diff4, ring:N) it is an equally good minimum the random starts may miss.
+  if (opts.starts > 1 && !best_u.empty() && ns > 0) {
+    std::vector<double> m = best_u;
+    for (int j = 0; j < ns; ++j) {
+      const FitParameter& fp = t[p.free_idx[j]];
+      m[j] = std::clamp(-best_u[j] * fp.scale, fp.lower, fp.upper) / fp.scale;
+    }
+    solve_from(m, static_cast<int>(starts.size()));
   }
   if (best_u.empty()) throw ComputeError("diagnose: no start converged (every start left the model's domain)");
 
@@ -548,7 +592,30 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
                                   ? covn(a, b) / std::sqrt(covn(a, a) * covn(b, b))
                                   : std::numeric_limits<double>::quiet_NaN();
 
-  // 4.4 Values: every table parameter, then the zero offsets.
+  // 4.4 Other minima as good as the best (cost within 1 %) but more than 3 sigma away in some shared
+  // parameter: the data cannot choose between them (e.g. mirror images).
+  for (const auto& f : finals) {
+    if (f.cost > best_cost * 1.01 + 1e-15) continue;
+    bool far = false;
+    for (int j = 0; j < ns; ++j) {
+      const double d = std::abs(f.u[j] - best_u[j]) * p.scale[j];
+      if (std::isfinite(sigma[j]) ? d > 3 * sigma[j] : d > p.scale[j]) far = true;
+    }
+    if (!far) continue;
+    bool dup = false;
+    for (const auto& alt : res.alternatives) {
+      double dmax = 0;
+      for (int j = 0; j < ns; ++j) dmax = std::max(dmax, std::abs(alt.values[j] - f.u[j] * p.scale[j]) / p.scale[j]);
+      if (dmax < 1e-3) dup = true;
+    }
+    if (dup) continue;
+    AlternativeMinimum alt;
+    alt.cost = f.cost;
+    for (int j = 0; j < nv; ++j) alt.values.push_back(f.u[j] * p.scale[j]);
+    res.alternatives.push_back(alt);
+  }
+
+  // 4.5 Values: every table parameter, then the zero offsets.
   const std::vector<double> vals = p.values(best_u.data());
   for (std::size_t i = 0; i < t.size(); ++i) {
     ParamValue pv{t[i].name, t[i].json_name, t[i].unit, vals[i], 0.0, false};
@@ -571,7 +638,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     if (unidentifiable[j]) res.not_identifiable.push_back(var_names[j]);
   }
 
-  // 4.5 Curves: fitted, residual, spectra.
+  // 4.6 Curves: fitted, residual, spectra.
   for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
     CurveFit cf;
     const Eigen::VectorXd rr = p.residual(c, best_u.data());

@@ -71,6 +71,9 @@ struct DiagnosisOptions {
   int starts = 6;                 // start points (1: the configured values only)
   unsigned seed = 1;              // random starts
   double cond_limit = 1e4;        // condition number of the column-normalised Jacobian
+  double min_effect_deg = 1e-3;   // default free set: RMS change of the curve per typical size, at least
+  double nominal_shift = 0.5;     // default free set: evaluated at the configured values + this many typical
+                                  // sizes on every parameter (an exactly ideal mount hides second-order effects)
   int max_iterations = 100;
 };
 
@@ -99,6 +102,12 @@ struct CurveFit {
   Eigen::VectorXd measured_h, fitted_h, residual_h;  // harmonics_ls (a0, a1, b1, ..., a8, b8)
 };
 
+// Another minimum as good as the best one (cost within 1 %) but far from it: the data cannot choose.
+struct AlternativeMinimum {
+  double cost = 0;             // 0.5 * RSS
+  std::vector<double> values;  // free variables in the order of DiagnosisResult::free
+};
+
 struct DiagnosisResult {
   std::vector<ParamValue> params;     // every table parameter (free or fixed), then the zero offsets
   std::vector<std::string> free;      // json names of the free parameters (fit order)
@@ -111,7 +120,8 @@ struct DiagnosisResult {
   double residual_rms_deg = 0;        // over all curves
   double rss_deg2 = 0;
   int n_points = 0, n_free = 0;
-  std::vector<double> start_costs;    // final 0.5*RSS of each start
+  std::vector<AlternativeMinimum> alternatives;  // equally good minima elsewhere (e.g. mirror images)
+  std::vector<double> start_costs;    // final 0.5*RSS of each start (the last: the mirror of the best)
   int best_start = 0;
   int iterations = 0;                 // of the best start
   std::string default_free_note;      // how the default free set was chosen (empty when --free was given)
@@ -121,8 +131,10 @@ struct DiagnosisResult {
 // Column loading text: the harmonics (DC, 1st, ...) holding >= 10 % of the largest amplitude of v(theta).
 std::string harmonic_loading(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& v);
 
-// The default free set: greedy in table order at the curves' base point, keeping a parameter only if the
-// column-normalised Jacobian (with the free zero offsets) stays below cond_limit. note explains the rest.
+// The default free set: greedy in table order at a nominal point (the configured values + nominal_shift
+// typical sizes on every parameter), keeping a parameter only if it moves the curve by at least
+// min_effect_deg RMS per typical size and the column-normalised Jacobian (with the free zero offsets) stays
+// below cond_limit. note explains each parameter left out.
 std::vector<std::string> default_free_set(const FieldSource& field, const std::vector<CurveInput>& curves,
                                           const DiagnosisOptions& opts, std::string* note = nullptr);
 

@@ -94,6 +94,13 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
     corr.push_back(row);
   }
   j["correlation"] = {{"names", res.free}, {"matrix", corr}};
+  nlohmann::json alts = nlohmann::json::array();
+  for (const auto& a : res.alternatives) {
+    nlohmann::json v;
+    for (std::size_t k = 0; k < res.free.size() && k < a.values.size(); ++k) v[res.free[k]] = a.values[k];
+    alts.push_back({{"cost", a.cost}, {"values", v}});
+  }
+  j["alternative_minima"] = alts;
   j["singular_values_normalised"] = std::vector<double>(res.singular_values.data(), res.singular_values.data() + res.singular_values.size());
   j["condition_number"] = finite_or_null(res.condition);
   j["rss_deg2"] = res.rss_deg2;
@@ -188,7 +195,8 @@ void write_diagnosis_plots(const std::filesystem::path& dir, const std::vector<C
     har.panels.push_back(harmonics_panel("curve " + std::to_string(c + 1) + ": " + name,
                                          {{"measured", spectrum_from_ls(res.curves[c].measured_h)},
                                           {"fitted", spectrum_from_ls(res.curves[c].fitted_h)},
-                                          {"residual", spectrum_from_ls(res.curves[c].residual_h)}}));
+                                          {"residual", spectrum_from_ls(res.curves[c].residual_h)}},
+                                         true, true, 1e-5));
   }
   write_plot(dir, "fit", fit);
   write_plot(dir, "harmonics", har);
@@ -247,6 +255,17 @@ std::string diagnosis_summary(const std::vector<CurveInput>& curves, const Diagn
        << " (limit " << sig(info.options.cond_limit, 3) << "). Directions the data do not fix:\n\n";
     for (const auto& c : res.confounded) md << "- " << c.text << "\n";
     md << "\nTheir sigma is reported as infinite (null in fit.json); their values are one point of a valley.\n\n";
+  }
+  if (!res.alternatives.empty()) {
+    md << "**Equally good minima elsewhere** (cost within 1 % of the best, more than 3 sigma away): the data "
+          "cannot choose between these and the values above; the sigmas describe each minimum locally.\n\n";
+    for (const auto& a : res.alternatives) {
+      md << "- cost " << sig(a.cost, 4) << ":";
+      for (std::size_t k = 0; k < res.free.size() && k < a.values.size(); ++k)
+        md << " `" << res.free[k] << "` " << sig(a.values[k], 4);
+      md << "\n";
+    }
+    md << "\n";
   }
   md << "## Correlation matrix of the free variables\n\n";
   {
