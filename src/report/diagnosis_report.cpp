@@ -137,6 +137,8 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
               {"command_line", info.command_line},
               {"field", info.field_spec},
               {"curve_sets", info.curve_sets},
+              {"seed", info.options.seed},
+              {"starts", info.options.starts},
               {"free_zero_offset", info.options.free_zero},
               {"cond_limit", info.options.cond_limit},
               {"threads", omp_get_max_threads()},
