@@ -122,6 +122,7 @@ struct DiagnosisResult {
   int n_points = 0, n_free = 0;
   std::vector<AlternativeMinimum> alternatives;  // equally good minima elsewhere (e.g. mirror images)
   std::vector<double> start_costs;    // final 0.5*RSS of each start (the last: the mirror of the best)
+  bool starts_thinned = false;        // start costs are on curves thinned to <= 360 samples
   int best_start = 0;
   int iterations = 0;                 // of the best start
   std::string default_free_note;      // how the default free set was chosen (empty when --free was given)

@@ -128,7 +128,7 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
   nlohmann::json st = nlohmann::json::array();
   for (double c : res.start_costs) st.push_back(finite_or_null(c));
   j["starts"] = {{"count", info.options.starts}, {"seed", info.options.seed}, {"final_cost", st},
-                 {"best", res.best_start}, {"iterations_best", res.iterations}};
+                 {"best", res.best_start}, {"costs_on_thinned_curves", res.starts_thinned}, {"iterations_best", res.iterations}};
   j["run"] = {{"program", info.program},
               {"version", kVersion},
               {"git_revision", kGitRevision},
@@ -297,7 +297,10 @@ std::string diagnosis_summary(const std::vector<CurveInput>& curves, const Diagn
     for (int n = 1; n <= kHarmonics; ++n) h.push_back("c" + std::to_string(n));
     md << md_table(h, t) << "\n";
   }
-  md << "## Starts\n\nFinal cost (0.5 RSS, deg^2) per start: ";
+  md << "## Starts\n\nFinal cost (0.5 RSS, deg^2) per start"
+     << (res.starts_thinned ? " (on the curves thinned to <= 360 samples; the best basins were then polished on all "
+                              "samples)" : "")
+     << ": ";
   for (std::size_t s = 0; s < res.start_costs.size(); ++s)
     md << (s ? ", " : "") << sig(res.start_costs[s], 4);
   md << ". Starts that end at different costs are different local minima (e.g. mirror images); the lowest is "
