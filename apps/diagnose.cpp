@@ -61,7 +61,10 @@ std::string help_footer() {
   for (const auto& p : magenc::fit_parameters())
     os << "  " << p.name << "  (" << p.key << ", " << (p.unit.empty() ? "-" : p.unit) << ", bounds [" << p.lower
        << ", " << p.upper << "], typical " << p.scale << "): " << p.what << "\n";
-  os << "  plus a free zero offset (DC) between the two encoders per curve, unless --fixed-zero.\n"
+  os << "  magnet_tilt = magnet_tilt_x,magnet_tilt_y (fit.json also gives magnet_tilt_deg and its azimuth).\n"
+        "  Not fitted: magnet.magnetization_elevation_deg (a property of the field; for `two` it acts like\n"
+        "  offset_cos = offset_sin, for diff4/ring:N it has no effect).\n"
+        "  plus a free zero offset (DC) between the two encoders per curve, unless --fixed-zero.\n"
         "Measured curve CSV (header row): theta_deg,error_deg | theta_deg,phi_deg | theta_deg,u_cos,u_sin;\n"
         "  >= 64 rows, one full turn or more (folded mod 360), largest gap <= --max-gap deg; '#' comments.\n"
         "  error_deg = sensor - reference; --error-sign -1 when the file has reference - sensor.\n"
@@ -116,7 +119,7 @@ int run(int argc, char** argv) {
   }
   magenc::DiagnosisOptions opts;
   opts.free = split_commas(f.free);
-  for (const auto& n : opts.free) magenc::fit_parameter(n);  // unknown names: one-line error
+  for (const auto& n : magenc::expand_free_names(opts.free)) magenc::fit_parameter(n);  // unknown: one-line error
   opts.free_zero = !f.fixed_zero;
   opts.starts = f.starts;
   opts.seed = f.seed;

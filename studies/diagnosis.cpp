@@ -86,12 +86,12 @@ void run(const Config& cfg, StudyOutput& out) {
   rt.synth.points = static_cast<int>(cfg.integer("roundtrip.points"));
   rt.synth.noise_deg = cfg.real("roundtrip.noise_deg");
   rt.synth.quant_positions = static_cast<int>(cfg.integer("roundtrip.quant_positions"));
-  rt.free = list(cfg.str("roundtrip.free"));
+  rt.free = expand_free_names(list(cfg.str("roundtrip.free")));
   for (const auto& n : rt.free) fit_parameter(n);
   rt.range_scale = cfg.real("roundtrip.range_scale");
   rt.max_zero_deg = cfg.real("roundtrip.max_zero_deg");
   rt.starts = static_cast<int>(cfg.integer("roundtrip.starts"));
-  const auto randomized = list(cfg.str("roundtrip.randomized"));
+  const auto randomized = expand_free_names(list(cfg.str("roundtrip.randomized")));
   for (const auto& n : randomized) fit_parameter(n);
 
   // 2. Round trips.

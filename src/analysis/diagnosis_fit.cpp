@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "report/study_output.hpp"
 #include "core/units.hpp"
 #include "probe/spectrum.hpp"
 
@@ -31,6 +32,22 @@ namespace {
         [](const ModelState& s) { return s.mount.FIELD; }, WHAT                                                  \
   }
 
+#define MAGENC_CHAIN_PARAM(NAME, FIELD, UNIT, LO, HI, SCALE, WHAT)                                             \
+  FitParameter {                                                                                                \
+    NAME, "sensor." #FIELD, #FIELD, UNIT, LO, HI, SCALE, [](ModelState& s, double v) { s.setup.chain.FIELD = v; }, \
+        [](const ModelState& s) { return s.setup.chain.FIELD; }, WHAT                                            \
+  }
+
+// Magnet tilt as components: x = g cos psi, y = g sin psi (deg).
+double magnet_tilt_component(const Mount& m, bool x) {
+  const double psi = deg_to_rad(m.magnet_tilt_azimuth_deg);
+  return m.magnet_tilt_deg * (x ? std::cos(psi) : std::sin(psi));
+}
+void set_magnet_tilt(Mount& m, double x_deg, double y_deg) {
+  m.magnet_tilt_deg = std::hypot(x_deg, y_deg);
+  m.magnet_tilt_azimuth_deg = m.magnet_tilt_deg > 0 ? rad_to_deg(std::atan2(y_deg, x_deg)) : 0.0;
+}
+
 std::vector<FitParameter> make_table() {
   return {
       MAGENC_MOUNT_PARAM("sx", sx_mm, "mm", -1.0, 1.0, 0.05, "static eccentricity x (sensor off the axis)"),
@@ -38,10 +55,30 @@ std::vector<FitParameter> make_table() {
       MAGENC_MOUNT_PARAM("dx", dx_mm, "mm", -1.0, 1.0, 0.05, "dynamic eccentricity x (magnet off the axis)"),
       MAGENC_MOUNT_PARAM("dy", dy_mm, "mm", -1.0, 1.0, 0.05, "dynamic eccentricity y"),
       MAGENC_MOUNT_PARAM("dz", dz_mm, "mm", -0.5, 0.5, 0.1, "air-gap offset (+ = farther)"),
+      MAGENC_MOUNT_PARAM("tilt_x", tilt_x_deg, "deg", -10.0, 10.0, 1.0, "sensor tilt about x"),
+      MAGENC_MOUNT_PARAM("tilt_y", tilt_y_deg, "deg", -10.0, 10.0, 1.0, "sensor tilt about y"),
+      // Magnet tilt g towards azimuth psi, fitted as Cartesian components (g cos psi, g sin psi): the polar
+      // form has no defined azimuth at g = 0. --free magnet_tilt means both components.
+      FitParameter{"magnet_tilt_x", "mount.magnet_tilt_deg*cos(azimuth)", "magnet_tilt_x_deg", "deg", -10.0, 10.0, 1.0,
+                   [](ModelState& s, double v) { set_magnet_tilt(s.mount, v, magnet_tilt_component(s.mount, false)); },
+                   [](const ModelState& s) { return magnet_tilt_component(s.mount, true); },
+                   "magnet tilt component leaning towards +x (g cos psi)"},
+      FitParameter{"magnet_tilt_y", "mount.magnet_tilt_deg*sin(azimuth)", "magnet_tilt_y_deg", "deg", -10.0, 10.0, 1.0,
+                   [](ModelState& s, double v) { set_magnet_tilt(s.mount, magnet_tilt_component(s.mount, true), v); },
+                   [](const ModelState& s) { return magnet_tilt_component(s.mount, false); },
+                   "magnet tilt component leaning towards +y (g sin psi)"},
+      MAGENC_CHAIN_PARAM("offset_cos", offset_cos_mT, "mT", -5.0, 5.0, 0.5, "offset of the cos channel"),
+      MAGENC_CHAIN_PARAM("offset_sin", offset_sin_mT, "mT", -5.0, 5.0, 0.5, "offset of the sin channel"),
+      MAGENC_CHAIN_PARAM("gain", gain_mismatch, "", -0.2, 0.2, 0.01, "gain mismatch of the sin channel"),
+      MAGENC_CHAIN_PARAM("phase", phase_error_deg, "deg", -10.0, 10.0, 0.5, "phase error of the sin channel"),
+      // Not fitted: magnet.magnetization_elevation_deg. It is a property of the field source (the exact field
+      // is built with it, an FE solution has it baked in), and its effect is a common offset on every probe:
+      // for `two` the same 1st harmonic as offset_cos = offset_sin, for diff4 and ring:N nothing.
   };
 }
 
 #undef MAGENC_MOUNT_PARAM
+#undef MAGENC_CHAIN_PARAM
 
 constexpr double kZeroScaleDeg = 0.1;  // typical zero offset between the encoders (scaling only)
 constexpr double kFdStep = 1e-4;       // central-difference step in scaled units (1e-4 of the typical size)
@@ -141,6 +178,19 @@ std::pair<int, CurveOverride> parse_curve_set(const std::string& text, int curve
   if (val.empty() || *end != '\0' || !std::isfinite(o.value))
     throw InputError("--curve-set '" + text + "': value '" + val + "' is not a finite number: " + form);
   return {n - 1, o};
+}
+
+std::vector<std::string> expand_free_names(const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  for (const auto& n : names) {
+    if (n == "magnet_tilt" || n == "magnet_tilt_deg" || n == "mount.magnet_tilt_deg") {
+      out.push_back("magnet_tilt_x");
+      out.push_back("magnet_tilt_y");
+    } else {
+      out.push_back(n);
+    }
+  }
+  return out;
 }
 
 std::string harmonic_loading(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& v) {
@@ -342,9 +392,32 @@ NormSvd normalised_svd(const Eigen::MatrixXd& J) {
 // ---------------------------------------------------------------------------------------------------------
 // 3. Default free set: greedy in table order at the configured point.
 // ---------------------------------------------------------------------------------------------------------
+namespace {
+std::vector<std::string> free_set_at(const FieldSource& field, const std::vector<CurveInput>& curves,
+                                     const DiagnosisOptions& opts, std::string* note);
+}  // namespace
+
 std::vector<std::string> default_free_set(const FieldSource& field, const std::vector<CurveInput>& curves,
                                           const DiagnosisOptions& opts, std::string* note) {
   check_inputs(curves, opts);
+  // First at the configured point itself (first-order effects); only when nothing is identifiable there
+  // (diff4, ring:N at an ideal mount: every offset acts at second order) at the shifted point.
+  DiagnosisOptions o = opts;
+  o.nominal_shift = 0.0;
+  std::vector<std::string> chosen = free_set_at(field, curves, o, note);
+  if (chosen.empty() && opts.nominal_shift != 0.0) {
+    std::string first = note ? *note : std::string();
+    chosen = free_set_at(field, curves, opts, note);
+    if (note)
+      *note = "At the configured point no parameter passes (first-order effects cancel), so the set is chosen "
+              "at the shifted point. " + *note;
+  }
+  return chosen;
+}
+
+namespace {
+std::vector<std::string> free_set_at(const FieldSource& field, const std::vector<CurveInput>& curves,
+                                     const DiagnosisOptions& opts, std::string* note) {
   const auto& t = fit_parameters();
   Problem all{field, curves, {}, opts.free_zero, base_values(curves), {}};
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -362,9 +435,11 @@ std::vector<std::string> default_free_set(const FieldSource& field, const std::v
   std::ostringstream os;
   os << "Default free set: parameters taken in table order at the configured point, each kept only if the "
         "column-normalised Jacobian (with the free zero offsets) keeps a condition number <= "
-     << num(opts.cond_limit) << " and it moves the curve by >= " << num(opts.min_effect_deg)
-     << " deg RMS per typical size; evaluated at the configured values + " << num(opts.nominal_shift)
-     << " typical sizes on every parameter.";
+     << num(opts.cond_limit) << ", every kept parameter's predicted sigma at " << num(opts.nominal_noise_deg)
+     << " deg noise per sample stays <= " << num(opts.max_sigma_rel) << " of its typical size, and it moves the curve by >= "
+     << num(opts.min_effect_deg) << " deg RMS per typical size; evaluated at the configured values"
+     << (opts.nominal_shift != 0.0 ? " + " + num(opts.nominal_shift) + " typical sizes on every parameter" : std::string())
+     << ".";
   std::vector<std::string> chosen;
   for (int j = 0; j < all.n_shared(); ++j) {
     const double rms = J.col(j).norm() / std::sqrt(rows);  // deg per typical size
@@ -379,29 +454,60 @@ std::vector<std::string> default_free_set(const FieldSource& field, const std::v
     for (std::size_t k = 0; k < trial.size(); ++k) Jt.col(static_cast<Eigen::Index>(k)) = J.col(trial[k]);
     const NormSvd ns = normalised_svd(Jt);
     const double cond = ns.s[0] / ns.s[ns.s.size() - 1];
+    // Predicted 1-sigma of every kept parameter, in typical sizes, at the nominal noise (J is in deg per
+    // typical size): the new parameter must not leave any of them worse than max_sigma_rel.
+    double worst = 0;
+    std::string worst_name;
     if (cond <= opts.cond_limit) {
-      kept = trial;
-      chosen.push_back(t[j].name);
-      continue;
+      const Eigen::MatrixXd JtJ = Jt.transpose() * Jt;
+      const Eigen::MatrixXd cov = opts.nominal_noise_deg * opts.nominal_noise_deg * JtJ.inverse();
+      for (std::size_t k = 0; k < trial.size(); ++k) {
+        if (trial[k] >= all.n_shared()) continue;  // zero offsets: their size is not a design quantity
+        const double sg = std::sqrt(std::max(0.0, cov(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k))));
+        if (sg > worst) {
+          worst = sg;
+          worst_name = t[trial[k]].json_name;
+        }
+      }
+      if (worst <= opts.max_sigma_rel) {
+        kept = trial;
+        chosen.push_back(t[j].name);
+        continue;
+      }
     }
-    // Which kept parameters it is confounded with: components of the smallest singular vector.
-    const Eigen::VectorXd v = ns.V.col(ns.V.cols() - 1);
+    // Which kept parameters it is confounded with: the least-squares combination of the kept (normalised)
+    // columns closest to its own column; partners are those with a coefficient above 0.1.
+    Eigen::MatrixXd Kn(J.rows(), static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const Eigen::VectorXd col = J.col(kept[k]);
+      Kn.col(static_cast<Eigen::Index>(k)) = col / std::max(col.norm(), 1e-300);
+    }
+    const Eigen::VectorXd target = J.col(j) / J.col(j).norm();
+    const Eigen::VectorXd coef = Kn.colPivHouseholderQr().solve(target);
     std::vector<std::string> partners;
     std::set<int> shared = loaded_harmonics(theta, J.col(j));
-    for (std::size_t k = 0; k + 1 < trial.size(); ++k)
-      if (std::abs(v[static_cast<Eigen::Index>(k)]) > 0.1 * v.cwiseAbs().maxCoeff()) {
-        const int col = trial[k];
+    for (std::size_t k = 0; k < kept.size(); ++k)
+      if (std::abs(coef[static_cast<Eigen::Index>(k)]) > 0.1) {
+        const int col = kept[k];
         partners.push_back(col >= all.n_shared() ? std::string("the zero offset") : t[col].json_name);
         std::set<int> h = loaded_harmonics(theta, J.col(col)), inter;
         std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));
         if (!inter.empty()) shared = inter;
       }
-    os << " " << t[j].json_name << ": left out, it and " << join_words(partners) << " all load "
-       << harmonics_words(shared) << " (condition " << fmt_sci(cond) << ").";
+    const double resid = (Kn * coef - target).norm();
+    os << " " << t[j].json_name << ": left out, it and " << (partners.empty() ? std::string("the kept parameters") : join_words(partners))
+       << " all load " << harmonics_words(shared) << " (its column is " << fmt(100 * (1 - resid), 1)
+       << " % a combination of theirs; ";
+    if (cond > opts.cond_limit)
+      os << "condition " << fmt_sci(cond) << ").";
+    else
+      os << "it would leave " << worst_name << " with sigma " << fmt(worst, 2) << " typical sizes at "
+         << num(opts.nominal_noise_deg) << " deg noise).";
   }
   if (note) *note = os.str();
   return chosen;
 }
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
 // 4. The fit.
@@ -412,7 +518,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
   const auto t0 = std::chrono::steady_clock::now();
   const auto& t = fit_parameters();
   DiagnosisResult res;
-  std::vector<std::string> free_names = opts.free;
+  std::vector<std::string> free_names = expand_free_names(opts.free);
   if (free_names.empty()) free_names = default_free_set(field, curves, opts, &res.default_free_note);
 
   // 4.1 Variables.

@@ -47,6 +47,8 @@ const std::vector<FitParameter>& fit_parameters();
 // By short name ("sx") or json name ("sx_mm") or key ("mount.sx_mm"); InputError listing the names.
 const FitParameter& fit_parameter(const std::string& name);
 int fit_parameter_index(const std::string& name);
+// --free names with aliases expanded: "magnet_tilt" -> magnet_tilt_x, magnet_tilt_y.
+std::vector<std::string> expand_free_names(const std::vector<std::string>& names);
 
 // A known per-curve change: key = value (absolute, that parameter is then known for this curve) or
 // key += value (a known shift added to the shared fitted value, e.g. a rig move).
@@ -72,6 +74,9 @@ struct DiagnosisOptions {
   unsigned seed = 1;              // random starts
   double cond_limit = 1e4;        // condition number of the column-normalised Jacobian
   double min_effect_deg = 1e-3;   // default free set: RMS change of the curve per typical size, at least
+  double nominal_noise_deg = 0.0127;  // default free set: noise per sample (the AM8192B's quantization,
+                                      // 360/8192/sqrt(12) deg, alone)
+  double max_sigma_rel = 0.25;    // default free set: predicted sigma at that noise, in typical sizes, at most
   double nominal_shift = 0.5;     // default free set: evaluated at the configured values + this many typical
                                   // sizes on every parameter (an exactly ideal mount hides second-order effects)
   int max_iterations = 100;
@@ -134,8 +139,9 @@ std::string harmonic_loading(const Eigen::VectorXd& theta_deg, const Eigen::Vect
 
 // The default free set: greedy in table order at a nominal point (the configured values + nominal_shift
 // typical sizes on every parameter), keeping a parameter only if it moves the curve by at least
-// min_effect_deg RMS per typical size and the column-normalised Jacobian (with the free zero offsets) stays
-// below cond_limit. note explains each parameter left out.
+// min_effect_deg RMS per typical size, the column-normalised Jacobian (with the free zero offsets) stays
+// below cond_limit, and no kept parameter's predicted sigma at nominal_noise_deg exceeds max_sigma_rel typical
+// sizes. note explains each parameter left out (partners: the kept columns that combine into its column).
 std::vector<std::string> default_free_set(const FieldSource& field, const std::vector<CurveInput>& curves,
                                           const DiagnosisOptions& opts, std::string* note = nullptr);
 

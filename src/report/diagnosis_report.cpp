@@ -79,6 +79,16 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
     params[p.json_name] = e;
   }
   j["parameters"] = params;
+  {  // the magnet tilt in the configuration's polar form (from the fitted components; no sigma)
+    double mx = 0, my = 0;
+    for (const auto& p : res.params) {
+      if (p.json_name == "magnet_tilt_x_deg") mx = p.value;
+      if (p.json_name == "magnet_tilt_y_deg") my = p.value;
+    }
+    const double g = std::hypot(mx, my);
+    j["derived"] = {{"magnet_tilt_deg", g},
+                    {"magnet_tilt_azimuth_deg", g > 0 ? std::atan2(my, mx) * 180.0 / 3.14159265358979323846 : 0.0}};
+  }
   j["residual_rms_deg"] = res.residual_rms_deg;
   j["not_identifiable"] = res.not_identifiable;
   nlohmann::json conf = nlohmann::json::array();

@@ -154,3 +154,52 @@ TEST_CASE("diagnose: --curve-set syntax", "[analysis][diagnose]") {
   CHECK_THROWS_AS(parse_curve_set("1:dz=abc", 2), InputError);
   CHECK_THROWS_AS(parse_curve_set("dz=1", 2), InputError);
 }
+
+TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free zero offset absorbs; "
+          "one curve cannot separate them, two air gaps can",
+          "[analysis][diagnose]") {
+  const AnalyticField field{Magnet{}};
+  const ModelState base = default_state("two");
+  const auto truth = values_with(base, {{"sx", 0.05}, {"gain", 0.01}});
+  DiagnosisOptions o;
+  o.free = {"sx", "sy", "gain"};
+  o.starts = 3;
+  CurveInput a = synthetic(field, base, truth, 0.1, 180, 0.005, 3);
+  // One curve (exact field, r0 = 2.4 mm near the peak of Bz(r)): sx and sy give the same 2nd harmonic
+  // and differ in DC only, which the free zero offset takes: the report names the three.
+  const DiagnosisResult one = diagnose_curves(field, {a}, o);
+  CAPTURE(one.not_identifiable, one.condition);
+  REQUIRE_FALSE(one.not_identifiable.empty());
+  CHECK(std::find(one.not_identifiable.begin(), one.not_identifiable.end(), "sx_mm") != one.not_identifiable.end());
+  REQUIRE_FALSE(one.confounded.empty());
+  CHECK_THAT(one.confounded[0].text, Catch::Contains("sx_mm") && Catch::Contains("sy_mm") &&
+                                         Catch::Contains("zero_offset_deg") && Catch::Contains("load DC"));
+  CHECK(std::isfinite(param(one, "gain_mismatch").sigma));
+  // A second curve with the air gap 0.5 mm larger (known shift) and its own zero offset: the offsets'
+  // harmonics change with the gap, so the joint fit separates sx, sy, the gain and both zero offsets.
+  CurveInput b = synthetic(field, base, values_with(base, {{"sx", 0.05}, {"gain", 0.01}, {"dz", 0.5}}), -0.2, 180, 0.005, 4);
+  b.overrides.push_back(parse_curve_set("2:dz+=0.5", 2).second);
+  const DiagnosisResult two = diagnose_curves(field, {a, b}, o);
+  CAPTURE(two.not_identifiable, two.condition);
+  CHECK(two.not_identifiable.empty());
+  CHECK(param(two, "sx_mm").value == Approx(0.05).margin(4 * param(two, "sx_mm").sigma));
+  CHECK(param(two, "sy_mm").value == Approx(0.0).margin(4 * param(two, "sy_mm").sigma));
+  CHECK(param(two, "gain_mismatch").value == Approx(0.01).margin(4 * param(two, "gain_mismatch").sigma));
+  CHECK(param(two, "sx_mm").sigma < 0.005);
+  CHECK(param(two, "zero_offset_deg_2").value == Approx(-0.2).margin(0.05));
+}
+
+TEST_CASE("diagnose: default free set of `two` at the ideal mount is what physics.md predicts", "[analysis][diagnose]") {
+  // sx, sy (DC + 2nd harmonic), dx, dy (1st + 3rd); sensor tilt, gain and phase are combinations of sx, sy
+  // and the zero offset; dz has no first-order effect; of magnet tilt and channel offsets (1st harmonic)
+  // only as many as the 1st/3rd-harmonic content leaves room for.
+  const AnalyticField field{Magnet{}};
+  const ModelState base = default_state("two");
+  const std::vector<CurveInput> curves{synthetic(field, base, values_with(base, {}), 0.0, 180, 0.0)};
+  std::string note;
+  const auto def = default_free_set(field, curves, DiagnosisOptions{}, &note);
+  CAPTURE(def, note);
+  for (const char* n : {"sx", "sy", "dx", "dy"}) CHECK(std::find(def.begin(), def.end(), n) != def.end());
+  for (const char* n : {"dz", "tilt_x", "tilt_y", "gain", "phase"}) CHECK(std::find(def.begin(), def.end(), n) == def.end());
+  CHECK_THAT(note, Catch::Contains("gain_mismatch: left out"));
+}
