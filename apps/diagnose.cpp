@@ -45,6 +45,7 @@ struct Flags {
   unsigned seed = 1;
   double cond_limit = 1e4;
   std::string interp = "cubic";
+  double fd_step = 0;                    // --fd-step (0: by field)
 };
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -96,6 +97,7 @@ int run(int argc, char** argv) {
   app.add_option("--starts", f.starts, "start points of the fit (default 6; 1 = configured values only)");
   app.add_option("--seed", f.seed, "seed of the random starts (default 1)");
   app.add_option("--cond-limit", f.cond_limit, "condition number above which directions count as not identifiable (default 1e4)");
+  app.add_option("--fd-step", f.fd_step, "central-difference step in typical sizes (default 1e-4 exact field, 1e-2 fem:/grid:)");
   app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   magenc::parse_cli(app, argc, argv);
@@ -128,7 +130,16 @@ int run(int argc, char** argv) {
   fo.interp = magenc::parse_interp(f.interp, "--interp");
   const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, fo);
 
-  // 3. Fit.
+  // 3. Fit. On a discretised field (fem:, grid:, table:) the Jacobian uses a larger step (1e-2 typical sizes,
+  // see DiagnosisOptions::fd_step), and the default free set is chosen on the exact field of the same magnet.
+  magenc::FieldSourcePtr exact;
+  if (field->name() != "analytic" && field->name() != "linear") {
+    exact = magenc::make_field_source("analytic", cfg);
+    opts.identifiability_field = exact.get();
+    opts.fd_step = f.fd_step > 0 ? f.fd_step : 1e-2;
+  } else if (f.fd_step > 0) {
+    opts.fd_step = f.fd_step;
+  }
   const magenc::DiagnosisResult res = magenc::diagnose_curves(*field, curves, opts);
 
   // 4. Outputs, all or nothing.

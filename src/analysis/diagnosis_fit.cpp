@@ -81,7 +81,6 @@ std::vector<FitParameter> make_table() {
 #undef MAGENC_CHAIN_PARAM
 
 constexpr double kZeroScaleDeg = 0.1;  // typical zero offset between the encoders (scaling only)
-constexpr double kFdStep = 1e-4;       // central-difference step in scaled units (1e-4 of the typical size)
 
 std::string fmt_sci(double v) {
   std::ostringstream os;
@@ -217,6 +216,7 @@ struct Problem {
   bool free_zero = true;
   std::vector<double> base;      // table values at the configured point (curve 1's base)
   std::vector<double> scale;     // per variable
+  double fd_step = 1e-4;         // central-difference step in scaled units
   int n_shared() const { return static_cast<int>(free_idx.size()); }
   int n_vars() const { return n_shared() + (free_zero ? static_cast<int>(curves.size()) : 0); }
 
@@ -246,7 +246,7 @@ struct Problem {
 #pragma omp parallel for schedule(dynamic, 1)
     for (int e = 0; e < evals; ++e) {
       std::vector<double> w(u, u + n_vars());
-      if (e > 0) w[(e - 1) / 2] += (e % 2 == 1 ? kFdStep : -kFdStep);
+      if (e > 0) w[(e - 1) / 2] += (e % 2 == 1 ? fd_step : -fd_step);
       try {
         out[e] = residual(c, w.data());
       } catch (const std::exception& ex) {
@@ -259,7 +259,7 @@ struct Problem {
     const auto N = curves[c].curve.theta_deg.size();
     J->setZero(N, n_vars());
     for (int j = 0; j < ns; ++j)
-      for (Eigen::Index i = 0; i < N; ++i) (*J)(i, j) = wrap_deg(out[2 * j + 1][i] - out[2 * j + 2][i]) / (2 * kFdStep);
+      for (Eigen::Index i = 0; i < N; ++i) (*J)(i, j) = wrap_deg(out[2 * j + 1][i] - out[2 * j + 2][i]) / (2 * fd_step);
     if (free_zero) J->col(ns + c).setConstant(kZeroScaleDeg);
   }
 };
@@ -419,7 +419,7 @@ namespace {
 std::vector<std::string> free_set_at(const FieldSource& field, const std::vector<CurveInput>& curves,
                                      const DiagnosisOptions& opts, std::string* note) {
   const auto& t = fit_parameters();
-  Problem all{field, curves, {}, opts.free_zero, base_values(curves), {}};
+  Problem all{field, curves, {}, opts.free_zero, base_values(curves), {}, opts.fd_step};
   for (std::size_t i = 0; i < t.size(); ++i) {
     all.free_idx.push_back(static_cast<int>(i));
     all.scale.push_back(t[i].scale);
@@ -519,10 +519,12 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
   const auto& t = fit_parameters();
   DiagnosisResult res;
   std::vector<std::string> free_names = expand_free_names(opts.free);
-  if (free_names.empty()) free_names = default_free_set(field, curves, opts, &res.default_free_note);
+  if (free_names.empty())
+    free_names = default_free_set(opts.identifiability_field ? *opts.identifiability_field : field, curves, opts,
+                                  &res.default_free_note);
 
   // 4.1 Variables.
-  Problem p{field, curves, {}, opts.free_zero, base_values(curves), {}};
+  Problem p{field, curves, {}, opts.free_zero, base_values(curves), {}, opts.fd_step};
   for (const auto& n : free_names) {
     const int i = fit_parameter_index(n);
     if (i < 0) fit_parameter(n);  // throws the listing error
@@ -581,7 +583,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     }
     c.curve = std::move(t2);
   }
-  Problem pt{field, thin, p.free_idx, p.free_zero, p.base, p.scale};
+  Problem pt{field, thin, p.free_idx, p.free_zero, p.base, p.scale, p.fd_step};
   bool thinned = false;
   for (std::size_t c = 0; c < curves.size(); ++c) thinned |= thin[c].curve.size() != curves[c].curve.size();
   std::vector<Final> coarse;

@@ -80,6 +80,13 @@ struct DiagnosisOptions {
   double nominal_shift = 0.5;     // default free set: evaluated at the configured values + this many typical
                                   // sizes on every parameter (an exactly ideal mount hides second-order effects)
   int max_iterations = 100;
+  double fd_step = 1e-4;          // central-difference step in typical sizes: 1e-4 suits the exact field
+                                  // (smooth, ~1e-12 accurate); piecewise FE/grid fields need ~1e-2, or the
+                                  // derivative sees element-to-element kinks (diagnose sets it by field)
+  // Field on which the default free set is chosen (null: the fitted field). diagnose passes the exact field of
+  // the configured magnet when fitting on an FE or grid field, so that discretisation artefacts do not make
+  // physically confounded parameters look separable.
+  const FieldSource* identifiability_field = nullptr;
 };
 
 // A fitted or fixed value.

@@ -82,6 +82,7 @@ RoundTripResult run_round_trip(const FieldSource& field, const ModelState& base,
     DiagnosisOptions d;
     d.free = free;
     d.starts = opts.starts;
+    d.fd_step = opts.fd_step;
     d.seed = opts.seed + static_cast<unsigned>(k);
     ++res.cases;
     DiagnosisResult r;
@@ -172,32 +173,57 @@ Experiment run_experiment(const FieldSource& field, const ModelState& base, cons
 
 std::vector<ExperimentSpec> anomaly_experiments() {
   std::vector<ExperimentSpec> e;
+  const std::vector<std::pair<std::string, double>> sx_set{{"sx", 0.1}};
   // 1. Half the static-offset error the simulation predicts for the rig's sx = 0.1 mm.
   e.push_back({"half the predicted static-offset error",
-               "sx = 0.05 mm (half the 2nd harmonic of the rig's nominal sx = 0.1 mm)",
+               "sx = 0.05 mm: the 2nd harmonic of half the rig's nominal sx = 0.1 mm",
                {{"sx", 0.05}},
                {{"the rig's offset was smaller: sx free", {"sx"}, {}},
-                {"sx = 0.1 mm as set, plus sy free", {"sy"}, {{"sx", 0.1}}},
-                {"sx = 0.1 mm as set, plus air gap dz free", {"dz"}, {{"sx", 0.1}}}}});
-  // 2. A 1st harmonic under a purely static offset.
-  e.push_back({"a 1st harmonic under a purely static offset",
-               "sx = 0.1 mm with a residual dynamic eccentricity dx = 0.02 mm",
-               {{"sx", 0.1}, {"dx", 0.02}},
-               {{"sx = 0.1 mm as set, dynamic eccentricity dx, dy free", {"dx", "dy"}, {{"sx", 0.1}}},
-                {"static offsets only: sx, sy free", {"sx", "sy"}, {}}}});
+                {"sx = 0.1 mm as set + gain, phase free", {"gain", "phase"}, sx_set},
+                {"sx = 0.1 mm as set + sensor tilt x, y free", {"tilt_x", "tilt_y"}, sx_set},
+                {"sx = 0.1 mm as set + sy free", {"sy"}, sx_set},
+                {"sx = 0.1 mm as set + air gap dz free", {"dz"}, sx_set}}});
+  e.push_back({"half the predicted static-offset error",
+               "sx = 0.1 mm as set, with a gain mismatch g = -0.01 and phase error -0.5 deg",
+               {{"sx", 0.1}, {"gain", -0.01}, {"phase", -0.5}},
+               {{"the rig's offset was smaller: sx free", {"sx"}, {}},
+                {"sx = 0.1 mm as set + gain, phase free", {"gain", "phase"}, sx_set},
+                {"sx = 0.1 mm as set + sensor tilt x, y free", {"tilt_x", "tilt_y"}, sx_set}}});
+  // 2. A 1st harmonic under a purely static offset: which source, and does c3 tell them apart?
+  const std::vector<Candidate> c1_candidates{
+      {"sx = 0.1 mm as set + dynamic eccentricity dx, dy free", {"dx", "dy"}, sx_set},
+      {"sx = 0.1 mm as set + channel offsets free", {"offset_cos", "offset_sin"}, sx_set},
+      {"sx = 0.1 mm as set + magnet tilt free", {"magnet_tilt_x", "magnet_tilt_y"}, sx_set}};
+  e.push_back({"a 1st harmonic under a purely static offset", "sx = 0.1 mm + dynamic eccentricity dx = 0.02 mm",
+               {{"sx", 0.1}, {"dx", 0.02}}, c1_candidates});
+  e.push_back({"a 1st harmonic under a purely static offset", "sx = 0.1 mm + cos-channel offset 0.3 mT",
+               {{"sx", 0.1}, {"offset_cos", 0.3}}, c1_candidates});
+  e.push_back({"a 1st harmonic under a purely static offset", "sx = 0.1 mm + magnet tilt 0.5 deg towards +x",
+               {{"sx", 0.1}, {"magnet_tilt_x", 0.5}}, c1_candidates});
   // 3. A DC of the opposite sign for a y offset.
   e.push_back({"a DC of the opposite sign for a y offset",
-               "sy = 0.1 mm with a zero offset of +0.8 deg between the encoders",
-               {{"sy", 0.1}},
-               {{"sy free, encoder zero offset known to be 0", {"sy"}, {}, false},
-                {"sy free, free encoder zero offset (default)", {"sy"}, {}, true}},
-               0.8});
+               "sy = 0.1 mm + phase error 3 deg (a0 = delta/2 outweighs the offset's DC); encoder zero offset 0",
+               {{"sy", 0.1}, {"phase", 3.0}},
+               {{"sy free, zero offset known to be 0", {"sy"}, {}, false},
+                {"sy, phase free, zero offset known to be 0", {"sy", "phase"}, {}, false},
+                {"sy, sensor tilt free, zero offset known to be 0", {"sy", "tilt_x", "tilt_y"}, {}, false},
+                {"sy free, free zero offset (diagnose's default)", {"sy"}, {}, true}}});
   // 4. A 4th harmonic at the best mount.
-  e.push_back({"a 4th harmonic at the best mount",
-               "sx = sy = 0.07 mm (residual static offsets; c4 is 2nd order in s)",
+  e.push_back({"a 4th harmonic at the best mount", "sx = sy = 0.07 mm residual static offsets (c4 is 2nd order in s)",
                {{"sx", 0.07}, {"sy", 0.07}},
                {{"sx, sy free", {"sx", "sy"}, {}},
-                {"dynamic eccentricity only: dx, dy free", {"dx", "dy"}, {}}}});
+                {"gain, phase free", {"gain", "phase"}, {}},
+                {"dynamic eccentricity dx, dy free", {"dx", "dy"}, {}}}});
+  e.push_back({"a 4th harmonic at the best mount", "gain mismatch 0.03 + phase error 2 deg (signal chain only)",
+               {{"gain", 0.03}, {"phase", 2.0}},
+               {{"sx, sy free", {"sx", "sy"}, {}},
+                {"gain, phase free", {"gain", "phase"}, {}},
+                {"sensor tilt x, y free", {"tilt_x", "tilt_y"}, {}}}});
+  e.push_back({"a 4th harmonic at the best mount", "dynamic eccentricity dx = 0.05 mm (diff4: field's 3rd angular harmonic aliases to c4)",
+               {{"dx", 0.05}},
+               {{"dx, dy free", {"dx", "dy"}, {}},
+                {"sx, sy free", {"sx", "sy"}, {}},
+                {"gain, phase free", {"gain", "phase"}, {}}}});
   return e;
 }
 

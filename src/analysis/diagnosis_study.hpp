@@ -38,6 +38,7 @@ struct RoundTripOptions {
   double max_zero_deg = 0.5;            // zero offset drawn uniformly in +-max_zero_deg
   std::vector<std::string> free;        // fitted set (empty: default_free_set at the base point)
   int starts = 3;
+  double fd_step = 1e-4;                // DiagnosisOptions::fd_step (1e-2 on FE/grid fields)
 };
 
 struct RoundTripParam {

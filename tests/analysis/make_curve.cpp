@@ -10,11 +10,13 @@
 
 #include "analysis/diagnosis_study.hpp"
 #include "core/errors.hpp"
+#include "fem_field_scheme.hpp"
 #include "fields/field_factory.hpp"
 #include "report/study_output.hpp"
 
 int main(int argc, char** argv) {
   return magenc::run_main("magenc_make_curve", [&] {
+    magenc::register_fem_field_scheme();
     CLI::App app{"synthetic measured curve"};
     std::string out, field = "analytic", array = "two";
     int points = 360, quant = 8192, turns = 1;
