@@ -151,6 +151,7 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
               {"starts", info.options.starts},
               {"free_zero_offset", info.options.free_zero},
               {"cond_limit", info.options.cond_limit},
+              {"fd_step_typical_sizes", info.options.fd_step},
               {"threads", omp_get_max_threads()},
               {"fit_seconds", res.fit_seconds},
               {"wall_seconds", info.wall_s},
