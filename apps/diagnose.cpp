@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 
+#include "analysis/sweep.hpp"
 #include "analysis/diagnosis_fit.hpp"
 #include "analysis/measured_curve.hpp"
 #include "core/atomic_output.hpp"

@@ -15,6 +15,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "analysis/sweep.hpp"
 #include "analysis/diagnosis_study.hpp"
 #include "core/errors.hpp"
 #include "core/omp_wait.hpp"

@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
-#include "report/study_output.hpp"
+#include "core/format.hpp"
 #include "core/units.hpp"
 #include "probe/spectrum.hpp"
 

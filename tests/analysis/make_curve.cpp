@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "analysis/sweep.hpp"
 #include "analysis/diagnosis_study.hpp"
 #include "core/errors.hpp"
 #include "fem_field_scheme.hpp"
