@@ -198,7 +198,7 @@ void FastPipeline::pp(const Mount& m, double* pp_deg) const {
 std::vector<KeySpec> RadiusScanOptions::keys() {
   std::vector<KeySpec> k = {
       string_key("radius.fields", "analytic", {},
-                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, fem:DIR)"),
+                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, table:FILE, fem:DIR)"),
       string_key("radius.fem_dir", "output/field", {},
                  "add fem:<dir> when <dir>/solve.json exists and no fem: field is listed (empty = never)"),
       string_key("radius.arrays", "two,diff4,ring:8", {}, "probe arrays to compare, comma-separated"),
