@@ -33,6 +33,11 @@ const std::vector<AnalyticField::NodeTable>& AnalyticField::node_tables() {
 
 AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&node_tables()) {
   magnet_.validate();
+  const double el_rad = deg_to_rad(magnet_.magnetization_elevation_deg);
+  if (magnet_.magnetization_elevation_deg != 0.0) {
+    cos_el_ = std::cos(el_rad);
+    sin_el_ = std::sin(el_rad);
+  }
   const double alpha_rad = deg_to_rad(magnet_.magnetization_deg);
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
@@ -73,6 +78,92 @@ Eigen::Vector2d two_d_dipole_integral(double x, double y, double R) {
   return {k * (2.0 * x * x / r2 - 1.0), k * (2.0 * x * y / r2)};
 }
 }  // namespace
+
+namespace {
+// Bulirsch's general complete elliptic integral
+//   cel(kc, p, c, s) = Int_0^{pi/2} (c cos^2 t + s sin^2 t) / ((cos^2 t + p sin^2 t) sqrt(cos^2 t + kc^2 sin^2 t)) dt
+// (R. Bulirsch, Numer. Math. 13 (1969) 305; the iteration as given by Derby & Olbert, Am. J. Phys. 78
+// (2010) 229). Converges quadratically (AGM-like); the stopping test |g - k| <= g*1e-9 leaves a
+// relative error ~1e-18. kc != 0 (kc = 0 only on a rim circle of the magnet).
+double cel(double kc, double p, double c, double s) {
+  constexpr double errtol = 1e-9;
+  double k = std::abs(kc), pp = p, cc = c, ss = s, em = 1.0;
+  if (p > 0) {
+    pp = std::sqrt(p);
+    ss = s / pp;
+  } else {
+    double f = kc * kc;
+    double q = 1.0 - f;
+    const double g = 1.0 - pp;
+    f = f - pp;
+    q = q * (ss - c * pp);
+    pp = std::sqrt(f / g);
+    cc = (c - ss) / g;
+    ss = -q / (g * g * pp) + cc * pp;
+  }
+  double f = cc;
+  cc = cc + ss / pp;
+  double g = k / pp;
+  ss = 2.0 * (ss + f * g);
+  pp = g + pp;
+  g = em;
+  em = k + em;
+  double kk = k;
+  for (int it = 0; it < 60 && std::abs(g - k) > g * errtol; ++it) {
+    k = 2.0 * std::sqrt(kk);
+    kk = k * em;
+    f = cc;
+    cc = cc + ss / pp;
+    g = kk / pp;
+    ss = 2.0 * (ss + f * g);
+    pp = g + pp;
+    g = em;
+    em = k + em;
+  }
+  return 0.5 * kPi * (ss + cc * em) / (em * (em + pp));
+}
+}  // namespace
+
+// Axial magnetization M0 (B0 = Br here; the caller scales by sin(el)). Its
+// magnetic charges +-M0 on the top/bottom faces give, outside the magnet, the
+// same B as the equivalent surface current K = M0 phi_hat on the curved face
+// (an ideal finite solenoid); inside, the current model gives B = mu0 (H + M)
+// directly, so this is the total B everywhere (no interior term to add). With
+// a = R, b = L/2, z_(+-) = z +- b (Derby & Olbert 2010, eqs. for a finite solenoid):
+//   alpha_(+-) = a / sqrt(z_(+-)^2 + (rho + a)^2),  beta_(+-) = z_(+-) / sqrt(z_(+-)^2 + (rho + a)^2),
+//   gamma = (a - rho)/(a + rho),  kc_(+-) = sqrt((z_(+-)^2 + (a - rho)^2) / (z_(+-)^2 + (a + rho)^2)),
+//   B_rho = (Br/pi) [alpha_+ cel(kc_+, 1, 1, -1) - alpha_- cel(kc_-, 1, 1, -1)]
+//   B_z   = (Br/pi) a/(a + rho) [beta_+ cel(kc_+, gamma^2, 1, gamma) - beta_- cel(kc_-, gamma^2, 1, gamma)].
+// On the axis (rho = 0: kc = 1, gamma = 1, cel(1,1,1,1) = pi/2, cel(1,1,1,-1) = 0) this is
+//   B_z = (Br/2) [z_+/sqrt(z_+^2 + a^2) - z_-/sqrt(z_-^2 + a^2)],  B_rho = 0,
+// the textbook on-axis field (tested), and far away a dipole of moment M0 pi a^2 L (tested).
+Vec3 AnalyticField::B_axial_unit_T(double x, double y, double z) const {
+  const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
+  const double rho = std::hypot(x, y);
+  const double zp = z + b, zm = z - b;
+  const double sp = std::sqrt(zp * zp + (rho + a) * (rho + a)), sm = std::sqrt(zm * zm + (rho + a) * (rho + a));
+  const double kcp = std::sqrt(zp * zp + (a - rho) * (a - rho)) / sp;
+  const double kcm = std::sqrt(zm * zm + (a - rho) * (a - rho)) / sm;
+  const double gamma = (a - rho) / (a + rho);
+  const double B0 = magnet_.br_T / kPi;
+  const double Bz = B0 * a / (a + rho) *
+                    (zp / sp * cel(kcp, gamma * gamma, 1.0, gamma) - zm / sm * cel(kcm, gamma * gamma, 1.0, gamma));
+  if (!(rho > 0)) return {0.0, 0.0, Bz};
+  const double Brho = B0 * (a / sp * cel(kcp, 1.0, 1.0, -1.0) - a / sm * cel(kcm, 1.0, 1.0, -1.0));
+  return {Brho * x / rho, Brho * y / rho, Bz};
+}
+
+double AnalyticField::Bz_axial_unit_T(double x, double y, double z) const {
+  const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
+  const double rho = std::hypot(x, y);
+  const double zp = z + b, zm = z - b;
+  const double sp = std::sqrt(zp * zp + (rho + a) * (rho + a)), sm = std::sqrt(zm * zm + (rho + a) * (rho + a));
+  const double kcp = std::sqrt(zp * zp + (a - rho) * (a - rho)) / sp;
+  const double kcm = std::sqrt(zm * zm + (a - rho) * (a - rho)) / sm;
+  const double gamma = (a - rho) / (a + rho);
+  return magnet_.br_T / kPi * a / (a + rho) *
+         (zp / sp * cel(kcp, gamma * gamma, 1.0, gamma) - zm / sm * cel(kcm, gamma * gamma, 1.0, gamma));
+}
 
 double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
@@ -152,16 +243,19 @@ Vec3 AnalyticField::B_T(const Vec3& p) const {
   const Vec3 Ba = B_aligned_T(xa, ya, p.z());
   Vec3 B(cos_alpha_ * Ba.x() - sin_alpha_ * Ba.y(), sin_alpha_ * Ba.x() + cos_alpha_ * Ba.y(), Ba.z());
   if (std::hypot(p.x(), p.y()) < magnet_.radius_mm && std::abs(p.z()) < magnet_.top_z_mm()) {
-    B.x() += magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside
+    B.x() += magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside (diametric part)
     B.y() += magnet_.br_T * sin_alpha_;
   }
-  return B;
+  if (sin_el_ == 0.0) return B;
+  // Elevation: diametric part scaled by cos(el), axial part (total B already) by sin(el).
+  return cos_el_ * B + sin_el_ * B_axial_unit_T(p.x(), p.y(), p.z());
 }
 
 double AnalyticField::Bz_T(const Vec3& p) const {
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
-  return Bz_aligned_T(xa, ya, p.z());
+  if (sin_el_ == 0.0) return Bz_aligned_T(xa, ya, p.z());
+  return cos_el_ * Bz_aligned_T(xa, ya, p.z()) + sin_el_ * Bz_axial_unit_T(p.x(), p.y(), p.z());
 }
 
 Eigen::Matrix3Xd AnalyticField::B_T(const Eigen::Matrix3Xd& p_mm) const {
