@@ -137,7 +137,7 @@ double cel(double kc, double p, double c, double s) {
 // On the axis (rho = 0: kc = 1, gamma = 1, cel(1,1,1,1) = pi/2, cel(1,1,1,-1) = 0) this is
 //   B_z = (Br/2) [z_+/sqrt(z_+^2 + a^2) - z_-/sqrt(z_-^2 + a^2)],  B_rho = 0,
 // the textbook on-axis field (tested), and far away a dipole of moment M0 pi a^2 L (tested).
-Vec3 AnalyticField::B_axial_unit_T(double x, double y, double z) const {
+Vec3 AnalyticField::B_axial_closed_form_T(double x, double y, double z) const {
   const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
   const double rho = std::hypot(x, y);
   const double zp = z + b, zm = z - b;
@@ -153,7 +153,7 @@ Vec3 AnalyticField::B_axial_unit_T(double x, double y, double z) const {
   return {Brho * x / rho, Brho * y / rho, Bz};
 }
 
-double AnalyticField::Bz_axial_unit_T(double x, double y, double z) const {
+double AnalyticField::Bz_axial_closed_form_T(double x, double y, double z) const {
   const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
   const double rho = std::hypot(x, y);
   const double zp = z + b, zm = z - b;
@@ -186,7 +186,17 @@ double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   return magnet_.br_T * R / (4.0 * kPi) * weight * (2.0 * z * L) * acc;
 }
 
-Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
+// Full kernel. Per node one division: with e_i = s_i + a_i, s12 = s1 + s2 and
+// q = 1/(s1 s2 s12 e1 e2):  1/(s1 s2 s12) = e1 e2 q,  g/L = [(a1 + a2 + s2) s12 + a1 (a1 + a2)] q
+// (above/below the slab), gr = -(s1 e1 + s2 e2) s12 q (beside it).
+// With kAxial, the same nodes also give the axial part (unit M0 along z) as the field of the
+// equivalent surface current K = M0 phi_hat on the curved face (Biot-Savart, z' integrated):
+//   B_ax = Br R/(4 pi) Int (cos phi' (1/s1 - 1/s2), sin phi' (1/s1 - 1/s2), (R - x cos phi' - y sin phi') g) dphi'
+// (total B, inside too). Beside the magnet the pole part 2/rho^2 of g integrates in closed form:
+// Int (R - x cos phi' - y sin phi') 2/rho^2 dphi' = 4 pi/R inside (r < R), 0 outside (the 2-D field of
+// a solenoid's current sheet). The integrands are analytic in the same strip as the diametric ones.
+template <bool kAxial>
+void AnalyticField::B_aligned_parts_T(double x, double y, double z, Vec3& Bd, Vec3& Bax) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double a1 = std::abs(t1), a2 = std::abs(t2);
@@ -195,67 +205,140 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
-  double acc_x = 0.0, acc_y = 0.0, acc_z = 0.0;
+  double acc_x = 0.0, acc_y = 0.0, acc_z = 0.0, acc_zs = 0.0, acc_ax = 0.0;
   if (t1 * t2 >= 0) {
     // Above or below the magnet's slab: g = L*N/D without cancellation.
-#pragma omp simd reduction(+ : acc_x, acc_y, acc_z)
+    const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
+#pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
       const double dx = x - R * cphi[j], dy = y - R * sphi[j];
       const double rho2 = dx * dx + dy * dy;
       const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double inv12 = 1.0 / (s1 + s2);
-      const double num = a1 + a2 + s2 + a1 * (a1 + a2) * inv12;
-      const double g = num / (s1 * s2 * (s1 + a1) * (s2 + a2));  // times L below
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const double g = ((a12 + s2) * s12 + a1a12) * q;  // times L below
+      const double kz = e1 * e2 * q;                      // 1/(s1 s2 (s1 + s2))
       acc_x += cphi[j] * dx * g;
       acc_y += cphi[j] * dy * g;
-      acc_z += cphi[j] / (s1 * s2) * inv12;
+      acc_z += cphi[j] * kz;
+      if constexpr (kAxial) {
+        acc_zs += sphi[j] * kz;
+        acc_ax += (R - x * cphi[j] - y * sphi[j]) * g;
+      }
     }
     acc_x *= L;
     acc_y *= L;
+    acc_ax *= L;
   } else {
     // Beside the magnet (|z| < L/2): g = (a1/s1 + a2/s2)/rho^2 has a pole at
     // rho = 0 (the curved face). Split g = 2/rho^2 + gr with the regular part
     // gr = -[1/(s1 (s1 + a1)) + 1/(s2 (s2 + a2))]; the pole part integrates in
     // closed form (2-D field of a cos-charged circle, see two_d_dipole_integral).
-#pragma omp simd reduction(+ : acc_x, acc_y, acc_z)
+#pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
       const double dx = x - R * cphi[j], dy = y - R * sphi[j];
       const double rho2 = dx * dx + dy * dy;
       const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double gr = -(1.0 / (s1 * (s1 + a1)) + 1.0 / (s2 * (s2 + a2)));
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const double gr = -(s1 * e1 + s2 * e2) * s12 * q;
+      const double kz = e1 * e2 * q;
       acc_x += cphi[j] * dx * gr;
       acc_y += cphi[j] * dy * gr;
-      acc_z += cphi[j] / (s1 * s2 * (s1 + s2));
+      acc_z += cphi[j] * kz;
+      if constexpr (kAxial) {
+        acc_zs += sphi[j] * kz;
+        acc_ax += (R - x * cphi[j] - y * sphi[j]) * gr;
+      }
     }
     const double weight = 2.0 * kPi / n;
     const Eigen::Vector2d I = two_d_dipole_integral(x, y, R);
     acc_x += 2.0 * I.x() / weight;  // the sums below are multiplied by the weight
     acc_y += 2.0 * I.y() / weight;
+    if constexpr (kAxial)
+      if (x * x + y * y < R * R) acc_ax += 2.0 * (2.0 * kPi / R) / weight;
   }
   const double pref = magnet_.br_T * R / (4.0 * kPi) * (2.0 * kPi / n);
-  return {pref * acc_x, pref * acc_y, pref * (2.0 * z * L) * acc_z};
+  Bd = {pref * acc_x, pref * acc_y, pref * (2.0 * z * L) * acc_z};
+  if constexpr (kAxial) Bax = {pref * (2.0 * z * L) * acc_z, pref * (2.0 * z * L) * acc_zs, pref * acc_ax};
+}
+
+Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
+  Vec3 Bd, unused;
+  B_aligned_parts_T<false>(x, y, z, Bd, unused);
+  return Bd;
+}
+
+// Bz only, diametric and axial parts (elevation != 0): the nodes of the full kernel, z parts only.
+void AnalyticField::Bz_aligned_parts_T(double x, double y, double z, double& bz_d, double& bz_ax) const {
+  const double R = magnet_.radius_mm, L = magnet_.height_mm;
+  const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
+  const double a1 = std::abs(t1), a2 = std::abs(t2);
+  const double t1sq = t1 * t1, t2sq = t2 * t2;
+  const NodeTable& tab = table_for(std::hypot(x, y), z);
+  const double* __restrict cphi = tab.cos_phi.data();
+  const double* __restrict sphi = tab.sin_phi.data();
+  const int n = tab.n;
+  double acc_z = 0.0, acc_ax = 0.0;
+  if (t1 * t2 >= 0) {
+    const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
+#pragma omp simd reduction(+ : acc_z, acc_ax)
+    for (int j = 0; j < n; ++j) {
+      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
+      const double rho2 = dx * dx + dy * dy;
+      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      acc_z += cphi[j] * e1 * e2 * q;
+      acc_ax += (R - x * cphi[j] - y * sphi[j]) * ((a12 + s2) * s12 + a1a12) * q;
+    }
+    acc_ax *= L;
+  } else {
+#pragma omp simd reduction(+ : acc_z, acc_ax)
+    for (int j = 0; j < n; ++j) {
+      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
+      const double rho2 = dx * dx + dy * dy;
+      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      acc_z += cphi[j] * e1 * e2 * q;
+      acc_ax -= (R - x * cphi[j] - y * sphi[j]) * (s1 * e1 + s2 * e2) * s12 * q;
+    }
+    if (x * x + y * y < R * R) acc_ax += 2.0 * (2.0 * kPi / R) / (2.0 * kPi / n);
+  }
+  const double pref = magnet_.br_T * R / (4.0 * kPi) * (2.0 * kPi / n);
+  bz_d = pref * (2.0 * z * L) * acc_z;
+  bz_ax = pref * acc_ax;
 }
 
 Vec3 AnalyticField::B_T(const Vec3& p) const {
   // Rotate the point into the frame where M0 is along +x, evaluate, rotate back.
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
-  const Vec3 Ba = B_aligned_T(xa, ya, p.z());
+  Vec3 Ba, Bax;
+  if (sin_el_ == 0.0) {
+    B_aligned_parts_T<false>(xa, ya, p.z(), Ba, Bax);
+  } else {
+    // Elevation: diametric part scaled by cos(el), axial part (total B already) by sin(el);
+    // both are vectors of the aligned frame, rotated back together.
+    B_aligned_parts_T<true>(xa, ya, p.z(), Ba, Bax);
+    Ba = cos_el_ * Ba + sin_el_ * Bax;
+  }
   Vec3 B(cos_alpha_ * Ba.x() - sin_alpha_ * Ba.y(), sin_alpha_ * Ba.x() + cos_alpha_ * Ba.y(), Ba.z());
   if (std::hypot(p.x(), p.y()) < magnet_.radius_mm && std::abs(p.z()) < magnet_.top_z_mm()) {
-    B.x() += magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside (diametric part)
-    B.y() += magnet_.br_T * sin_alpha_;
+    B.x() += cos_el_ * magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside (diametric part)
+    B.y() += cos_el_ * magnet_.br_T * sin_alpha_;
   }
-  if (sin_el_ == 0.0) return B;
-  // Elevation: diametric part scaled by cos(el), axial part (total B already) by sin(el).
-  return cos_el_ * B + sin_el_ * B_axial_unit_T(p.x(), p.y(), p.z());
+  return B;
 }
 
 double AnalyticField::Bz_T(const Vec3& p) const {
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
   if (sin_el_ == 0.0) return Bz_aligned_T(xa, ya, p.z());
-  return cos_el_ * Bz_aligned_T(xa, ya, p.z()) + sin_el_ * Bz_axial_unit_T(p.x(), p.y(), p.z());
+  double bz_d = 0, bz_ax = 0;
+  Bz_aligned_parts_T(xa, ya, p.z(), bz_d, bz_ax);
+  return cos_el_ * bz_d + sin_el_ * bz_ax;
 }
 
 Eigen::Matrix3Xd AnalyticField::B_T(const Eigen::Matrix3Xd& p_mm) const {

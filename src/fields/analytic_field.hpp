@@ -32,8 +32,10 @@
 // Magnetization elevation el (magnet.magnetization_elevation_deg): M = M0 (cos el
 // cos beta, cos el sin beta, sin el). The diametric part is the kernel above
 // scaled by cos el; the axial part M0 sin el (charges +-M0 sin el on the top and
-// bottom faces, equivalently a surface current on the curved face) has a closed
-// form with complete elliptic integrals (B_axial_unit_T) scaled by sin el.
+// bottom faces, equivalently a surface current M0 sin el phi_hat on the curved
+// face) is integrated over z' in closed form too, leaving phi' integrals on the
+// same nodes (B_aligned_parts_T); an independent closed form with complete
+// elliptic integrals (B_axial_closed_form_T) cross-checks it in the tests.
 #pragma once
 #include <vector>
 
@@ -57,6 +59,12 @@ class AnalyticField final : public FieldSource {
   bool inside_or_on_magnet(const Vec3& p_mm) const;
   // Number of midpoint nodes the quadrature uses at p_mm (tests, benchmarks).
   int nodes_at(const Vec3& p_mm) const;
+  // Field of the axial magnetization alone with |M| = M0 (elevation 90 deg), total B
+  // (inside too), by an independent closed form: the finite solenoid with complete
+  // elliptic integrals (Bulirsch's cel). A cross-check of the quadrature (tests); the
+  // field itself uses the quadrature, which shares its nodes with the diametric part.
+  Vec3 B_axial_closed_form_T(const Vec3& p_mm) const { return B_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
+  double Bz_axial_closed_form_T(const Vec3& p_mm) const { return Bz_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
 
   static constexpr double kQuadratureExponent = 36.0;  // exp(-36) ~ 2e-16
   static constexpr int kMinNodes = 16;
@@ -76,10 +84,13 @@ class AnalyticField final : public FieldSource {
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;
-  // Field of the axial magnetization with |M| = M0 (magnetization elevation
-  // 90 deg), total B (inside too): closed form with complete elliptic integrals.
-  Vec3 B_axial_unit_T(double x_mm, double y_mm, double z_mm) const;
-  double Bz_axial_unit_T(double x_mm, double y_mm, double z_mm) const;
+  Vec3 B_axial_closed_form_T(double x_mm, double y_mm, double z_mm) const;
+  double Bz_axial_closed_form_T(double x_mm, double y_mm, double z_mm) const;
+  // Diametric part (M0 along +x, no interior term) and, with kAxial, the axial
+  // part (unit M0 along +z, total B) from the same quadrature nodes.
+  template <bool kAxial>
+  void B_aligned_parts_T(double x_mm, double y_mm, double z_mm, Vec3& B_diametric, Vec3& B_axial) const;
+  void Bz_aligned_parts_T(double x_mm, double y_mm, double z_mm, double& bz_diametric, double& bz_axial) const;
 
   Magnet magnet_;
   double cos_alpha_ = 1, sin_alpha_ = 0;  // azimuth of M0 in the magnet frame

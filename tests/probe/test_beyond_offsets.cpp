@@ -461,3 +461,36 @@ TEST_CASE("magnetization elevation in the probe pipeline", "[probe][elevation]")
   CHECK(eq.c_deg[1] == Approx(two.c_deg[1]).epsilon(1e-9));
   CHECK(eq.c_deg[2] == Approx(two.c_deg[2]).epsilon(1e-6));
 }
+
+TEST_CASE("angle_error_at and probe_normals honour tilts, chain and elevation", "[probe][tilt][chain]") {
+  Magnet mag;
+  mag.magnetization_elevation_deg = 3.0;
+  const AnalyticField f(mag);
+  ProbeSetup s = setup_for("diff4", 360);
+  s.chain.offset_cos_mT = 0.2;
+  s.chain.gain_mismatch = -0.01;
+  s.chain.phase_error_deg = 0.5;
+  Mount m{0.05, -0.02, 0.03, 0.01, 0.1};
+  m.tilt_x_deg = 0.7;
+  m.tilt_y_deg = -0.4;
+  m.magnet_tilt_deg = 0.6;
+  m.magnet_tilt_azimuth_deg = 120.0;
+  const AngleErrorResult uniform = angle_error(f, s, m);
+  Eigen::VectorXd theta_deg(3);
+  theta_deg << 359.0, 17.0, 0.0;
+  const AngleErrorResult at = angle_error_at(f, s, m, theta_deg);
+  CHECK(at.eps_deg[0] == Approx(uniform.eps_deg[359]).margin(1e-12));
+  CHECK(at.eps_deg[1] == Approx(uniform.eps_deg[17]).margin(1e-12));
+  CHECK(at.eps_deg[2] == Approx(uniform.eps_deg[0]).margin(1e-12));
+  for (Eigen::Index k = 0; k < 4; ++k) CHECK(at.probe_B_T(1, k) == Approx(uniform.probe_B_T(17, k)).epsilon(1e-12));
+  // Normals: one per probe and angle, unit, equal to probe_normal; the readings are n.B there.
+  const Eigen::Matrix3Xd n = probe_normals(s, m, theta_deg);
+  const Eigen::Matrix3Xd p = probe_paths_mm(s, m, theta_deg);
+  REQUIRE(n.cols() == 12);
+  for (Eigen::Index c = 0; c < n.cols(); ++c) {
+    CHECK(n.col(c).norm() == Approx(1.0).epsilon(1e-15));
+    const double th = deg_to_rad(theta_deg[c / 4]);
+    CHECK((n.col(c) - probe_normal(m, th)).norm() < 1e-15);
+    CHECK(at.probe_B_T(c / 4, c % 4) == Approx(n.col(c).dot(f.B_T(Vec3(p.col(c))))).epsilon(1e-13));
+  }
+}
