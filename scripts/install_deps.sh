@@ -14,6 +14,7 @@ PKGS=(
   nlohmann-json3-dev       # JSON (solve.json)
   libbenchmark-dev         # Google Benchmark (bench target)
   gnuplot-nox              # plots (PNG via pngcairo)
+  libceres-dev             # Ceres Solver: nonlinear least squares (diagnose)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh; ASan/UBSan runtimes)
   llvm-14                  # llvm-symbolizer: readable sanitizer stack traces
 )
