@@ -123,7 +123,7 @@ TEST_CASE("diagnose: a parameter with no effect at this point is reported, not g
   CHECK_THAT(note, Catch::Contains("dz_mm: left out, it barely moves the curve"));
 }
 
-TEST_CASE("diagnose: linear field, dy has no effect and is confounded; multi-start finds the minimum",
+TEST_CASE("diagnose: linear field, dy has no effect and is confounded, multi-start finds the minimum",
           "[analysis][diagnose]") {
   const LinearField field;
   const ModelState base = default_state("two");
@@ -155,7 +155,7 @@ TEST_CASE("diagnose: --curve-set syntax", "[analysis][diagnose]") {
   CHECK_THROWS_AS(parse_curve_set("dz=1", 2), InputError);
 }
 
-TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free zero offset absorbs; "
+TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free zero offset absorbs, "
           "one curve cannot separate them, two air gaps can",
           "[analysis][diagnose]") {
   const AnalyticField field{Magnet{}};

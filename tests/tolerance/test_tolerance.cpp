@@ -120,7 +120,7 @@ TEST_CASE("tolerance box rejects bad half-widths", "[tolerance][bad-input]") {
   CHECK_THROWS_AS(monte_carlo_samples(ToleranceBox{}, 0, 1), InputError);
 }
 
-TEST_CASE("tilts in the box: the five offsets draw as before; corners, groups", "[tolerance][tilt]") {
+TEST_CASE("tilts in the box: the five offsets draw as before, corners, groups", "[tolerance][tilt]") {
   ToleranceBox old_box;  // five offsets only (tilt half-widths 0 by default)
   ToleranceBox tilted = old_box;
   tilted.tilt_x_deg = 0.5;
