@@ -41,7 +41,11 @@ std::vector<KeySpec> fem_keys() {
       real_key("mesh.min_dihedral_deg", 15.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
-      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner"),
+      string_key("fem.solver", "auto", {"auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"},
+                 "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
+                 "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-gamg when built with "
+                 "PETSc, else eigen-pcg"),
+      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner of fem.solver = eigen-pcg"),
       real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
@@ -104,6 +108,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   SolverOptions& o = s.solver;
   o.order = static_cast<int>(cfg.integer("fem.order"));
   o.robin = cfg.str("fem.boundary") == "robin";
+  o.solver = cfg.str("fem.solver");
   o.preconditioner = cfg.str("fem.preconditioner");
   o.tolerance = cfg.real("fem.tolerance");
   o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));

@@ -8,6 +8,7 @@
 
 #include "errors.hpp"
 #include "magenc_version.hpp"
+#include "linear_solver.hpp"
 #include "vtk_io.hpp"
 
 namespace magenc::fem {
@@ -43,7 +44,10 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["order"] = st.order;
   j["iterations"] = st.iterations;
   j["residual"] = st.residual;
-  j["preconditioner"] = solver.options().preconditioner;
+  j["solver"] = solver.options().solver;  // resolved backend (linear_solver.hpp)
+  j["preconditioner"] = solver.options().solver == "eigen-pcg" ? solver.options().preconditioner
+                        : solver.options().solver == "petsc-hypre" ? std::string("boomeramg") : std::string("gamg");
+  j["mpi_ranks"] = mpi_world_size();
   j["tolerance"] = solver.options().tolerance;
   j["t_mesh_s"] = st.t_mesh_s;
   j["t_setup_s"] = st.t_setup_s;

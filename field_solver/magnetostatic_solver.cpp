@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "errors.hpp"
+#include "linear_solver.hpp"
 #include "symmetric_mesh.hpp"
 #include "units.hpp"
 
@@ -89,6 +90,7 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
   if (options_.order != 1 && options_.order != 2)
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
+  options_.solver = resolve_linear_solver(options_.solver);
 }
 
 void MagnetostaticSolver::run() {
@@ -174,7 +176,11 @@ void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
     SolveStats st;
-    if (options_.preconditioner == "ichol")
+    if (options_.solver != "eigen-pcg") {
+      const LinearSolveResult r = petsc_solve(K, f, options_.solver, options_.tolerance, options_.max_iterations, x);
+      st.iterations = r.iterations;
+      st.residual = r.residual;
+    } else if (options_.preconditioner == "ichol")
       run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K, f, options_, x, st);
     else
       run_cg<Eigen::DiagonalPreconditioner<double>>(K, f, options_, x, st);

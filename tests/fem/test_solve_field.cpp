@@ -62,7 +62,7 @@ TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json; FemField
   for (const char* f : {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}) CHECK(fs::is_regular_file(out / f));
   nlohmann::json j;
   std::ifstream(out / "solve.json") >> j;
-  for (const char* k : {"elements", "dofs", "order", "iterations", "residual", "t_mesh_s", "t_assemble_s", "t_solve_s",
+  for (const char* k : {"elements", "dofs", "order", "iterations", "residual", "solver", "mpi_ranks", "t_mesh_s", "t_assemble_s", "t_solve_s",
                         "t_total_s", "threads", "peak_rss_mib", "magnet", "domain", "git_revision"})
     CHECK(j.contains(k));
   CHECK(j["order"] == order);
