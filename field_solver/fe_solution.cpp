@@ -8,7 +8,7 @@
 #include <unordered_map>
 
 #include "element.hpp"
-#include "errors.hpp"
+#include "core/errors.hpp"
 
 namespace magenc::fem {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "element.hpp"
-#include "errors.hpp"
+#include "core/errors.hpp"
 
 namespace magenc::fem {
 

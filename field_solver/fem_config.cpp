@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 
 namespace magenc::fem {
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <vector>
 
-#include "config.hpp"
+#include "core/config.hpp"
 #include "geometry.hpp"
 #include "grids.hpp"
 #include "magnetostatic_solver.hpp"

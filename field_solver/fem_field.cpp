@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "vtk_io.hpp"
 
 namespace magenc {

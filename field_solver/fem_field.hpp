@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "fe_solution.hpp"
-#include "field_source.hpp"
+#include "fields/field_source.hpp"
 
 namespace magenc {
 

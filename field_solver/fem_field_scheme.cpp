@@ -2,9 +2,9 @@
 
 #include <memory>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fem_field.hpp"
-#include "field_factory.hpp"
+#include "fields/field_factory.hpp"
 
 namespace magenc {
 

@@ -1,4 +1,4 @@
-// Registers the "fem:DIR" field scheme with src/field_factory (which cannot
+// Registers the "fem:DIR" field scheme with src/fields/field_factory (which cannot
 // depend on field_solver/): after register_fem_field_scheme(),
 // make_field_source("fem:DIR", ...) returns a FemField evaluating the FE
 // solution in DIR/mesh.vtu directly. Call it once at the start of any

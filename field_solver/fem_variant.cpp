@@ -6,8 +6,8 @@
 #include <set>
 #include <sstream>
 
-#include "errors.hpp"
-#include "study_output.hpp"
+#include "core/errors.hpp"
+#include "report/study_output.hpp"
 
 namespace magenc::fem {
 

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
+#include "core/config.hpp"
 #include "fem_config.hpp"
 #include "fem_field.hpp"
-#include "grid_field.hpp"
+#include "fields/grid_field.hpp"
 #include "magnetostatic_solver.hpp"
 
 namespace magenc::fem {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "magenc_version.hpp"
 #include "linear_solver.hpp"
 #include "vtk_io.hpp"

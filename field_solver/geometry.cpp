@@ -6,9 +6,9 @@
 #include <map>
 #include <string>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "symmetric_mesh.hpp"
-#include "units.hpp"
+#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {

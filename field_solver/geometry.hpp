@@ -3,7 +3,7 @@
 // regions (a soft-magnetic shaft under the magnet). Builds the PLC that the
 // mesher adapter turns into tets. Magnet frame, all lengths in mm.
 #pragma once
-#include "magnet.hpp"
+#include "fields/magnet.hpp"
 #include "mesh.hpp"
 #include "tetgen_mesher.hpp"
 

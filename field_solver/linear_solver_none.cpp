@@ -1,5 +1,5 @@
 // Build without PETSc: only the Eigen backend; one process (linear_solver.hpp).
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "linear_solver.hpp"
 
 namespace magenc::fem {

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "linear_solver.hpp"
 #include "symmetric_mesh.hpp"
-#include "units.hpp"
+#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {

@@ -8,8 +8,8 @@
 #include <set>
 #include <string>
 
-#include "errors.hpp"
-#include "units.hpp"
+#include "core/errors.hpp"
+#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {

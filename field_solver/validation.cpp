@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "analytic_field.hpp"
+#include "fields/analytic_field.hpp"
 #include "field_outputs.hpp"
 
 namespace magenc::fem {

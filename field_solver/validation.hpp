@@ -2,7 +2,7 @@
 // AnalyticField) on a grid: errors of Bz relative to the peak |Bz|.
 #pragma once
 #include "fe_solution.hpp"
-#include "field_source.hpp"
+#include "fields/field_source.hpp"
 #include "grids.hpp"
 #include "magnetostatic_solver.hpp"
 

@@ -17,8 +17,8 @@
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
-#include "errors.hpp"
-#include "fp_trap.hpp"
+#include "core/errors.hpp"
+#include "core/fp_trap.hpp"
 
 namespace magenc::fem {
 namespace {

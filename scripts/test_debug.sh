@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/test_debug.sh: Debug build into build-debug/ and every test through ctest there.
-# Debug builds trap FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW (src/fp_trap.hpp, style.md item 11),
+# Debug builds trap FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW (src/core/fp_trap.hpp, style.md item 11),
 # in the test executables and in the executables they run, so a NaN or inf produced anywhere is a
 # SIGFPE at the operation that produced it. Not part of test.sh / .ci/run (CI time budget): run it
 # by hand after touching numerics. Extra arguments go to ctest (e.g. -L paraview, -R test_grid).

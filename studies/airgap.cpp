@@ -18,13 +18,13 @@
 #include <cmath>
 #include <sstream>
 
-#include "comparison_run.hpp"
-#include "errors.hpp"
+#include "report/comparison_run.hpp"
+#include "core/errors.hpp"
 #include "fem_field_scheme.hpp"
-#include "plot.hpp"
-#include "study_output.hpp"
-#include "study_plots.hpp"
-#include "sweep.hpp"
+#include "io/plot.hpp"
+#include "report/study_output.hpp"
+#include "report/study_plots.hpp"
+#include "analysis/sweep.hpp"
 
 using namespace magenc;
 

@@ -10,12 +10,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "analytic_field.hpp"
-#include "field_factory.hpp"
-#include "plot.hpp"
-#include "study_output.hpp"
-#include "study_plots.hpp"
-#include "sweep.hpp"
+#include "fields/analytic_field.hpp"
+#include "fields/field_factory.hpp"
+#include "io/plot.hpp"
+#include "report/study_output.hpp"
+#include "report/study_plots.hpp"
+#include "analysis/sweep.hpp"
 
 using namespace magenc;
 

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fem_config.hpp"
-#include "plot.hpp"
-#include "study_output.hpp"
-#include "sweep.hpp"
+#include "io/plot.hpp"
+#include "report/study_output.hpp"
+#include "analysis/sweep.hpp"
 #include "validation.hpp"
 
 using namespace magenc;

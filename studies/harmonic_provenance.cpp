@@ -20,16 +20,16 @@
 #include <set>
 #include <sstream>
 
-#include "analytic_field.hpp"
-#include "errors.hpp"
-#include "fem_comparison.hpp"
+#include "fields/analytic_field.hpp"
+#include "core/errors.hpp"
+#include "analysis/fem_comparison.hpp"
 #include "fem_variant.hpp"
-#include "plot.hpp"
-#include "provenance.hpp"
-#include "study_output.hpp"
-#include "study_plots.hpp"
-#include "sweep.hpp"
-#include "tables.hpp"
+#include "io/plot.hpp"
+#include "analysis/provenance.hpp"
+#include "report/study_output.hpp"
+#include "report/study_plots.hpp"
+#include "analysis/sweep.hpp"
+#include "io/tables.hpp"
 
 using namespace magenc;
 

@@ -6,16 +6,16 @@
 // worst case over the tolerance box corners, a seeded Monte Carlo over the box
 // (mean, 95th, 99th percentile of the peak-to-peak error), the sensor-noise
 // contribution and the recommended r0. The physics and the fast surrogate
-// live in src/radius_scan.*, the outputs in src/radius_report.*.
+// live in src/analysis/radius_scan.*, the outputs in src/report/radius_report.*.
 //   radius [--config studies/radius.toml] [--set radius.samples=20000] [--out DIR]
 #include <chrono>
 #include <iostream>
 
 #include "fem_field_scheme.hpp"
-#include "field_factory.hpp"
-#include "radius_report.hpp"
-#include "radius_scan.hpp"
-#include "study_output.hpp"
+#include "fields/field_factory.hpp"
+#include "report/radius_report.hpp"
+#include "analysis/radius_scan.hpp"
+#include "report/study_output.hpp"
 
 using namespace magenc;
 

@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "grid_field.hpp"
+#include "fields/grid_field.hpp"
 
 namespace {
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
-#include "config.hpp"
-#include "errors.hpp"
+#include "core/config.hpp"
+#include "core/errors.hpp"
 
 using namespace magenc;
 

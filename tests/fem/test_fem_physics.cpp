@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "analytic_field.hpp"
+#include "fields/analytic_field.hpp"
 #include "fem_test_util.hpp"
 #include "magnetostatic_solver.hpp"
 #include "validation.hpp"

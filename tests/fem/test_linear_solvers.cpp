@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "cli.hpp"
+#include "core/cli.hpp"
 #include "fem_config.hpp"
 #include "linear_solver.hpp"
 #include "magnetostatic_solver.hpp"

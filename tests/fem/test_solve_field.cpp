@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fem_field.hpp"
 #include "tetgen_mesher.hpp"
 

@@ -25,11 +25,11 @@
 #include <sstream>
 #include <string>
 
-#include "errors.hpp"
+#include "core/errors.hpp"
 #include "fem_test_util.hpp"
 #include "magnetostatic_solver.hpp"
 #include "symmetric_mesh.hpp"
-#include "units.hpp"
+#include "core/units.hpp"
 
 using namespace magenc::fem;
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// Exact field of the diametrically magnetized cylinder (src/analytic_field.*):
+// Exact field of the diametrically magnetized cylinder (src/fields/analytic_field.*):
 // independent physics cross-checks, one TEST_CASE each.
 //   1. Against an independent model: Biot-Savart of the equivalent surface
 //      currents (mu0*K = Br x n on the curved face and both end faces),
@@ -17,8 +17,8 @@
 
 #include <Eigen/Geometry>
 
-#include "analytic_field.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "core/units.hpp"
 
 using magenc::AnalyticField;
 using magenc::Magnet;

@@ -1,4 +1,4 @@
-// Floating-point trap of Debug builds (src/fp_trap.*, style.md item 11).
+// Floating-point trap of Debug builds (src/core/fp_trap.*, style.md item 11).
 // Each check runs its operation in a forked child (a death test): the child
 // inherits this process's floating-point environment, i.e. the trap that
 // tests/catch_main.cpp enabled, so a child killed by SIGFPE proves the trap is
@@ -19,8 +19,8 @@
 #include <string>
 #include <thread>
 
-#include "errors.hpp"
-#include "fp_trap.hpp"
+#include "core/errors.hpp"
+#include "core/fp_trap.hpp"
 
 using namespace magenc;
 

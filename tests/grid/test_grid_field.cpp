@@ -25,8 +25,8 @@
 #include <omp.h>
 #include <random>
 
-#include "errors.hpp"
-#include "grid_field.hpp"
+#include "core/errors.hpp"
+#include "fields/grid_field.hpp"
 
 using namespace magenc;
 

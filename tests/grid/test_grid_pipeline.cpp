@@ -10,10 +10,10 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "analytic_field.hpp"
-#include "errors.hpp"
-#include "field_factory.hpp"
-#include "provenance.hpp"
+#include "fields/analytic_field.hpp"
+#include "core/errors.hpp"
+#include "fields/field_factory.hpp"
+#include "analysis/provenance.hpp"
 
 using namespace magenc;
 

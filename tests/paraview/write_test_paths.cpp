@@ -9,12 +9,12 @@
 // (mount.*, sensor.*), e.g. --set mount.sx_mm=0.3 --set mount.dx_mm=0.2.
 #include <CLI/CLI.hpp>
 
-#include "angle_error.hpp"
-#include "cli.hpp"
-#include "errors.hpp"
-#include "field_factory.hpp"
-#include "magnet.hpp"
-#include "probe_paths_vtk.hpp"
+#include "probe/angle_error.hpp"
+#include "core/cli.hpp"
+#include "core/errors.hpp"
+#include "fields/field_factory.hpp"
+#include "fields/magnet.hpp"
+#include "io/probe_paths_vtk.hpp"
 
 namespace {
 

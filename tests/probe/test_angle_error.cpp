@@ -1,4 +1,4 @@
-// Probe-path pipeline (src/mounting.*, probe_array.*, angle_error.*) on the
+// Probe-path pipeline (src/probe/mounting.*, probe_array.*, angle_error.*) on the
 // exact field: ideal mounts give no error, magnetization direction gives a
 // constant offset (including the wrap at +-180), symmetries of physics.md,
 // and input validation.
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <limits>
 
-#include "analytic_field.hpp"
-#include "angle_error.hpp"
-#include "errors.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
+#include "core/errors.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 
@@ -136,4 +136,24 @@ TEST_CASE("angle_error rejects invalid setups", "[probe][validation]") {
   CHECK_THROWS_AS(angle_error(f, setup_for("two", 1.5, 64), mount(0, 0, 0, 0, -3.0)), InputError);
   // The same geometry with the plane above the magnet is fine.
   CHECK_NOTHROW(angle_error(f, setup_for("two", 1.5, 64), Mount{}));
+}
+
+TEST_CASE("angle_error_at: arbitrary rotor angles give the same error as the uniform pipeline", "[probe][analytic]") {
+  const AnalyticField field(Magnet{});
+  const ProbeSetup s = setup_for("two", 2.4, 360);
+  const Mount m = mount(0.1, -0.05, 0.08, 0.02, 0.1);
+  const AngleErrorResult uniform = angle_error(field, s, m);
+  // The uniform angles in a shuffled order, plus angles between the samples.
+  Eigen::VectorXd theta_deg(4);
+  theta_deg << 270.0, 1.0, 0.0, 123.25;
+  const AngleErrorResult at = angle_error_at(field, s, m, theta_deg);
+  REQUIRE(at.eps_deg.size() == 4);
+  CHECK(at.eps_deg[0] == Approx(uniform.eps_deg[270]).margin(1e-12));
+  CHECK(at.eps_deg[1] == Approx(uniform.eps_deg[1]).margin(1e-12));
+  CHECK(at.eps_deg[2] == Approx(uniform.eps_deg[0]).margin(1e-12));
+  // Between samples (1 deg apart) the smooth curve lies near the linear interpolation of its neighbours:
+  // error <= h^2/8 * max|eps''| with h = 0.0175 rad and |eps''| <~ n^2 c_n ~ 10 deg/rad^2 here: ~4e-4 deg.
+  const double between = 0.75 * uniform.eps_deg[123] + 0.25 * uniform.eps_deg[124];
+  CHECK(at.eps_deg[3] == Approx(between).margin(1e-3));
+  CHECK(at.eps_deg[3] != Approx(uniform.eps_deg[123]).margin(1e-6));
 }

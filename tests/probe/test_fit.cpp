@@ -1,8 +1,8 @@
-// Cubic least-squares fit (src/fit.*).
+// Cubic least-squares fit (src/analysis/fit.*).
 #include <catch2/catch.hpp>
 
-#include "errors.hpp"
-#include "fit.hpp"
+#include "core/errors.hpp"
+#include "analysis/fit.hpp"
 
 using namespace magenc;
 

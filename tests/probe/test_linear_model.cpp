@@ -17,9 +17,9 @@
 
 #include <cmath>
 
-#include "analytic_field.hpp"
-#include "angle_error.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 

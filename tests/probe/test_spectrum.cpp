@@ -1,11 +1,11 @@
-// Spectrum layer (src/spectrum.*): wrap into (-180, 180], exact recovery of
+// Spectrum layer (src/probe/spectrum.*): wrap into (-180, 180], exact recovery of
 // synthetic trigonometric signals, peak-to-peak, column names.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "spectrum.hpp"
-#include "units.hpp"
+#include "probe/spectrum.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 

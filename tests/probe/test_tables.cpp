@@ -1,4 +1,4 @@
-// CSV tables (src/tables.*): the spectra and fits headers of interfaces.md,
+// CSV tables (src/io/tables.*): the spectra and fits headers of interfaces.md,
 // full-precision numbers, and strict parsing of mounting-case files.
 #include <catch2/catch.hpp>
 
@@ -7,8 +7,8 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "errors.hpp"
-#include "tables.hpp"
+#include "core/errors.hpp"
+#include "io/tables.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// write_probe_paths_vtp (src/probe_paths_vtk.hpp): the .vtp file contract the
+// write_probe_paths_vtp (src/io/probe_paths_vtk.hpp): the .vtp file contract the
 // ParaView state probe_paths.pvsm relies on, checked by reading the file back.
 #include <catch2/catch.hpp>
 #include <unistd.h>
@@ -17,9 +17,9 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
-#include "analytic_field.hpp"
-#include "probe_paths_vtk.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "io/probe_paths_vtk.hpp"
+#include "core/units.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-// src/comparison_run.cpp: the FEM-vs-exact run of real_field and airgap, with
+// src/report/comparison_run.cpp: the FEM-vs-exact run of real_field and airgap, with
 // exact fields standing in for the FEM sources (no solve needed):
 //   - a "FEM" source that is the exact field itself differs from it by exactly 0;
 //   - a source of another magnet (R = 2.3 mm) differs, and max_abs_difference
@@ -11,11 +11,11 @@
 #include <cmath>
 #include <memory>
 
-#include "analytic_field.hpp"
-#include "comparison_run.hpp"
-#include "config.hpp"
-#include "errors.hpp"
-#include "sweep.hpp"
+#include "fields/analytic_field.hpp"
+#include "report/comparison_run.hpp"
+#include "core/config.hpp"
+#include "core/errors.hpp"
+#include "analysis/sweep.hpp"
 
 using namespace magenc;
 

@@ -1,4 +1,4 @@
-// src/plot.cpp: gnuplot driver writes NAME.png (a real PNG), NAME.gp, NAME.dat;
+// src/io/plot.cpp: gnuplot driver writes NAME.png (a real PNG), NAME.gp, NAME.dat;
 // failures of gnuplot and bad inputs are reported, not ignored.
 #include <catch2/catch.hpp>
 
@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "errors.hpp"
-#include "plot.hpp"
+#include "core/errors.hpp"
+#include "io/plot.hpp"
 #include "study_test_util.hpp"
 
 using namespace magenc;

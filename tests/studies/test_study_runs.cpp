@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "analytic_field.hpp"
-#include "angle_error.hpp"
-#include "magnet.hpp"
+#include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
+#include "fields/magnet.hpp"
 #include "study_test_util.hpp"
 
 using namespace magenc;

@@ -1,13 +1,13 @@
-// src/sweep.cpp and the summary helpers of src/study_output.cpp.
+// src/analysis/sweep.cpp and the summary helpers of src/report/study_output.cpp.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "analytic_field.hpp"
-#include "errors.hpp"
-#include "study_output.hpp"
-#include "sweep.hpp"
-#include "units.hpp"
+#include "fields/analytic_field.hpp"
+#include "core/errors.hpp"
+#include "report/study_output.hpp"
+#include "analysis/sweep.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 

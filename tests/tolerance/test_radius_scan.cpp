@@ -1,14 +1,14 @@
-// The radius scan's surrogate (src/radius_scan.hpp) against the direct
+// The radius scan's surrogate (src/analysis/radius_scan.hpp) against the direct
 // probe-path pipeline (angle_error.hpp), and its recommendation logic.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "analytic_field.hpp"
-#include "angle_error.hpp"
-#include "errors.hpp"
-#include "radius_scan.hpp"
-#include "tolerance.hpp"
+#include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
+#include "core/errors.hpp"
+#include "analysis/radius_scan.hpp"
+#include "analysis/tolerance.hpp"
 
 using namespace magenc;
 

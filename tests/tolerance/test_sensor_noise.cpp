@@ -1,14 +1,14 @@
-// Sensor noise model (src/sensor_noise.hpp) against a direct Monte Carlo of
+// Sensor noise model (src/analysis/sensor_noise.hpp) against a direct Monte Carlo of
 // noisy probe readings through atan2.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <random>
 
-#include "errors.hpp"
-#include "probe_array.hpp"
-#include "sensor_noise.hpp"
-#include "units.hpp"
+#include "core/errors.hpp"
+#include "probe/probe_array.hpp"
+#include "analysis/sensor_noise.hpp"
+#include "core/units.hpp"
 
 using namespace magenc;
 

@@ -1,12 +1,12 @@
 // Tolerance box, seeded Monte Carlo, percentiles and the corner worst case
-// (src/tolerance.hpp).
+// (src/analysis/tolerance.hpp).
 #include <catch2/catch.hpp>
 #include <omp.h>
 
 #include <cmath>
 
-#include "errors.hpp"
-#include "tolerance.hpp"
+#include "core/errors.hpp"
+#include "analysis/tolerance.hpp"
 
 using namespace magenc;
 

@@ -1,4 +1,4 @@
-// error_spectrum executable (src/tools/error_spectrum.cpp) end to end:
+// error_spectrum executable (apps/error_spectrum.cpp) end to end:
 // output table, --cases, flag/config precedence, and every kind of bad input
 // -> non-zero exit, one-line stderr naming the input, no output file left.
 #include <catch2/catch.hpp>

@@ -1,0 +1,150 @@
+// error_spectrum: angle-error spectra of a magnetic encoder for one mounting
+// case (flags) or many (--cases FILE.csv), interfaces.md.
+//
+//   error_spectrum --field linear|analytic|grid:FILE.vti|fem:DIR
+//                  --array two|diff4|ring:N  --r0 MM
+//                  [--sx MM] [--sy MM] [--dx MM] [--dy MM] [--dz MM]
+//                  [--cases FILE.csv] [--steps M] [--interp nearest|linear|cubic]
+//                  [--config F.toml] [--set key=value]... [--out FILE.csv]
+//                  [--paths FILE.vtp]
+//
+// Flags are shorthands for config keys (--r0 -> sensor.r0_mm, --array ->
+// sensor.array, --steps -> sensor.steps, --sx.. --dz -> mount.*) applied after
+// --config and --set, so the config's range checks apply to them. With
+// --cases, each row is a complete mount (missing columns = 0) and the mount
+// flags/keys are not used; combining --cases with --sx..--dz is an error.
+// --field defaults to analytic; --interp (default cubic) applies to grid: fields.
+// Writes the spectra table to --out atomically, or to stdout. --paths (one
+// case only) also writes the probe paths of that case as .vtp polylines with
+// Bz and theta_deg (src/io/probe_paths_vtk.hpp; ParaView's probe_paths.pvsm).
+// Example: error_spectrum --field analytic --array two --r0 2.4 --dx 0.1
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <optional>
+
+#include "probe/angle_error.hpp"
+#include "core/atomic_output.hpp"
+#include "core/cli.hpp"
+#include "core/errors.hpp"
+#include "fem_field_scheme.hpp"
+#include "fields/field_factory.hpp"
+#include "fields/magnet.hpp"
+#include "io/probe_paths_vtk.hpp"
+#include "io/tables.hpp"
+
+namespace {
+
+using magenc::Config;
+using magenc::InputError;
+
+// Command-line flags (all text, parsed by the config or the probe-array parser).
+struct Flags {
+  std::string field = "analytic";          // --field
+  std::optional<std::string> array, r0, steps, sx, sy, dx, dy, dz;  // config shorthands
+  std::string cases;                        // --cases FILE.csv (empty: one case)
+  std::string interp = "cubic";            // --interp (grid: fields only)
+  std::string paths;                        // --paths FILE.vtp (one case only; empty: none)
+};
+
+// Applies one flag as "key=text"; an invalid value is reported under the flag's name.
+void apply_flag(Config& cfg, const std::string& flag, const std::string& key,
+                const std::optional<std::string>& text) {
+  if (!text) return;
+  try {
+    cfg.set(key + "=" + *text);
+  } catch (const InputError&) {
+    for (const auto& s : cfg.schema())
+      if (s.key == key)
+        throw InputError(flag + " " + *text + " (" + key + ") is invalid: allowed " +
+                         magenc::allowed_range(s));
+    throw;
+  }
+}
+
+void apply_flags(Config& cfg, const Flags& f) {
+  apply_flag(cfg, "--array", "sensor.array", f.array);
+  apply_flag(cfg, "--r0", "sensor.r0_mm", f.r0);
+  apply_flag(cfg, "--steps", "sensor.steps", f.steps);
+  apply_flag(cfg, "--sx", "mount.sx_mm", f.sx);
+  apply_flag(cfg, "--sy", "mount.sy_mm", f.sy);
+  apply_flag(cfg, "--dx", "mount.dx_mm", f.dx);
+  apply_flag(cfg, "--dy", "mount.dy_mm", f.dy);
+  apply_flag(cfg, "--dz", "mount.dz_mm", f.dz);
+}
+
+int run(int argc, char** argv) {
+  magenc::register_fem_field_scheme();  // fem:DIR (field_solver)
+  // 1. Options.
+  CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (interfaces.md)"};
+  magenc::CommonOptions common;
+  Flags f;
+  const auto schema = magenc::common_keys();
+  magenc::add_common_options(app, common, schema);
+  app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, fem:DIR (default analytic)");
+  app.add_option("--array", f.array, "probe array: two, diff4, ring:N (sensor.array)");
+  app.add_option("--r0", f.r0, "probe radius r0 in mm (sensor.r0_mm)");
+  app.add_option("--sx", f.sx, "static eccentricity x in mm (mount.sx_mm)");
+  app.add_option("--sy", f.sy, "static eccentricity y in mm (mount.sy_mm)");
+  app.add_option("--dx", f.dx, "dynamic eccentricity x in mm (mount.dx_mm)");
+  app.add_option("--dy", f.dy, "dynamic eccentricity y in mm (mount.dy_mm)");
+  app.add_option("--dz", f.dz, "air-gap offset in mm, + = farther (mount.dz_mm)");
+  app.add_option("--cases", f.cases, "CSV of mounting cases: columns sx_mm,sy_mm,dx_mm,dy_mm,dz_mm (missing = 0)");
+  app.add_option("--steps", f.steps, "samples M of theta per turn (sensor.steps, >= 16)");
+  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only; default cubic)")
+      ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
+  app.add_option("--paths", f.paths, "also write the probe paths of the (single) case as FILE.vtp (ParaView)");
+  magenc::parse_cli(app, argc, argv);
+
+  // 2. Configuration: defaults, --config, --set, then the flags.
+  Config cfg = magenc::load_config(schema, common);
+  apply_flags(cfg, f);
+  const bool mount_flags = f.sx || f.sy || f.dx || f.dy || f.dz;
+  if (!f.cases.empty() && mount_flags)
+    throw InputError("--cases cannot be combined with --sx/--sy/--dx/--dy/--dz: allowed one of the two");
+  if (!f.cases.empty() && !f.paths.empty())
+    throw InputError("--paths writes one mounting case: it cannot be combined with --cases");
+
+  // 3. Setup, mounting cases and field.
+  magenc::ProbeSetup setup;
+  setup.array = magenc::ProbeArray::parse(cfg.str("sensor.array"), f.array ? "--array" : "sensor.array");
+  setup.r0_mm = cfg.real("sensor.r0_mm");
+  setup.steps = static_cast<int>(cfg.integer("sensor.steps"));
+  setup.plane_z_mm = magenc::sensing_plane_z_mm(cfg);
+  const std::vector<magenc::Mount> cases =
+      f.cases.empty() ? std::vector<magenc::Mount>{magenc::Mount::from_config(cfg)}
+                      : magenc::read_cases_csv(f.cases);
+  magenc::FieldOptions field_opts;
+  field_opts.interp = magenc::parse_interp(f.interp, "--interp");
+  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, field_opts);
+
+  // 4. One spectrum per case (all computed before anything is written).
+  std::vector<magenc::SpectrumRow> rows;
+  std::optional<magenc::AngleErrorResult> single;  // the one case's full result, for --paths
+  for (const auto& mount : cases) {
+    magenc::SpectrumRow row;
+    row.field = field->name();
+    row.array = setup.array.name;
+    row.r0_mm = setup.r0_mm;
+    row.mount = mount;
+    magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
+    row.spectrum = res.spectrum;
+    if (!f.paths.empty()) single = std::move(res);
+    rows.push_back(std::move(row));
+  }
+
+  // 5. Output: atomically to --out (or stdout) and --paths.
+  if (single) magenc::write_case_probe_paths_vtp(f.paths, setup, cases.front(), *single);
+  const std::string table = magenc::spectra_csv(rows);
+  if (common.out.empty()) {
+    std::cout << table;
+  } else {
+    magenc::write_file_atomic(common.out, table);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return magenc::run_main("error_spectrum", [&] { return run(argc, argv); });
+}

@@ -1,0 +1,505 @@
+#include "analysis/radius_scan.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Dense>
+
+#include "probe/angle_error.hpp"
+#include "core/errors.hpp"
+#include "analysis/fem_comparison.hpp"
+#include "fields/magnet.hpp"
+#include "core/units.hpp"
+
+namespace magenc {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream is(text);
+  while (std::getline(is, item, ',')) {
+    const auto b = item.find_first_not_of(" \t");
+    const auto e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+constexpr int kStencil = 5;  // points per axis of the fit stencil
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// CircleFieldModel
+
+CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
+                                   double reach_xy_mm, double reach_z_mm, int order)
+    : nodes_(nodes), r0_mm_(r0_mm), reach_xy_mm_(std::max(reach_xy_mm, 0.01)),
+      reach_z_mm_(std::max(reach_z_mm, 0.01)) {
+  if (nodes < 16) throw InputError("radius.fast_steps = " + std::to_string(nodes) + " is out of range: allowed >= 16");
+  if (order < 2 || order > 4)
+    throw InputError("radius.surrogate_order = " + std::to_string(order) + " is out of range: allowed [2, 4]");
+  // 1. Monomials of total degree <= order in the scaled displacement u = e/reach.
+  for (int a = 0; a <= order; ++a)
+    for (int b = 0; a + b <= order; ++b)
+      for (int c = 0; a + b + c <= order; ++c) exps_.push_back({a, b, c});
+  const int T = terms();
+
+  // 2. Stencil in scaled units: 5 x 5 x 5 points over [-1, 1]^3 (the centre
+  //    is a stencil point, so the exact node value comes for free).
+  std::vector<Eigen::Vector3d> stencil;
+  int centre = -1;
+  for (int i = 0; i < kStencil; ++i)
+    for (int j = 0; j < kStencil; ++j)
+      for (int k = 0; k < kStencil; ++k) {
+        const double h = 2.0 / (kStencil - 1);
+        if (i == 2 && j == 2 && k == 2) centre = static_cast<int>(stencil.size());
+        stencil.emplace_back(-1 + h * i, -1 + h * j, -1 + h * k);
+      }
+  const int P = static_cast<int>(stencil.size());
+
+  // 3. Least-squares operator for the non-constant terms: the constant is the
+  //    exact node value (so an ideal mount reproduces the field exactly) and
+  //    coef[1..T-1] = pinv(V) * (samples - centre), V = P x (T-1) monomials.
+  Eigen::MatrixXd V(P, T - 1);
+  for (int p = 0; p < P; ++p) {
+    std::vector<double> u(T);
+    monomials(stencil[p].x() * reach_xy_mm_, stencil[p].y() * reach_xy_mm_, stencil[p].z() * reach_z_mm_,
+              u.data());
+    for (int t = 1; t < T; ++t) V(p, t - 1) = u[t];
+  }
+  const Eigen::MatrixXd pinv = V.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // (T-1) x P
+
+  // 4. Sample the field: 3 x (P*N) points, one batch call (OpenMP inside).
+  Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(P) * nodes_);
+  for (int j = 0; j < nodes_; ++j) {
+    const double phi = 2.0 * kPi * j / nodes_;
+    const double x0 = r0_mm * std::cos(phi), y0 = r0_mm * std::sin(phi);
+    for (int p = 0; p < P; ++p)
+      pts.col(static_cast<Eigen::Index>(j) * P + p) =
+          Eigen::Vector3d(x0 + stencil[p].x() * reach_xy_mm_, y0 + stencil[p].y() * reach_xy_mm_,
+                          plane_z_mm + stencil[p].z() * reach_z_mm_);
+  }
+  const Eigen::VectorXd bz = field.Bz_T(pts);
+  if (!bz.allFinite()) throw ComputeError("field " + field.name() + " returned a non-finite Bz near r0 = " + num(r0_mm) + " mm");
+  const Eigen::Map<const Eigen::MatrixXd> samples(bz.data(), P, nodes_);  // column j = node j
+
+  // 5. Fit, residual, exact node values and the first angular harmonic.
+  center_T_ = samples.row(centre).transpose();
+  const Eigen::MatrixXd rel = samples - Eigen::VectorXd::Ones(P) * center_T_.transpose();
+  coef_.resize(T, nodes_);
+  coef_.row(0) = center_T_.transpose();
+  coef_.bottomRows(T - 1) = pinv * rel;
+  fit_residual_T_ = (V * coef_.bottomRows(T - 1) - rel).cwiseAbs().maxCoeff();
+  double re = 0, im = 0;
+  for (int j = 0; j < nodes_; ++j) {
+    const double phi = 2.0 * kPi * j / nodes_;
+    re += center_T_[j] * std::cos(phi);
+    im += center_T_[j] * std::sin(phi);
+  }
+  amplitude_T_ = 2.0 / nodes_ * std::hypot(re, im);
+}
+
+void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const {
+  double px[5] = {1, 0, 0, 0, 0}, py[5] = {1, 0, 0, 0, 0}, pz[5] = {1, 0, 0, 0, 0};
+  const double ux = ex_mm / reach_xy_mm_, uy = ey_mm / reach_xy_mm_, uz = ez_mm / reach_z_mm_;
+  for (int i = 1; i < 5; ++i) {
+    px[i] = px[i - 1] * ux;
+    py[i] = py[i - 1] * uy;
+    pz[i] = pz[i - 1] * uz;
+  }
+  for (std::size_t t = 0; t < exps_.size(); ++t) u[t] = px[exps_[t][0]] * py[exps_[t][1]] * pz[exps_[t][2]];
+}
+
+// ---------------------------------------------------------------------------
+// FastPipeline
+
+FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays)
+    : model_(model), arrays_(arrays) {
+  const int N = model.nodes();
+  for (const auto& a : arrays_) {
+    std::vector<int> slots;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const double pos = a.angle_deg[k] * N / 360.0;
+      const double r = std::round(pos);
+      if (std::abs(pos - r) > 1e-9)
+        throw InputError("radius.fast_steps = " + std::to_string(N) + " does not place a theta sample on probe angle " +
+                         num(a.angle_deg[k]) + " deg of array " + a.name +
+                         ": allowed a multiple of the array's angular step (e.g. 360 for two, diff4, ring:8)");
+      const int idx = ((static_cast<int>(r) % N) + N) % N;
+      auto it = std::find(angle_index_.begin(), angle_index_.end(), idx);
+      if (it == angle_index_.end()) {
+        angle_index_.push_back(idx);
+        slots.push_back(static_cast<int>(angle_index_.size()) - 1);
+      } else {
+        slots.push_back(static_cast<int>(it - angle_index_.begin()));
+      }
+    }
+    slot_.push_back(std::move(slots));
+  }
+  cos_theta_.resize(N);
+  sin_theta_.resize(N);
+  for (int m = 0; m < N; ++m) {
+    cos_theta_[m] = std::cos(2.0 * kPi * m / N);
+    sin_theta_[m] = std::sin(2.0 * kPi * m / N);
+  }
+}
+
+void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
+  const int N = model_.nodes();
+  const int T = model_.terms();
+  eps_deg.resize(arrays_.size());
+  for (auto& e : eps_deg) e.resize(N);
+  std::vector<double> u(T), B(angle_index_.size());
+  for (int m = 0; m < N; ++m) {
+    const double c = cos_theta_[m], s = sin_theta_[m];
+    // Displacement of every probe from its nominal node: Rot(-theta) s - d, dz.
+    const double ex = c * mt.sx_mm + s * mt.sy_mm - mt.dx_mm;
+    const double ey = -s * mt.sx_mm + c * mt.sy_mm - mt.dy_mm;
+    model_.monomials(ex, ey, mt.dz_mm, u.data());
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      B[i] = model_.bz_T(j, u.data());
+    }
+    const double theta_deg = 360.0 * m / N;
+    for (std::size_t a = 0; a < arrays_.size(); ++a) {
+      const ProbeArray& arr = arrays_[a];
+      double C = 0, S = 0;
+      for (std::size_t k = 0; k < arr.size(); ++k) {
+        const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
+        C += arr.w_cos[k] * Bk;
+        S += arr.w_sin[k] * Bk;
+      }
+      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    }
+  }
+}
+
+void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+  std::vector<Eigen::VectorXd> e;
+  eps(m, e);
+  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+}
+
+// ---------------------------------------------------------------------------
+// Options
+
+std::vector<KeySpec> RadiusScanOptions::keys() {
+  std::vector<KeySpec> k = {
+      string_key("radius.fields", "analytic", {},
+                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, fem:DIR)"),
+      string_key("radius.fem_dir", "output/field", {},
+                 "add fem:<dir> when <dir>/solve.json exists and no fem: field is listed (empty = never)"),
+      string_key("radius.arrays", "two,diff4,ring:8", {}, "probe arrays to compare, comma-separated"),
+      real_key("radius.r0_min_mm", 0.5, 0, 1000, "mm", "smallest probe radius scanned", true),
+      real_key("radius.r0_max_mm", 3.5, 0, 1000, "mm", "largest probe radius scanned", true),
+      real_key("radius.r0_step_mm", 0.05, 0, 100, "mm", "probe radius step", true),
+      real_key("radius.tol_sx_mm", 0.1, 0, 10, "mm", "tolerance box: |sx| <= this"),
+      real_key("radius.tol_sy_mm", 0.1, 0, 10, "mm", "tolerance box: |sy| <= this"),
+      real_key("radius.tol_dx_mm", 0.1, 0, 10, "mm", "tolerance box: |dx| <= this"),
+      real_key("radius.tol_dy_mm", 0.1, 0, 10, "mm", "tolerance box: |dy| <= this"),
+      real_key("radius.tol_dz_mm", 0.2, 0, 10, "mm", "tolerance box: |dz| <= this"),
+      real_key("radius.case_offset_mm", 0.1, 0, 10, "mm", "spectra cases: this much of each of sx, sy, dx, dy"),
+      real_key("radius.case_dz_mm", 0.2, 0, 10, "mm", "spectra cases: dz = +-this (with the residual dx)"),
+      real_key("radius.case_residual_dx_mm", 0.05, 0, 10, "mm", "spectra cases: residual dx of the dz cases"),
+      int_key("radius.samples", 10000, 1, 100000000, "Monte Carlo samples per radius"),
+      int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
+      int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
+      int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
+      int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
+      int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
+      real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
+  };
+  for (auto& n : SensorNoise::keys()) k.push_back(n);
+  return k;
+}
+
+RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
+  RadiusScanOptions o;
+  for (const auto& a : split_commas(cfg.str("radius.arrays"))) o.arrays.push_back(ProbeArray::parse(a, "radius.arrays"));
+  if (o.arrays.empty()) throw InputError("radius.arrays is empty: allowed a comma-separated list of two, diff4, ring:N");
+  const double lo = cfg.real("radius.r0_min_mm"), hi = cfg.real("radius.r0_max_mm"),
+               step = cfg.real("radius.r0_step_mm");
+  if (!(hi >= lo))
+    throw InputError("radius.r0_max_mm = " + num(hi) + " is out of range: allowed >= radius.r0_min_mm = " + num(lo));
+  const long n = static_cast<long>(std::floor((hi - lo) / step + 1e-9)) + 1;
+  if (n > 100000) throw InputError("radius.r0_step_mm = " + num(step) + " gives more than 100000 radii: allowed fewer");
+  for (long i = 0; i < n; ++i) o.r0_mm.push_back(lo + step * static_cast<double>(i));
+  o.plane_z_mm = sensing_plane_z_mm(cfg);
+  o.direct_steps = static_cast<int>(cfg.integer("sensor.steps"));
+  o.fast_steps = static_cast<int>(cfg.integer("radius.fast_steps"));
+  o.surrogate_order = static_cast<int>(cfg.integer("radius.surrogate_order"));
+  o.box.sx_mm = cfg.real("radius.tol_sx_mm");
+  o.box.sy_mm = cfg.real("radius.tol_sy_mm");
+  o.box.dx_mm = cfg.real("radius.tol_dx_mm");
+  o.box.dy_mm = cfg.real("radius.tol_dy_mm");
+  o.box.dz_mm = cfg.real("radius.tol_dz_mm");
+  o.case_offset_mm = cfg.real("radius.case_offset_mm");
+  o.case_dz_mm = cfg.real("radius.case_dz_mm");
+  o.case_residual_dx_mm = cfg.real("radius.case_residual_dx_mm");
+  o.samples = cfg.integer("radius.samples");
+  o.seed = static_cast<std::uint64_t>(cfg.integer("radius.seed"));
+  o.noise = SensorNoise::from_config(cfg);
+  o.validate_radii = static_cast<int>(cfg.integer("radius.validate_radii"));
+  o.validate_samples = static_cast<int>(cfg.integer("radius.validate_samples"));
+  o.band_rel = cfg.real("radius.band_rel");
+  o.validate();
+  return o;
+}
+
+void RadiusScanOptions::validate() const {
+  box.validate("radius.tol_");
+  noise.validate();
+  if (samples < 1) throw InputError("radius.samples = " + std::to_string(samples) + " is out of range: allowed >= 1");
+  if (r0_mm.empty()) throw InputError("radius.r0_min_mm/r0_max_mm give no radii");
+  if (arrays.empty()) throw InputError("radius.arrays is empty");
+  // Every mounting case must leave the probes off the rotation axis.
+  const double reach = std::max(box.max_inplane_mm(), std::max(std::sqrt(2.0) * case_offset_mm, case_residual_dx_mm));
+  if (!(r0_mm.front() > reach))
+    throw InputError("radius.r0_min_mm = " + num(r0_mm.front()) + " is out of range: the tolerance box moves probes by up to " +
+                     num(reach) + " mm, allowed r0_min_mm > " + num(reach) + " mm");
+}
+
+std::vector<std::pair<std::string, Mount>> spectra_cases(const RadiusScanOptions& opt) {
+  std::vector<std::pair<std::string, Mount>> c(6);
+  c[0].first = "sx";
+  c[0].second.sx_mm = opt.case_offset_mm;
+  c[1].first = "sy";
+  c[1].second.sy_mm = opt.case_offset_mm;
+  c[2].first = "dx";
+  c[2].second.dx_mm = opt.case_offset_mm;
+  c[3].first = "dy";
+  c[3].second.dy_mm = opt.case_offset_mm;
+  c[4].first = "dz+";
+  c[4].second.dz_mm = opt.case_dz_mm;
+  c[4].second.dx_mm = opt.case_residual_dx_mm;
+  c[5].first = "dz-";
+  c[5].second.dz_mm = -opt.case_dz_mm;
+  c[5].second.dx_mm = opt.case_residual_dx_mm;
+  return c;
+}
+
+// ---------------------------------------------------------------------------
+// Peak, recommendation
+
+Peak find_peak(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.empty() || x.size() != y.size()) throw InputError("find_peak: x and y must be non-empty and of equal length");
+  const std::size_t i = static_cast<std::size_t>(std::max_element(y.begin(), y.end()) - y.begin());
+  Peak p{x[i], y[i], i == 0 || i + 1 == x.size()};
+  if (p.at_edge) return p;
+  // Parabola through (x[i-1], y[i-1]), (x[i], y[i]), (x[i+1], y[i+1]).
+  const double x0 = x[i - 1], x1 = x[i], x2 = x[i + 1], y0 = y[i - 1], y1 = y[i], y2 = y[i + 1];
+  const double d0 = (y1 - y0) / (x1 - x0), d1 = (y2 - y1) / (x2 - x1);
+  const double a = (d1 - d0) / (x2 - x0);
+  if (a < 0) {
+    const double b = d0 - a * (x0 + x1);
+    const double xv = -b / (2 * a);
+    if (xv > x0 && xv < x2) {
+      p.x = xv;
+      p.y = y1 + d0 * (xv - x1) + a * (xv - x0) * (xv - x1);
+    }
+  }
+  return p;
+}
+
+Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel) {
+  if (rows.empty()) throw InputError("recommend: no rows");
+  Recommendation r;
+  r.field = rows.front().field;
+  r.array = rows.front().array;
+  std::size_t best = 0, best_mount = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].total_p99_pp_deg < rows[best].total_p99_pp_deg) best = i;
+    if (rows[i].mc.p99 < rows[best_mount].mc.p99) best_mount = i;
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  r.r0_best_mm = rows[best].r0_mm;
+  r.total_p99_best_deg = rows[best].total_p99_pp_deg;
+  r.mc_p99_best_deg = rows[best].mc.p99;
+  r.noise_pp_best_deg = rows[best].noise.pp_deg;
+  r.total_p99_left_deg = best > 0 ? rows[best - 1].total_p99_pp_deg : nan;
+  r.total_p99_right_deg = best + 1 < rows.size() ? rows[best + 1].total_p99_pp_deg : nan;
+  r.r0_best_mount_only_mm = rows[best_mount].r0_mm;
+  r.at_scan_edge = best == 0 || best + 1 == rows.size();
+  const double limit = (1.0 + band_rel) * r.total_p99_best_deg;
+  std::size_t lo = best, hi = best;
+  while (lo > 0 && rows[lo - 1].total_p99_pp_deg <= limit) --lo;
+  while (hi + 1 < rows.size() && rows[hi + 1].total_p99_pp_deg <= limit) ++hi;
+  r.band_lo_mm = rows[lo].r0_mm;
+  r.band_hi_mm = rows[hi].r0_mm;
+  return r;
+}
+
+// ---------------------------------------------------------------------------
+// The scan
+
+void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
+                     RadiusScanResult& out) {
+  opt.validate();
+  const std::size_t A = opt.arrays.size();
+  const auto cases = spectra_cases(opt);
+  // The displacements the local models must serve: the box and the spectra cases.
+  const double reach_xy = std::max(opt.box.max_inplane_mm(),
+                                   std::max(opt.case_offset_mm, std::hypot(opt.case_residual_dx_mm, 0.0)));
+  const double reach_z = std::max(opt.box.dz_mm, opt.case_dz_mm);
+  const std::vector<Mount> corners = opt.box.corners();
+  const std::vector<Mount> samples = monte_carlo_samples(opt.box, opt.samples, opt.seed);
+
+  // Validation radii: spread evenly over the scan (indices round(i*(n-1)/(k-1))).
+  std::vector<std::size_t> vidx;
+  const std::size_t nr = opt.r0_mm.size();
+  for (int i = 0; i < opt.validate_radii; ++i) {
+    const std::size_t j = opt.validate_radii == 1
+                              ? nr / 2
+                              : static_cast<std::size_t>(std::lround(static_cast<double>(i) * (nr - 1) / (opt.validate_radii - 1)));
+    if (std::find(vidx.begin(), vidx.end(), j) == vidx.end()) vidx.push_back(j);
+  }
+
+  FieldScanInfo info;
+  info.field = field.name();
+  info.spec = spec;
+  std::vector<std::vector<RadiusRow>> rows(A);  // per array, over r0
+  for (std::size_t ir = 0; ir < nr; ++ir) {
+    const double r0 = opt.r0_mm[ir];
+    // 1. Local field models on the probe circle.
+    auto t0 = std::chrono::steady_clock::now();
+    const CircleFieldModel model(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z, opt.surrogate_order);
+    const FastPipeline fast(model, opt.arrays);
+    info.max_fit_residual_T = std::max(info.max_fit_residual_T, model.fit_residual_T());
+    info.t_models_s += seconds_since(t0);
+
+    // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.
+    t0 = std::chrono::steady_clock::now();
+    for (const auto& [label, mount] : cases) {
+      std::vector<Eigen::VectorXd> eps;
+      fast.eps(mount, eps);
+      for (std::size_t a = 0; a < A; ++a) {
+        SpectrumRow row;
+        row.field = field.name();
+        row.array = opt.arrays[a].name;
+        row.r0_mm = r0;
+        row.mount = mount;
+        row.spectrum = spectrum_of(eps[a]);
+        row.extra = {{"case", label}};
+        out.spectra.push_back(std::move(row));
+      }
+    }
+    std::vector<double> ideal_pp(A);
+    fast.pp(Mount{}, ideal_pp.data());
+    auto pp_of = [&](std::size_t, const Mount& m, double* o) { fast.pp(m, o); };
+    const Eigen::MatrixXd corner_pp = evaluate_cases(corners, static_cast<int>(A), pp_of);
+    const Eigen::MatrixXd mc_pp = evaluate_cases(samples, static_cast<int>(A), pp_of);
+    for (std::size_t a = 0; a < A; ++a) {
+      RadiusRow row;
+      row.field = field.name();
+      row.array = opt.arrays[a].name;
+      row.r0_mm = r0;
+      row.bz_amplitude_T = model.amplitude_T();
+      row.ideal_pp_deg = ideal_pp[a];
+      const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
+      row.worst_pp_deg = w.value;
+      row.worst_corner = corner_text(corners[w.row]);
+      row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
+      row.noise = angle_noise(opt.arrays[a], model.amplitude_T(), opt.noise);
+      row.total_p99_pp_deg = row.mc.p99 + row.noise.pp_deg;
+      row.total_worst_pp_deg = row.worst_pp_deg + row.noise.pp_deg;
+      rows[a].push_back(row);
+    }
+    info.t_cases_s += seconds_since(t0);
+
+    // 3. Validation against the direct pipeline at a few radii.
+    if (std::find(vidx.begin(), vidx.end(), ir) == vidx.end()) continue;
+    t0 = std::chrono::steady_clock::now();
+    std::vector<std::pair<std::string, Mount>> vcases = cases;
+    for (std::size_t a = 0; a < A; ++a) {
+      const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
+      vcases.emplace_back("worst corner " + opt.arrays[a].name, corners[w.row]);
+    }
+    for (int i = 0; i < opt.validate_samples && i < static_cast<int>(samples.size()); ++i)
+      vcases.emplace_back("mc sample " + std::to_string(i), samples[static_cast<std::size_t>(i)]);
+    for (const auto& [label, mount] : vcases) {
+      std::vector<Eigen::VectorXd> eps;
+      fast.eps(mount, eps);
+      for (std::size_t a = 0; a < A; ++a) {
+        ProbeSetup setup;
+        setup.array = opt.arrays[a];
+        setup.r0_mm = r0;
+        setup.plane_z_mm = opt.plane_z_mm;
+        setup.steps = opt.direct_steps;
+        const Spectrum direct = error_spectrum(field, setup, mount);
+        setup.steps = opt.fast_steps;
+        const Spectrum coarse = error_spectrum(field, setup, mount);
+        const Spectrum sur = spectrum_of(eps[a]);
+        ValidationRow v;
+        v.field = field.name();
+        v.array = opt.arrays[a].name;
+        v.label = label;
+        v.r0_mm = r0;
+        v.mount = mount;
+        v.pp_direct_deg = direct.pp_deg;
+        v.pp_direct_coarse_deg = coarse.pp_deg;
+        v.pp_surrogate_deg = sur.pp_deg;
+        double d = std::abs(sur.a0_deg - direct.a0_deg);
+        for (int n = 1; n <= kHarmonics; ++n)
+          d = std::max({d, std::abs(sur.a_deg[n] - direct.a_deg[n]), std::abs(sur.b_deg[n] - direct.b_deg[n])});
+        v.max_coef_diff_deg = d;
+        out.validation.push_back(v);
+      }
+    }
+    info.t_validate_s += seconds_since(t0);
+  }
+
+  // 4. Bz peak and recommendations.
+  std::vector<double> amp;
+  for (const auto& r : rows[0]) amp.push_back(r.bz_amplitude_T);
+  const Peak pk = find_peak(opt.r0_mm, amp);
+  info.r_bz_peak_mm = pk.x;
+  info.bz_peak_T = pk.y;
+  info.peak_at_edge = pk.at_edge;
+  for (std::size_t a = 0; a < A; ++a) {
+    out.recommendations.push_back(recommend(rows[a], opt.band_rel));
+    out.rows.insert(out.rows.end(), rows[a].begin(), rows[a].end());
+  }
+  out.fields.push_back(info);
+}
+
+std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes) {
+  std::vector<std::string> specs = split_commas(cfg.str("radius.fields"));
+  if (specs.empty()) throw InputError("radius.fields is empty: allowed a comma-separated list of field specs");
+  const std::string dir = cfg.str("radius.fem_dir");
+  const bool has_fem = std::any_of(specs.begin(), specs.end(), [](const std::string& s) { return s.rfind("fem:", 0) == 0; });
+  // A listed fem:DIR must be a solve of the configured magnet: it is compared with the analytic field.
+  for (const auto& s : specs)
+    if (s.rfind("fem:", 0) == 0)
+      if (const std::string why = solve_mismatch(s.substr(4), cfg); !why.empty())
+        throw InputError("radius.fields: '" + s + "' " + why);
+  if (dir.empty()) {
+    notes.push_back("radius.fem_dir is empty: no FEM field added automatically.");
+  } else if (has_fem) {
+    notes.push_back("radius.fields lists a fem: field; radius.fem_dir not used.");
+  } else if (const std::string why = std::filesystem::exists(std::filesystem::path(dir) / "solve.json")
+                                         ? solve_mismatch(dir, cfg)
+                                         : std::string();
+             !why.empty()) {
+    notes.push_back("The solved field in " + dir + " " + why + "; FEM field not run.");
+  } else if (std::filesystem::exists(std::filesystem::path(dir) / "solve.json")) {
+    specs.push_back("fem:" + dir);
+    notes.push_back("Solved field found in " + dir + " (solve.json): added fem:" + dir + ".");
+  } else {
+    notes.push_back("No solved field in " + dir + " (no solve.json): FEM field not run; run solve_field first.");
+  }
+  return specs;
+}
+
+}  // namespace magenc

@@ -1,0 +1,208 @@
+// Choosing the probe radius r0: error spectra, tolerance analysis (box
+// corners and Monte Carlo) and sensor noise across a range of radii, for
+// several probe arrays and field sources.
+//
+// Why a surrogate, and why it is honest
+// -------------------------------------
+// The direct pipeline (angle_error.hpp) costs M*K field evaluations per
+// mounting case. The scan needs (radii) x (10^4 MC samples + 32 corners +
+// 6 spectra cases) cases with M ~ 3600 and up to 8 probes: ~1e10 field
+// evaluations, hours for the exact field. Instead, per radius r0:
+//  1. CircleFieldModel samples the field on a small 3-D stencil around each
+//     of N nodes on the nominal probe circle (node j at angle 2*pi*j/N,
+//     radius r0, height z_s) and fits a local polynomial (default cubic) in
+//     the displacement (ex, ey, ez) by least squares. The stencil spans the
+//     whole displacement range the scan asks for (|Rot(-theta)s - d| <=
+//     |s|+|d| in plane, |dz| in z), so the fit interpolates and never
+//     extrapolates. Any FieldSource works (exact, grid, FEM).
+//  2. With N theta samples per turn, probe k at rotor angle theta_m sits at
+//     nominal node (i_k - m) mod N (b_k = 360*i_k/N) displaced by
+//     Rot(-theta_m) s - d and dz, the same for all probes. So the probe
+//     readings of a mounting case cost one polynomial dot product per
+//     (theta, distinct probe angle); the arrays share their probe angles.
+//  3. atan2, wrap, spectrum and peak-to-peak are then computed exactly as in
+//     the direct pipeline, on the N-point theta grid (default N = 360).
+// The surrogate's two approximations (local polynomial field, N-point theta
+// grid) are measured, not assumed: validate() runs the direct pipeline at
+// sensor.steps (default 3600) and at N steps on the spectra cases, the worst
+// corner and some MC samples at a few radii, and reports the discrepancies
+// (tests bound them).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/config.hpp"
+#include "fields/field_source.hpp"
+#include "probe/mounting.hpp"
+#include "probe/probe_array.hpp"
+#include "analysis/sensor_noise.hpp"
+#include "probe/spectrum.hpp"
+#include "io/tables.hpp"
+#include "analysis/tolerance.hpp"
+
+namespace magenc {
+
+// Local polynomial models of Bz around N nodes on a circle (see above).
+class CircleFieldModel {
+ public:
+  // field: the source; r0_mm: circle radius; plane_z_mm: its height (magnet
+  // frame); nodes: N; reach_xy_mm / reach_z_mm: largest in-plane / vertical
+  // displacement the model must serve (floored at 0.01 mm); order: total
+  // polynomial degree 2..4. Stencil: 5 x 5 x 5 points spanning +-reach.
+  CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes, double reach_xy_mm,
+                   double reach_z_mm, int order = 4);
+
+  int nodes() const { return nodes_; }
+  int terms() const { return static_cast<int>(exps_.size()); }
+  double r0_mm() const { return r0_mm_; }
+  double reach_xy_mm() const { return reach_xy_mm_; }
+  double reach_z_mm() const { return reach_z_mm_; }
+  // Monomials of a displacement (magnet frame, mm): u must hold terms() values.
+  void monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const;
+  // Model Bz (T) at node j displaced by the displacement whose monomials are u.
+  double bz_T(int node, const double* u) const { return coef_.col(node).dot(Eigen::Map<const Eigen::VectorXd>(u, terms())); }
+  // Bz sampled exactly at node j (no displacement), T.
+  double node_bz_T(int node) const { return center_T_[node]; }
+  // Amplitude of the first angular harmonic of Bz on the circle (T).
+  double amplitude_T() const { return amplitude_T_; }
+  // Largest |fit - sample| over every stencil point and node (T): a fit diagnostic.
+  double fit_residual_T() const { return fit_residual_T_; }
+
+ private:
+  int nodes_ = 0;
+  double r0_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
+  std::vector<std::array<int, 3>> exps_;  // exponents (a, b, c) of u_x^a u_y^b u_z^c
+  Eigen::MatrixXd coef_;                  // terms x nodes: fit coefficients per node (T)
+  Eigen::VectorXd center_T_;              // exact Bz at the nodes (T)
+  double amplitude_T_ = 0;
+  double fit_residual_T_ = 0;
+};
+
+// The fast pipeline on a CircleFieldModel for several arrays at once.
+class FastPipeline {
+ public:
+  // Throws InputError when a probe angle is not a multiple of 360/N degrees
+  // (then choose radius.fast_steps as a multiple of the array's N).
+  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays);
+  std::size_t arrays() const { return arrays_.size(); }
+  int steps() const { return model_.nodes(); }
+  // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m.
+  void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
+  // Peak-to-peak of eps of every array (pp_deg has arrays() values).
+  void pp(const Mount& m, double* pp_deg) const;
+
+ private:
+  const CircleFieldModel& model_;
+  std::vector<ProbeArray> arrays_;
+  std::vector<int> angle_index_;                // distinct probe angles as node indices
+  std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
+  std::vector<double> cos_theta_, sin_theta_;   // theta grid
+};
+
+// Settings of the scan ([radius] keys; [noise] for the noise model).
+struct RadiusScanOptions {
+  std::vector<ProbeArray> arrays;       // probe arrays to compare
+  std::vector<double> r0_mm;            // scanned probe radii (mm, increasing)
+  double plane_z_mm = 4.55;             // sensing plane height z_s (magnet frame, mm)
+  int direct_steps = 3600;              // theta samples of the direct pipeline (validation)
+  int fast_steps = 360;                 // theta samples N of the surrogate pipeline
+  int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
+  ToleranceBox box;                     // mounting tolerance box (half-widths, mm)
+  double case_offset_mm = 0.1;          // spectra cases: this much of each of sx, sy, dx, dy
+  double case_dz_mm = 0.2;              // spectra cases: dz = +-this ...
+  double case_residual_dx_mm = 0.05;    // ... with this residual dx
+  long samples = 10000;                 // Monte Carlo samples per radius
+  std::uint64_t seed = 1;               // Monte Carlo base seed
+  SensorNoise noise;                    // sensor noise model
+  int validate_radii = 4;               // radii (spread over the scan) checked against the direct pipeline
+  int validate_samples = 4;             // MC samples checked per validation radius
+  double band_rel = 0.05;               // near-optimal band: total_p99 <= (1 + band_rel) * min
+
+  static std::vector<KeySpec> keys();   // [radius] keys (noise keys: SensorNoise::keys())
+  static RadiusScanOptions from_config(const Config& cfg);
+  void validate() const;                // InputError naming the key
+};
+
+// The six spectra cases of the issue: sx, sy, dx, dy = case_offset; dz = +-case_dz with dx = residual.
+std::vector<std::pair<std::string, Mount>> spectra_cases(const RadiusScanOptions& opt);
+
+// One row of radius.csv: one (field, array, r0).
+struct RadiusRow {
+  std::string field, array;
+  double r0_mm = 0;
+  double bz_amplitude_T = 0;       // amplitude of Bz on the probe circle (ideal mount)
+  double ideal_pp_deg = 0;         // pp with an ideal mount (0 for an exact field: any value is a field artefact)
+  double worst_pp_deg = 0;         // largest pp over the tolerance box corners
+  std::string worst_corner;        // which corner, e.g. "sx+ sy- dx+ dy+ dz-"
+  SampleStats mc;                  // pp over the Monte Carlo samples (deg)
+  AngleNoise noise;                // sensor noise contribution
+  double total_p99_pp_deg = 0;     // mc.p99 + noise.pp_deg (linear sum, conservative)
+  double total_worst_pp_deg = 0;   // worst_pp + noise.pp_deg
+};
+
+// Surrogate vs direct pipeline on one case.
+struct ValidationRow {
+  std::string field, array, label;
+  double r0_mm = 0;
+  Mount mount;
+  double pp_direct_deg = 0;        // direct pipeline, direct_steps samples
+  double pp_direct_coarse_deg = 0; // direct pipeline, fast_steps samples (theta-grid effect alone)
+  double pp_surrogate_deg = 0;     // surrogate pipeline, fast_steps samples
+  double max_coef_diff_deg = 0;    // max |surrogate - direct| over a0, a1..a8, b1..b8
+};
+
+struct Recommendation {
+  std::string field, array;
+  double r0_best_mm = 0;           // argmin of total_p99 over the scan
+  double total_p99_best_deg = 0;
+  double mc_p99_best_deg = 0, noise_pp_best_deg = 0;  // its two parts
+  double total_p99_left_deg = 0;   // at the neighbouring radii (NaN at the scan's ends)
+  double total_p99_right_deg = 0;
+  double band_lo_mm = 0, band_hi_mm = 0;  // contiguous r0 range with total_p99 <= (1+band_rel)*best
+  double r0_best_mount_only_mm = 0;       // argmin of mc_p99 alone (no noise)
+  bool at_scan_edge = false;              // best r0 is the first or last scanned radius
+};
+
+struct FieldScanInfo {
+  std::string field;               // FieldSource::name()
+  std::string spec;                // how it was given (e.g. "fem:output/field")
+  double r_bz_peak_mm = 0;         // radius where the Bz amplitude peaks (parabolic refinement)
+  double bz_peak_T = 0;
+  bool peak_at_edge = false;       // the maximum is at the first/last scanned radius
+  double max_fit_residual_T = 0;   // largest surrogate fit residual over the radii
+  double t_models_s = 0, t_cases_s = 0, t_validate_s = 0;  // wall time per stage
+};
+
+struct RadiusScanResult {
+  std::vector<RadiusRow> rows;                 // field-major, then array, then r0
+  std::vector<SpectrumRow> spectra;            // spectra cases (surrogate, fast_steps); extra "case"
+  std::vector<ValidationRow> validation;
+  std::vector<Recommendation> recommendations; // one per (field, array)
+  std::vector<FieldScanInfo> fields;
+};
+
+// The scan for one field; results appended to `out`. `spec` is recorded.
+void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
+                     RadiusScanResult& out);
+
+// Recommendation from rows of one (field, array), increasing r0.
+Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel);
+
+// Radius of the largest of y(x) (x increasing), refined by the parabola
+// through the maximum and its neighbours; {x, y_max, at_edge}.
+struct Peak {
+  double x = 0, y = 0;
+  bool at_edge = false;
+};
+Peak find_peak(const std::vector<double>& x, const std::vector<double>& y);
+
+// Field specs to run: radius.fields (comma-separated), plus "fem:<radius.fem_dir>"
+// when that directory holds a solved field (solve.json) and no fem: spec is
+// listed. notes receives one line per decision (for summary.md).
+std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes);
+
+}  // namespace magenc

@@ -1,0 +1,39 @@
+#include "fields/magnet.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "core/errors.hpp"
+
+namespace magenc {
+
+void Magnet::validate() const {
+  auto positive = [](const char* name, double v, const char* unit) {
+    if (!(std::isfinite(v) && v > 0))
+      throw InputError(std::string(name) + " = " + num(v) + " is out of range: allowed (0, 1000] " + unit);
+  };
+  positive("magnet.radius_mm", radius_mm, "mm");
+  positive("magnet.height_mm", height_mm, "mm");
+  positive("magnet.br_T", br_T, "T");
+  if (!(std::isfinite(mu_r) && mu_r >= 1))
+    throw InputError("magnet.mu_r = " + num(mu_r) + " is out of range: allowed [1, 1e6]");
+  if (!std::isfinite(magnetization_deg))
+    throw InputError("magnet.magnetization_deg is NaN: allowed [-360, 360] deg");
+}
+
+Magnet Magnet::from_config(const Config& cfg) {
+  Magnet m;
+  m.radius_mm = cfg.real("magnet.radius_mm");
+  m.height_mm = cfg.real("magnet.height_mm");
+  m.br_T = cfg.real("magnet.br_T");
+  m.mu_r = cfg.real("magnet.mu_r");
+  m.magnetization_deg = cfg.real("magnet.magnetization_deg");
+  m.validate();
+  return m;
+}
+
+double sensing_plane_z_mm(const Config& cfg) {
+  return 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");
+}
+
+}  // namespace magenc

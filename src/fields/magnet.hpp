@@ -1,0 +1,24 @@
+// The diametrically magnetized cylindrical magnet and the sensing plane
+// (physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
+#pragma once
+#include "core/config.hpp"
+
+namespace magenc {
+
+struct Magnet {
+  double radius_mm = 2.0;          // R
+  double height_mm = 4.0;          // L
+  double br_T = 1.2;               // remanence Br = mu0*M0 (tesla)
+  double mu_r = 1.05;              // recoil permeability (FEM only)
+  double magnetization_deg = 0.0;  // direction of M0 in the xy plane
+
+  double top_z_mm() const { return 0.5 * height_mm; }
+  // Throws InputError for non-positive sizes / Br, mu_r < 1, NaN.
+  void validate() const;
+  static Magnet from_config(const Config& cfg);
+};
+
+// Height of the sensing plane in the magnet frame: z_s = L/2 + h.
+double sensing_plane_z_mm(const Config& cfg);
+
+}  // namespace magenc

@@ -1,0 +1,158 @@
+#include "io/tables.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/errors.hpp"
+#include "core/fp_trap.hpp"
+
+namespace magenc {
+
+namespace {
+
+// Numbers in tables: 10 significant digits (%.10g), enough for every result.
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+// A text cell, quoted (RFC 4180) when it holds a comma, quote or newline.
+std::string cell(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char ch : line) {
+    if (ch == ',') {
+      out.push_back(trim(cur));
+      cur.clear();
+    } else {
+      cur += ch;
+    }
+  }
+  out.push_back(trim(cur));
+  return out;
+}
+
+template <class Row>
+void check_same_extras(const std::vector<Row>& rows, const char* table) {
+  for (const auto& r : rows) {
+    if (r.extra.size() != rows.front().extra.size())
+      throw std::invalid_argument(std::string(table) + ": rows carry different extra columns");
+    for (std::size_t i = 0; i < r.extra.size(); ++i)
+      if (r.extra[i].first != rows.front().extra[i].first)
+        throw std::invalid_argument(std::string(table) + ": rows carry different extra columns");
+  }
+}
+
+}  // namespace
+
+std::string spectra_csv(const std::vector<SpectrumRow>& rows) {
+  check_same_extras(rows, "spectra table");
+  std::ostringstream os;
+  os << "field,array,r0_mm,sx_mm,sy_mm,dx_mm,dy_mm,dz_mm";
+  for (const auto& c : spectrum_columns()) os << ',' << c;
+  if (!rows.empty())
+    for (const auto& [name, text] : rows.front().extra) os << ',' << cell(name);
+  os << '\n';
+  for (const auto& r : rows) {
+    os << cell(r.field) << ',' << cell(r.array) << ',' << fmt(r.r0_mm) << ',' << fmt(r.mount.sx_mm) << ','
+       << fmt(r.mount.sy_mm) << ',' << fmt(r.mount.dx_mm) << ',' << fmt(r.mount.dy_mm) << ','
+       << fmt(r.mount.dz_mm);
+    for (const auto& c : spectrum_columns()) os << ',' << fmt(r.spectrum.column(c));
+    for (const auto& [name, text] : r.extra) os << ',' << cell(text);
+    os << '\n';
+  }
+  return os.str();
+}
+
+std::string fits_csv(const std::vector<FitRow>& rows) {
+  check_same_extras(rows, "fits table");
+  std::ostringstream os;
+  os << "study,swept,coef,p3,p2,p1,p0";
+  if (!rows.empty())
+    for (const auto& [name, text] : rows.front().extra) os << ',' << cell(name);
+  os << '\n';
+  for (const auto& r : rows) {
+    os << cell(r.study) << ',' << cell(r.swept) << ',' << cell(r.coef);
+    for (double v : r.p) os << ',' << fmt(v);
+    for (const auto& [name, text] : r.extra) os << ',' << cell(text);
+    os << '\n';
+  }
+  return os.str();
+}
+
+std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
+  const std::string where = "--cases " + path.string();
+  const std::string allowed_cols = "allowed columns sx_mm, sy_mm, dx_mm, dy_mm, dz_mm";
+  std::ifstream in(path);
+  if (!in) throw InputError(where + ": cannot open file");
+
+  std::vector<std::string> header;
+  std::vector<Mount> cases;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty()) continue;  // blank lines (e.g. a trailing newline) are ignored
+    const auto cells = split_commas(line);
+    const std::string at = where + ":" + std::to_string(line_no);
+    if (header.empty()) {
+      // 1. Header: known, distinct column names.
+      for (const auto& name : cells) {
+        if (name != "sx_mm" && name != "sy_mm" && name != "dx_mm" && name != "dy_mm" && name != "dz_mm")
+          throw InputError(at + ": unknown column '" + name + "': " + allowed_cols);
+        for (const auto& h : header)
+          if (h == name) throw InputError(at + ": column '" + name + "' appears twice: " + allowed_cols);
+        header.push_back(name);
+      }
+      continue;
+    }
+    // 2. Data row: one finite number per header column.
+    if (cells.size() != header.size())
+      throw InputError(at + ": " + std::to_string(cells.size()) + " cells, header has " +
+                       std::to_string(header.size()) + ": allowed exactly one number per column");
+    Mount m;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::string& text = cells[i];
+      char* end = nullptr;
+      double v = NAN;
+      if (!text.empty()) {
+        // strtod raises FE_OVERFLOW for 1e999 (rejected just below as not finite): untrapped (fp_trap.hpp).
+        const FpTrapPause parsing_input;
+        v = std::strtod(text.c_str(), &end);
+      }
+      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+        throw InputError(at + ": column " + header[i] + " = '" + text +
+                         "' is not a finite number: allowed finite numbers in mm");
+      if (header[i] == "sx_mm") m.sx_mm = v;
+      else if (header[i] == "sy_mm") m.sy_mm = v;
+      else if (header[i] == "dx_mm") m.dx_mm = v;
+      else if (header[i] == "dy_mm") m.dy_mm = v;
+      else m.dz_mm = v;
+    }
+    cases.push_back(m);
+  }
+  if (header.empty()) throw InputError(where + ": empty file: expected a header row (" + allowed_cols + ")");
+  if (cases.empty()) throw InputError(where + ": no data rows: allowed at least one case");
+  return cases;
+}
+
+}  // namespace magenc

@@ -1,0 +1,74 @@
+#include "probe/spectrum.hpp"
+
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include "core/units.hpp"
+
+namespace magenc {
+
+double wrap_deg(double a_deg) {
+  double r = std::fmod(a_deg + 180.0, 360.0);  // (-360, 360)
+  if (r < 0) r += 360.0;                        // [0, 360)
+  r -= 180.0;                                   // [-180, 180)
+  return r == -180.0 ? 180.0 : r;               // (-180, 180]
+}
+
+Spectrum spectrum_of(const Eigen::VectorXd& eps_deg) {
+  const Eigen::Index M = eps_deg.size();
+  if (M < 1) throw std::invalid_argument("spectrum_of: no samples");
+  Spectrum sp;
+  std::array<double, kHarmonics + 1> sum_c{}, sum_s{};
+  double sum = 0, lo = eps_deg[0], hi = eps_deg[0];
+  for (Eigen::Index m = 0; m < M; ++m) {
+    const double e = eps_deg[m];
+    const double theta_rad = 2.0 * kPi * static_cast<double>(m) / static_cast<double>(M);
+    // exp(i n theta) by repeated multiplication: n <= 8 keeps the error ~1e-15.
+    const std::complex<double> z1(std::cos(theta_rad), std::sin(theta_rad));
+    std::complex<double> zn = z1;
+    for (int n = 1; n <= kHarmonics; ++n) {
+      sum_c[n] += e * zn.real();
+      sum_s[n] += e * zn.imag();
+      zn *= z1;
+    }
+    sum += e;
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  sp.a0_deg = sum / static_cast<double>(M);
+  sp.a_deg[0] = sp.a0_deg;
+  sp.c_deg[0] = sp.a0_deg;
+  for (int n = 1; n <= kHarmonics; ++n) {
+    sp.a_deg[n] = 2.0 / static_cast<double>(M) * sum_c[n];
+    sp.b_deg[n] = 2.0 / static_cast<double>(M) * sum_s[n];
+    sp.c_deg[n] = std::hypot(sp.a_deg[n], sp.b_deg[n]);
+  }
+  sp.pp_deg = hi - lo;
+  return sp;
+}
+
+double Spectrum::column(const std::string& name) const {
+  if (name == "pp_deg") return pp_deg;
+  if (name == "a0_deg") return a0_deg;
+  if (name.size() == 6 && name.substr(2) == "_deg" && name[1] >= '1' && name[1] <= '0' + kHarmonics) {
+    const int n = name[1] - '0';
+    if (name[0] == 'a') return a_deg[n];
+    if (name[0] == 'b') return b_deg[n];
+    if (name[0] == 'c') return c_deg[n];
+  }
+  throw std::invalid_argument("unknown spectra column '" + name + "'");
+}
+
+const std::vector<std::string>& spectrum_columns() {
+  static const std::vector<std::string> cols = [] {
+    std::vector<std::string> c{"a0_deg"};
+    for (char k : {'a', 'b', 'c'})
+      for (int n = 1; n <= kHarmonics; ++n) c.push_back(std::string(1, k) + std::to_string(n) + "_deg");
+    c.push_back("pp_deg");
+    return c;
+  }();
+  return cols;
+}
+
+}  // namespace magenc
