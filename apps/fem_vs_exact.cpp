@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
     if (a.rfind("--out=", 0) == 0) out_dir = a.substr(6);
     else o.sets.push_back(a);
   }
+  // With --out, mesh.vtu too (fem:DIR), unless output.mesh_vtu=false is given.
+  if (!out_dir.empty()) o.sets.insert(o.sets.begin(), "output.mesh_vtu=true");
   auto cfg = magenc::load_config(schema, o);
   auto s = magenc::fem::fem_settings_from_config(cfg);
   magenc::fem::MagnetostaticSolver solver(s.domain, s.solver);

@@ -54,6 +54,10 @@ std::vector<KeySpec> fem_keys() {
                "solution (same result, 1/4 of the unknowns); false: solve the whole mirrored mesh"),
       bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
+      bool_key("output.mesh_vtu", false,
+               "also write mesh.vtu (the whole FE solution: needed by --field fem:DIR, fem_field sources 'fem', "
+               "harmonic_provenance's fem_dirs and ParaView's magnet_field.pvsm; ~0.5 GB for the default mesh)"),
+      bool_key("output.compress", false, "zlib-compress the VTK files (smaller, several times slower to write)"),
       real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
       real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to"),
       real_key("grid.plane_step_mm", 0.05, 0, 100, "mm", "plane grid spacing", true),
@@ -109,6 +113,8 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.order = static_cast<int>(cfg.integer("fem.order"));
   o.robin = cfg.str("fem.boundary") == "robin";
   o.solver = cfg.str("fem.solver");
+  s.write_mesh_vtu = cfg.flag("output.mesh_vtu");
+  s.compress = cfg.flag("output.compress");
   o.preconditioner = cfg.str("fem.preconditioner");
   o.tolerance = cfg.real("fem.tolerance");
   o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));

@@ -27,9 +27,9 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   const Eigen::Matrix3Xd B_box = solver.evaluator().B_T(s.box.points());
   if (!B_plane.allFinite() || !B_box.allFinite()) throw ComputeError("B on the grids contains NaN");
   // 2. VTK files.
-  write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell());
-  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true);
-  write_grid_vti(dir / "box.vti", s.box, B_box, false);
+  if (s.write_mesh_vtu) write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell(), s.compress);
+  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true, s.compress);
+  write_grid_vti(dir / "box.vti", s.box, B_box, false, s.compress);
   const double t_out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // 3. solve.json.
   const SolveStats& st = solver.stats();
@@ -55,6 +55,8 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["t_solve_s"] = st.t_solve_s;
   j["t_post_s"] = st.t_post_s;
   j["t_output_s"] = t_out;
+  j["mesh_vtu"] = s.write_mesh_vtu;
+  j["compress"] = s.compress;
   j["t_total_s"] = st.t_total_s + t_out;
   j["threads"] = st.threads;
   j["peak_rss_mib"] = peak_rss_mib();

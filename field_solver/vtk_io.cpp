@@ -16,6 +16,7 @@
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkXMLWriter.h>
 
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
@@ -32,9 +33,18 @@ vtkSmartPointer<vtkDoubleArray> vector_array(const char* name, const Eigen::Matr
   return a;
 }
 
+// Appended raw binary (no base64 encoding); zlib blocks only when asked.
+void set_format(vtkXMLWriter* w, bool compress) {
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();
+  if (compress) w->SetCompressorTypeToZLib();
+  else w->SetCompressorTypeToNone();
+}
+
 }  // namespace
 
-void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell) {
+void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell,
+                        bool compress) {
   vtkNew<vtkUnstructuredGrid> grid;
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
@@ -75,12 +85,12 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
-  w->SetDataModeToAppended();
-  w->SetCompressorTypeToZLib();
+  set_format(w, compress);
   if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
 }
 
-void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz) {
+void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz,
+                    bool compress) {
   vtkNew<vtkImageData> img;
   img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   img->SetOrigin(g.origin_mm[0], g.origin_mm[1], g.origin_mm[2]);
@@ -96,13 +106,13 @@ void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const 
   vtkNew<vtkXMLImageDataWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(img);
-  w->SetDataModeToAppended();
-  w->SetCompressorTypeToZLib();
+  set_format(w, compress);
   if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
 }
 
 FeSolution read_solution_vtu(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() + " does not exist");
+  if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() +
+                     " does not exist (solve_field writes it only when asked: --set output.mesh_vtu=true)");
   vtkNew<vtkXMLUnstructuredGridReader> r;
   r->SetFileName(path.c_str());
   {

@@ -105,7 +105,8 @@ void run(const Config& cfg, StudyOutput& out) {
       throw InputError("provenance.fem_dirs: '" + dir + "' " + why);
     for (const char* f : {"mesh.vtu", "plane.vti", "solve.json"})
       if (!std::filesystem::exists(std::filesystem::path(dir) / f))
-        throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f + ": run solve_field first (solve_field --out " + dir + ")");
+        throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f +
+                         ": run solve_field first (solve_field --set output.mesh_vtu=true --out " + dir + ")");
   }
   const std::string grid_interp = cfg.str("provenance.fem_grid_interp");
   const bool via_grid = grid_interp != "none";
