@@ -44,10 +44,12 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["order"] = st.order;
   j["iterations"] = st.iterations;
   j["residual"] = st.residual;
-  j["solver"] = solver.options().solver;  // resolved backend (linear_solver.hpp)
+  j["solver"] = solver.options().solver;
+  j["potential"] = solver.options().potential;  // resolved backend (linear_solver.hpp)
   j["preconditioner"] = solver.options().solver == "eigen-pcg" ? solver.options().preconditioner
                         : solver.options().solver == "petsc-hypre" ? std::string("boomeramg") : std::string("gamg");
   j["mpi_ranks"] = mpi_world_size();
+  j["rank_peak_rss_mib"] = mpi_rank_peak_rss_mib();  // per MPI rank, after the last linear solve
   j["tolerance"] = solver.options().tolerance;
   j["t_mesh_s"] = st.t_mesh_s;
   j["t_setup_s"] = st.t_setup_s;

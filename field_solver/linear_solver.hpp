@@ -17,6 +17,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "assembly.hpp"
 
@@ -58,5 +59,9 @@ class MpiSession {
 
 // Number of MPI ranks of this process's world (1 without PETSc/MPI).
 int mpi_world_size();
+
+// Peak RSS (MiB) of every rank, gathered on rank 0 at the end of the last
+// petsc_solve (empty before one, and without PETSc).
+std::vector<double> mpi_rank_peak_rss_mib();
 
 }  // namespace magenc::fem

@@ -19,6 +19,7 @@ LinearSolveResult petsc_solve(const SparseMatrix&, const Eigen::VectorXd&, const
 }
 
 int mpi_world_size() { return 1; }
+std::vector<double> mpi_rank_peak_rss_mib() { return {}; }
 MpiSession::MpiSession() = default;
 MpiSession::~MpiSession() = default;
 void MpiSession::serve() {}

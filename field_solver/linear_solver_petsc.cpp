@@ -1,6 +1,7 @@
 // PETSc backends of fem.solver (linear_solver.hpp): CG + GAMG or hypre
 // BoomerAMG, on one process or across the ranks of mpirun.
 #include <mpi.h>
+#include <sys/resource.h>
 #include <petscksp.h>
 
 #include <cstdio>
@@ -155,6 +156,17 @@ LocalSystem receive_rows(const Header& h, int rank, int size) {
   return s;
 }
 
+std::vector<double> g_rank_rss_mib;  // rank 0: peak RSS of each rank after the last solve
+
+void gather_rss(int rank, int size) {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  double mine = static_cast<double>(u.ru_maxrss) / 1024.0;
+  std::vector<double> all(static_cast<size_t>(size));
+  MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (rank == 0) g_rank_rss_mib = all;
+}
+
 void gather_solution(const std::vector<double>& x_local, int n, int size, double* x_all) {
   std::vector<int> counts(static_cast<size_t>(size)), displs(static_cast<size_t>(size));
   for (int r = 0; r < size; ++r) {
@@ -232,6 +244,7 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   x.resize(n);
   if (size > 1) gather_solution(x_local, n, size, x.data());
   else std::copy(x_local.begin(), x_local.end(), x.data());
+  gather_rss(0, size);
   if (r.iterations < 0) {
     char buf[320];
     if (r.iterations <= -1000000)
@@ -246,6 +259,8 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   }
   return r;
 }
+
+std::vector<double> mpi_rank_peak_rss_mib() { return g_rank_rss_mib; }
 
 MpiSession::MpiSession() {
   ensure_petsc();
@@ -269,6 +284,7 @@ void MpiSession::serve() {
     std::vector<double> x_local;
     solve_local(s, h.backend > 0.5 ? 1 : 0, h.tol, static_cast<int>(h.max_iterations), x_local);
     gather_solution(x_local, s.n_global, size_, nullptr);
+    gather_rss(rank_, size_);
   }
 }
 

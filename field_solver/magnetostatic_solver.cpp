@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "linear_solver.hpp"
+#include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
 #include "core/units.hpp"
 
@@ -91,6 +92,8 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
+  if (options_.potential != "total" && options_.potential != "reduced")
+    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed total, reduced");
 }
 
 void MagnetostaticSolver::run() {
@@ -156,7 +159,15 @@ void MagnetostaticSolver::assemble_system() {
       if (std::abs(comp[c]) < 1e-12) continue;
       Eigen::Vector3d br = Eigen::Vector3d::Zero();
       br[c] = domain_.magnet.br_T * comp[c];
-      quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
+      if (options_.potential == "reduced") {
+        // The source field of this component alone: |Br comp| along +-x_c.
+        Magnet m = domain_.magnet;
+        m.br_T = domain_.magnet.br_T * std::abs(comp[c]);
+        m.magnetization_deg = (c == 0 ? 0.0 : 90.0) + (comp[c] < 0 ? 180.0 : 0.0);
+        quad_loads_.emplace_back(c, assemble_reaction_rhs(quad_, *quad_space_, cell_mu_r(domain_, quad_), AnalyticField(m)));
+      } else {
+        quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
+      }
     }
     if (!options_.robin) {
       const std::vector<int> outer = boundary_dofs(quad_, *quad_space_);
@@ -166,7 +177,8 @@ void MagnetostaticSolver::assemble_system() {
     return;
   }
   K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
-  f_ = assemble_rhs(mesh_, *space_, br_cell_);
+  f_ = options_.potential == "reduced" ? assemble_reaction_rhs(mesh_, *space_, mu_r_cell_, AnalyticField(domain_.magnet))
+                                       : assemble_rhs(mesh_, *space_, br_cell_);
   if (!options_.robin) apply_zero_dirichlet(K_, f_, boundary_dofs(mesh_, *space_));
   stats_.nonzeros = K_.nonZeros();
 }
@@ -176,7 +188,9 @@ void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
     SolveStats st;
-    if (options_.solver != "eigen-pcg") {
+    if (f.squaredNorm() == 0.0) {
+      x = Eigen::VectorXd::Zero(f.size());  // reduced potential, mu_r = 1 everywhere: no reaction
+    } else if (options_.solver != "eigen-pcg") {
       const LinearSolveResult r = petsc_solve(K, f, options_.solver, options_.tolerance, options_.max_iterations, x);
       st.iterations = r.iterations;
       st.residual = r.residual;
@@ -231,6 +245,7 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
+  if (options_.potential == "reduced") s.source = std::make_shared<AnalyticField>(domain_.magnet);
   if (options_.recovery) s.recover_gradient();
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
   B_cell_ = evaluator_->B_cell_centroids();

@@ -82,6 +82,13 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   rec->SetName("gradient_recovery");
   rec->InsertNextValue(sol.grad_recovered.cols() > 0 ? 1 : 0);
   grid->GetFieldData()->AddArray(rec);
+  if (sol.source) {  // reduced potential: psi is phi; the source magnet rebuilds H_s on reading
+    const Magnet& m = sol.source->magnet();
+    vtkNew<vtkDoubleArray> src;
+    src->SetName("reduced_potential_source");  // radius_mm, height_mm, br_T, magnetization_deg
+    for (double v : {m.radius_mm, m.height_mm, m.br_T, m.magnetization_deg}) src->InsertNextValue(v);
+    grid->GetFieldData()->AddArray(src);
+  }
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
@@ -163,6 +170,20 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
   }
   if (!s.psi_Tmm.allFinite()) throw InputError(path.string() + ": psi contains NaN");
   auto* rec = vtkIntArray::SafeDownCast(grid->GetFieldData()->GetArray("gradient_recovery"));
+  if (auto* src = vtkDoubleArray::SafeDownCast(grid->GetFieldData()->GetArray("reduced_potential_source"))) {
+    if (src->GetNumberOfTuples() != 4) throw InputError(path.string() + ": reduced_potential_source must have 4 values");
+    Magnet m;
+    m.radius_mm = src->GetValue(0);
+    m.height_mm = src->GetValue(1);
+    m.br_T = src->GetValue(2);
+    m.magnetization_deg = src->GetValue(3);
+    m.mu_r = 1.0;
+    try {
+      s.source = std::make_shared<AnalyticField>(m);
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ": reduced_potential_source: " + e.what());
+    }
+  }
   if (rec && rec->GetNumberOfTuples() > 0 && rec->GetValue(0) == 1) s.recover_gradient();
   return s;
 }
