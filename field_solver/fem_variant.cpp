@@ -7,19 +7,13 @@
 #include <sstream>
 
 #include "core/errors.hpp"
-#include "report/study_output.hpp"
+#include "core/format.hpp"
 
 namespace magenc::fem {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
 
 const char* kForm = "expected 'LABEL: config=FILE key=value ...' entries separated by ';'";
 
@@ -156,6 +150,14 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
   r.facts.plane_step_mm = g.step_mm[0];
   r.facts.symmetry_order = d.mesh.symmetric ? d.mesh.symmetry_order : 1;
   return r;
+}
+
+std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const std::string& key,
+                                                 const std::vector<fs::path>& search_dirs) {
+  std::vector<FemVariant> out;
+  for (const auto& v : parse_fem_variants(study_cfg.str(key), key))
+    out.push_back({v.label, fem_variant_config(v, study_cfg, key, search_dirs)});
+  return out;
 }
 
 FemSolveFacts solve_json_facts(const fs::path& dir) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/provenance.hpp"
 #include "core/config.hpp"
 #include "fem_config.hpp"
 #include "fem_field.hpp"
@@ -43,17 +44,18 @@ std::vector<FemVariantSpec> parse_fem_variants(const std::string& text, const st
 Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg, const std::string& key,
                           const std::vector<std::filesystem::path>& search_dirs);
 
-// Facts of an FE solution for summaries.
-struct FemSolveFacts {
-  int order = 0;
-  long elements = 0, dofs = 0, iterations = 0;
-  double h_magnet_mm = 0, h_zone_mm = 0;  // target tet edge lengths (TetGen volume bounds)
-  double h_core_mm = 0;                   // core cylinder about the plane; 0 = no core
-  double mu_r = 0;                        // magnet.mu_r of the solve
-  double t_total_s = 0;                   // mesh + assemble + solve + post-processing
-  double plane_step_mm = 0;               // plane grid spacing
-  int symmetry_order = 1;                 // mesh symmetry D_N (1: a whole-domain mesh, 2: mirror planes x, y)
+// A parsed variant with its solve_field Config.
+struct FemVariant {
+  std::string label;
+  Config solve_cfg;
 };
+// Every variant of the study's `key` (parse_fem_variants, then fem_variant_config
+// each): all are checked before any is solved.
+std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const std::string& key,
+                                                 const std::vector<std::filesystem::path>& search_dirs);
+
+// Facts of an FE solution for summaries (defined beside the provenance analysis that reports them).
+using FemSolveFacts = magenc::FeSolveFacts;
 
 // A solve made in this process.
 struct SolvedFemField {

@@ -1,379 +1,62 @@
 // Study harmonic_provenance: which harmonics of the angle error are physical
 // and which are artefacts of how the field is sampled.
 //  1. The exact field is sampled on Cartesian plane grids of spacing h and
-//     interpolated (nearest as the original study did, linear, cubic); every
+//     interpolated (nearest, linear, cubic); every
 //     case (ideal mount, sx, dx at provenance.offset_mm) runs through the
 //     probe pipeline beside the exact field. Artefact = |c_n(grid) - c_n(exact)|.
 //  2. FE solutions: the variants of provenance.fem_variants, solved here with
 //     magnet.mu_r = 1 (field_solver/fem_variant.hpp; default coarse P1, coarse
-//     P2, medium P2: seconds each), and the solve_field output directories of
+//     P2, medium P2, medium P2 D16: seconds each), and the solve_field output directories of
 //     provenance.fem_dirs; each evaluated directly and, unless
 //     provenance.fem_grid_interp = none, through its plane grid.
 // Writes provenance.csv (spectra table + columns source, variant, h_mm,
 // interp, case), artefacts_vs_h.png, ideal_harmonics.png, fem_artefacts.png
-// (when FE solutions ran), summary.md.
+// (when FE solutions ran), summary.md. The computation is
+// src/analysis/provenance.* (the FE solves field_solver/fem_variant.*), the
+// outputs src/report/provenance_report.*.
 //   harmonic_provenance [--config studies/harmonic_provenance.toml] [--out DIR]
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <map>
-#include <set>
-#include <sstream>
+#include <filesystem>
 
-#include "fields/analytic_field.hpp"
-#include "core/errors.hpp"
-#include "analysis/fem_comparison.hpp"
-#include "fem_variant.hpp"
-#include "io/plot.hpp"
 #include "analysis/provenance.hpp"
+#include "fem_variant.hpp"
+#include "report/provenance_report.hpp"
 #include "report/study_output.hpp"
-#include "report/study_plots.hpp"
-#include "analysis/sweep.hpp"
-#include "io/tables.hpp"
 
 using namespace magenc;
 
 namespace {
 
 const char* kStudy = "harmonic_provenance";
-const char* kVariantsKey = "provenance.fem_variants";
-const char* kDefaultVariants =
-    "coarse P1: config=meshes/coarse.toml fem.order=1; coarse P2: config=meshes/coarse.toml fem.order=2; "
-    "medium P2: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5; "
-    "medium P2 D16: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5 mesh.symmetry_order=16";
-
-std::vector<KeySpec> study_keys() {
-  return {
-      string_key("provenance.spacings_mm", "0.2,0.1,0.05,0.025", {}, "comma-separated grid spacings h (mm), coarse to fine"),
-      string_key("provenance.interps", "nearest,linear,cubic", {}, "comma-separated interpolation modes"),
-      real_key("provenance.half_width_mm", 3.5, 0, 100, "mm", "plane grids span [-w, w] in x and y", true),
-      real_key("provenance.offset_mm", 0.1, 0, 10, "mm", "size of the sx and dx cases", true),
-      string_key(kVariantsKey, kDefaultVariants, {},
-                 "FE variants solved here with magnet.mu_r = 1: 'LABEL: config=FILE key=value ...' entries separated by "
-                 "';' (config=FILE: a TOML file of solve_field keys, relative to the working directory or the magenc "
-                 "source tree; key=value: a mesh.*, fem.* or grid.* key); empty: none"),
-      string_key("provenance.fem_dirs", "", {}, "comma-separated solve_field output directories to include (may be empty)"),
-      string_key("provenance.fem_grid_interp", "cubic", {"none", "nearest", "linear", "cubic"},
-                 "also evaluate each FE solution through its plane grid (plane.vti) with this interpolation; none: directly only"),
-      real_key("provenance.floor_deg", 1e-4, 0, 1, "deg", "exact c_n at or above this is physical", true),
-  };
-}
-
-std::vector<double> parse_numbers(const std::string& text, const std::string& what) {
-  std::vector<double> v;
-  for (const auto& s : split_list(text, what)) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(s, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != s.size() || !(x > 0)) throw InputError(what + ": '" + s + "' is not a positive number (mm)");
-    v.push_back(x);
-  }
-  return v;
-}
-
-// An FE solution of the study: solved here (a variant) or read from a solve_field directory.
-struct FeEntry {
-  std::string label, origin;  // variant label or directory; "solved here" or the directory
-  fem::FemSolveFacts facts;
-};
 
 void run(const Config& cfg, StudyOutput& out) {
   // 1. Inputs. FE variants and directories are all checked before anything is solved.
-  const AnalyticField exact(Magnet::from_config(cfg));
-  const ProbeSetup setup = probe_setup_from_config(cfg, cfg.str("sensor.array"));
-  const auto spacings = parse_numbers(cfg.str("provenance.spacings_mm"), "provenance.spacings_mm");
-  std::vector<Interp> modes;
-  for (const auto& m : split_list(cfg.str("provenance.interps"), "provenance.interps"))
-    modes.push_back(parse_interp(m, "provenance.interps"));
-  const double off = cfg.real("provenance.offset_mm"), floor_deg = cfg.real("provenance.floor_deg");
-  const Mount base = Mount::from_config(cfg);
-  const std::vector<ProvenanceCase> cases = {{"ideal", base},
-                                             {"sx=" + fmt(off, 2), with_offset(base, "sx_mm", off)},
-                                             {"dx=" + fmt(off, 2), with_offset(base, "dx_mm", off)}};
-  std::vector<Config> variant_cfgs;
-  const auto variants = fem::parse_fem_variants(cfg.str(kVariantsKey), kVariantsKey);
-  for (const auto& v : variants)
-    variant_cfgs.push_back(fem::fem_variant_config(v, cfg, kVariantsKey, {".", MAGENC_SOURCE_DIR}));
-  std::vector<std::string> fem_dirs;
-  if (!cfg.str("provenance.fem_dirs").empty()) fem_dirs = split_list(cfg.str("provenance.fem_dirs"), "provenance.fem_dirs");
-  for (const auto& dir : fem_dirs) {
-    if (const std::string why = solve_mismatch(dir, cfg); !why.empty())
-      throw InputError("provenance.fem_dirs: '" + dir + "' " + why);
-    for (const char* f : {"mesh.vtu", "plane.vti", "solve.json"})
-      if (!std::filesystem::exists(std::filesystem::path(dir) / f))
-        throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f +
-                         ": run solve_field first (solve_field --set output.mesh_vtu=true --out " + dir + ")");
-  }
-  const std::string grid_interp = cfg.str("provenance.fem_grid_interp");
-  const bool via_grid = grid_interp != "none";
+  const ProvenanceOptions options = ProvenanceOptions::from_config(cfg);
+  const auto variants = fem::fem_variants_from_config(cfg, kFemVariantsKey, {".", MAGENC_SOURCE_DIR});
 
   // 2. Grid sampling of the exact field, then the FE solutions (directly and through their plane grids).
-  std::vector<ProvenanceRow> rows =
-      grid_sampling_scan(exact, setup, cases, spacings, modes, cfg.real("provenance.half_width_mm"));
-  const std::size_t n_grid_rows = rows.size();
-  std::vector<FeEntry> fe;
-  auto scan_fe = [&](const FeEntry& e, const FieldSource& field, const GridData* plane) {
-    auto r = field_scan(exact, field, "fem", e.label, setup, cases);
-    rows.insert(rows.end(), r.begin(), r.end());
-    if (plane) {
-      const GridField g(*plane, parse_interp(grid_interp, "provenance.fem_grid_interp"));
-      auto rg = field_scan(exact, g, "fem_grid", e.label + " via plane grid", setup, cases);
-      for (auto& x : rg) {
-        x.h_mm = plane->spacing_mm.x();
-        x.interp = grid_interp;
-      }
-      rows.insert(rows.end(), rg.begin(), rg.end());
-    }
-    fe.push_back(e);
-  };
-  for (std::size_t i = 0; i < variants.size(); ++i) {
-    const fem::SolvedFemField s = fem::solve_fem_field(variant_cfgs[i]);
+  ProvenanceRun run = run_grid_provenance(cfg, options);
+  for (const auto& v : variants) {
+    const fem::SolvedFemField s = fem::solve_fem_field(v.solve_cfg);
     std::fprintf(stderr, "harmonic_provenance: %s: P%d, %ld tets, %ld dofs, %ld CG iterations, %.2f s\n",
-                 variants[i].label.c_str(), s.facts.order, s.facts.elements, s.facts.dofs, s.facts.iterations,
+                 v.label.c_str(), s.facts.order, s.facts.elements, s.facts.dofs, s.facts.iterations,
                  s.facts.t_total_s);
-    scan_fe({variants[i].label, "solved here", s.facts}, *s.field, via_grid ? &s.plane : nullptr);
+    add_fe_solution(run, {v.label, "solved here", s.facts}, *s.field, options.via_grid() ? &s.plane : nullptr);
   }
-  for (const auto& dir : fem_dirs) {
+  for (const auto& dir : options.fem_dirs) {
     const FemField field(dir);
-    const GridData plane = via_grid ? read_grid_vti(std::filesystem::path(dir) / "plane.vti") : GridData{};
-    scan_fe({dir, dir, fem::solve_json_facts(dir)}, field, via_grid ? &plane : nullptr);
+    const GridData plane =
+        options.via_grid() ? read_grid_vti(std::filesystem::path(dir) / "plane.vti") : GridData{};
+    add_fe_solution(run, {dir, dir, fem::solve_json_facts(dir)}, field, options.via_grid() ? &plane : nullptr);
   }
 
-  // 3. Table: one exact row per case, then every sampled row.
-  std::vector<SpectrumRow> table;
-  for (const auto& c : cases)
-    table.push_back({"analytic", setup.array.name, setup.r0_mm, c.mount, error_spectrum(exact, setup, c.mount),
-                     {{"source", "exact"}, {"variant", "exact"}, {"h_mm", "0"}, {"interp", ""}, {"case", c.label}}});
-  for (const auto& r : rows) {
-    const Mount m = std::find_if(cases.begin(), cases.end(), [&](auto& c) { return c.label == r.case_label; })->mount;
-    std::ostringstream h;
-    h << r.h_mm;
-    table.push_back({r.source, setup.array.name, setup.r0_mm, m, r.sampled,
-                     {{"source", r.source}, {"variant", r.variant}, {"h_mm", h.str()}, {"interp", r.interp}, {"case", r.case_label}}});
-  }
-  out.write_text("provenance.csv", spectra_csv(table));
-  auto row_of = [&](const std::string& source, const std::string& variant, const std::string& case_label) {
-    for (const auto& r : rows)
-      if (r.source == source && r.variant == variant && r.case_label == case_label) return &r;
-    throw ComputeError("harmonic_provenance: no row " + source + " " + variant + " " + case_label);
-  };
-  // 4. Plots: artefact of c4 and pp vs h per mode and case (log-log); ideal-mount bars.
-  std::vector<PlotPanel> panels;
-  for (const auto& c : cases) {
-    for (const std::string what : {"c4", "pp"}) {
-      PlotPanel p;
-      p.title = c.label + ": " + (what == "pp" ? std::string("peak-to-peak error") : "artefact |c_4 - c_4^{exact}|");
-      p.xlabel = "grid spacing h [mm]";
-      p.ylabel = what == "pp" ? "pp(grid) - pp(exact) [deg]" : "artefact [deg]";
-      p.logx = p.logy = true;
-      for (const Interp m : modes) {
-        PlotSeries s;
-        s.title = interp_name(m);
-        s.style = "linespoints";
-        for (std::size_t i = 0; i < n_grid_rows; ++i) {
-          const auto& r = rows[i];
-          if (r.case_label != c.label || r.interp != interp_name(m)) continue;
-          s.x.push_back(r.h_mm);
-          const double a = what == "pp" ? std::abs(r.sampled.pp_deg - r.exact.pp_deg)
-                                        : std::abs(r.sampled.c_deg[4] - r.exact.c_deg[4]);
-          s.y.push_back(std::max(a, 1e-9));
-        }
-        p.series.push_back(s);
-      }
-      panels.push_back(p);
-    }
-  }
-  write_plot(out.dir(), "artefacts_vs_h",
-             {"Grid-sampling artefacts vs spacing (exact field sampled on a Cartesian plane grid)", panels, 2, 1100, 1200});
-  std::vector<SpectrumCase> bars;
-  for (const auto& r : rows) {
-    if (r.case_label != "ideal") continue;
-    const bool coarse_nn = r.source == "grid" && r.h_mm == spacings.front() && r.interp == "nearest";
-    const bool fine_nn = r.source == "grid" && r.h_mm == spacings.back() && r.interp == "nearest";
-    const bool fine_cubic = r.source == "grid" && r.h_mm == spacings.back() && r.interp == "cubic";
-    if (coarse_nn || fine_nn || fine_cubic || r.source == "fem") bars.push_back({plot_literal(r.source + " " + r.variant), r.sampled});
-  }
-  write_plot(out.dir(), "ideal_harmonics",
-             {"Ideal mount: every harmonic is an artefact (exact field gives none)",
-              {harmonics_panel("logarithmic amplitude axis", bars, false, true, 1e-7)}, 1, 1100, 600});
-  const std::string dx_label = cases[2].label;
-  if (!fe.empty()) {
-    // FE artefacts vs DOFs, one series per element order and mesh symmetry (direct evaluation).
-    PlotPanel ideal{"ideal mount (exact: all zero)", "degrees of freedom", "c_n or pp [deg]", {}, true, true, {}};
-    PlotPanel dx{plot_literal(dx_label) + ": |c_n - c_n^{exact}| (mu_r = 1 solutions)", "degrees of freedom", "artefact [deg]",
-                 {}, true, true, {}};
-    std::set<std::pair<int, int>> groups;  // (order, symmetry order)
-    for (const auto& e : fe) groups.insert({e.facts.order, e.facts.symmetry_order});
-    for (const auto& [order, sym] : groups) {
-      std::vector<const FeEntry*> es;
-      for (const auto& e : fe)
-        if (e.facts.order == order && e.facts.symmetry_order == sym) es.push_back(&e);
-      std::sort(es.begin(), es.end(), [](auto* x, auto* y) { return x->facts.dofs < y->facts.dofs; });
-      const std::string P = "P" + std::to_string(order) + (sym > 2 ? " D" + std::to_string(sym) : "") + " ";
-      PlotSeries c4{P + "c_4", {}, {}, "linespoints", "pt 7"}, c8{P + "c_8", {}, {}, "linespoints", "pt 5"},
-          pp{P + "pp", {}, {}, "linespoints", "dt 2"};
-      PlotSeries d1{P + "c_1", {}, {}, "linespoints", "pt 7"}, d3{P + "c_3", {}, {}, "linespoints", "pt 5"};
-      for (const auto* e : es) {
-        const auto& s = row_of("fem", e->label, "ideal")->sampled;
-        c4.x.push_back(double(e->facts.dofs));
-        c4.y.push_back(std::max(s.c_deg[4], 1e-9));
-        c8.x.push_back(double(e->facts.dofs));
-        c8.y.push_back(std::max(s.c_deg[8], 1e-9));
-        pp.x.push_back(double(e->facts.dofs));
-        pp.y.push_back(std::max(s.pp_deg, 1e-9));
-        if (e->facts.mu_r != 1.0) continue;
-        const auto* r = row_of("fem", e->label, dx_label);
-        d1.x.push_back(double(e->facts.dofs));
-        d1.y.push_back(std::max(std::abs(r->sampled.c_deg[1] - r->exact.c_deg[1]), 1e-9));
-        d3.x.push_back(double(e->facts.dofs));
-        d3.y.push_back(std::max(std::abs(r->sampled.c_deg[3] - r->exact.c_deg[3]), 1e-9));
-      }
-      ideal.series.insert(ideal.series.end(), {c4, c8, pp});
-      dx.series.insert(dx.series.end(), {d1, d3});
-    }
-    write_plot(out.dir(), "fem_artefacts",
-               {"FE artefacts vs degrees of freedom (FE solution evaluated directly)", {ideal, dx}, 2, 1200, 550});
-  }
-
-  // 5. Summary (all numbers from the rows above).
-  std::ostringstream md;
-  md << "# harmonic_provenance: physical harmonics vs sampling artefacts\n\n"
-     << "Array `" << setup.array.name << "`, r0 = " << fmt(setup.r0_mm, 3) << " mm, " << setup.steps
-     << " samples per turn; cases: ideal mount, sx and dx of " << fmt(off, 3) << " mm. "
-     << "The exact field was sampled on Cartesian plane grids (nodes on multiples of h, z = z_s) with h = "
-     << cfg.str("provenance.spacings_mm") << " mm and interpolated with " << cfg.str("provenance.interps") << ". "
-     << (fe.empty() ? std::string("No FE solutions were included (provenance.fem_variants and provenance.fem_dirs empty).")
-                    : std::to_string(fe.size()) + " FE solutions (next section).")
-     << " Table: `provenance.csv`.\n\n";
-  md << "## Ideal mount: grid sampling, c4 and peak-to-peak by spacing and mode (deg; exact field: all zero)\n\n";
-  std::vector<std::vector<std::string>> t;
-  for (std::size_t i = 0; i < n_grid_rows; ++i)
-    if (const auto& r = rows[i]; r.case_label == "ideal")
-      t.push_back({r.source, r.variant, fmt(r.sampled.c_deg[1], 5), fmt(r.sampled.c_deg[2], 5), fmt(r.sampled.c_deg[3], 5),
-                   fmt(r.sampled.c_deg[4], 5), fmt(r.sampled.c_deg[8], 5), fmt(r.sampled.pp_deg, 5)});
-  md << md_table({"source", "variant", "c1", "c2", "c3", "c4", "c8", "pp"}, t) << "\n";
-  // Observed convergence order of the ideal-mount c4 artefact between the two finest spacings.
-  if (spacings.size() >= 2) {
-    md << "Observed order of the ideal-mount c4 artefact between h = " << spacings[spacings.size() - 2] << " and "
-       << spacings.back() << " mm: ";
-    for (const Interp m : modes) {
-      double a = 0, b = 0;
-      for (std::size_t i = 0; i < n_grid_rows; ++i) {
-        const auto& r = rows[i];
-        if (r.case_label != "ideal" || r.interp != interp_name(m)) continue;
-        if (r.h_mm == spacings[spacings.size() - 2]) a = r.sampled.c_deg[4];
-        if (r.h_mm == spacings.back()) b = r.sampled.c_deg[4];
-      }
-      md << interp_name(m) << " " << fmt(std::log(a / b) / std::log(spacings[spacings.size() - 2] / spacings.back()), 2) << "; ";
-    }
-    md << "\n\n";
-  }
-
-  if (!fe.empty()) {
-    const auto num = [](double v) { return fmt_auto(v, 4, kRoundingZeroDeg); };
-    md << "## FE artefacts against mesh size and element order\n\n"
-       << "Each FE solution is evaluated directly at the probe points (`fem`)"
-       << (via_grid ? " and through its plane grid with " + grid_interp + " interpolation (`via plane grid`, grid spacing in the table)"
-                    : std::string(""))
-       << ". Variants of `provenance.fem_variants` were solved here with magnet.mu_r = 1, so the exact field is "
-          "their reference and every ideal-mount harmonic they give is numerical. ";
-    bool other_mu = false;
-    for (const auto& e : fe) other_mu = other_mu || e.facts.mu_r != 1.0;
-    if (other_mu)
-      md << "Solutions with mu_r != 1 (column mu_r): their ideal-mount harmonics are numerical too (an axisymmetric, "
-            "linear, diametrically magnetized magnet has a pure cos(phi) field at any mu_r), but their differences from "
-            "the exact field under sx and dx include the physical effect of mu_r and are not artefacts alone. ";
-    md << "h: target tet edge length (mm) in the refinement zone / the core cylinder about the sensing plane "
-          "(none: no core); solve: mesh + assemble + CG + post-processing (s). Order column: `P2` a mesh mirrored "
-          "about x = 0 and y = 0 (mesh.symmetry_order 2: a D2-symmetric field, ideal-mount artefacts at c4, c8, ...), "
-          "`P2 D16` a wedge mesh with the magnet's D16 symmetry (artefacts only at c16 and above), `whole` one "
-          "unsymmetric mesh of the whole domain (artefacts at any harmonic).\n\n";
-    std::vector<std::vector<std::string>> ft, ot;
-    for (const auto& e : fe) {
-      const auto& f = e.facts;
-      const std::string h = fmt_auto(f.h_zone_mm, 3) + " / " + (f.h_core_mm > 0 ? fmt_auto(f.h_core_mm, 3) : std::string("none"));
-      for (const bool grid : {false, true}) {
-        if (grid && !via_grid) continue;
-        const std::string source = grid ? "fem_grid" : "fem", variant = grid ? e.label + " via plane grid" : e.label;
-        const auto& s = row_of(source, variant, "ideal")->sampled;
-        const std::string label = grid ? "… via plane grid (" + grid_interp + ", h = " + fmt_auto(f.plane_step_mm, 3) + " mm)" : e.label;
-        if (grid)
-          ft.push_back({label, "", "", "", "", "", "", "", num(s.c_deg[1]), num(s.c_deg[2]), num(s.c_deg[3]), num(s.c_deg[4]),
-                        num(s.c_deg[8]), num(s.pp_deg)});
-        else
-          ft.push_back({label, e.origin, fmt_auto(f.mu_r, 3), "P" + std::to_string(f.order) + (f.symmetry_order > 2 ? " D" + std::to_string(f.symmetry_order) : f.symmetry_order == 1 ? " whole" : ""), std::to_string(f.elements),
-                        std::to_string(f.dofs), h, fmt(f.t_total_s, 2), num(s.c_deg[1]), num(s.c_deg[2]), num(s.c_deg[3]),
-                        num(s.c_deg[4]), num(s.c_deg[8]), num(s.pp_deg)});
-        std::vector<std::string> o{label};
-        for (std::size_t c = 1; c < cases.size(); ++c) {
-          const auto* r = row_of(source, variant, cases[c].label);
-          for (int n = 1; n <= 4; ++n) o.push_back(num(std::abs(r->sampled.c_deg[n] - r->exact.c_deg[n])));
-          o.push_back(num(std::abs(r->sampled.pp_deg - r->exact.pp_deg)));
-        }
-        ot.push_back(o);
-      }
-    }
-    md << "### Ideal mount (deg; exact field: all zero)\n\n"
-       << md_table({"FE solution", "solved", "mu_r", "order", "tets", "DOFs", "h zone / core", "solve s", "c1", "c2", "c3", "c4",
-                    "c8", "pp"},
-                   ft)
-       << "\n";
-    std::vector<const FeEntry*> by_dofs;
-    for (const auto& e : fe) by_dofs.push_back(&e);
-    std::stable_sort(by_dofs.begin(), by_dofs.end(), [](auto* x, auto* y) { return x->facts.dofs < y->facts.dofs; });
-    md << "Ideal-mount c4 by DOFs (evaluated directly): ";
-    for (std::size_t i = 0; i < by_dofs.size(); ++i)
-      md << (i ? " → " : "") << num(row_of("fem", by_dofs[i]->label, "ideal")->sampled.c_deg[4]) << " (" << by_dofs[i]->label
-         << ", P" << by_dofs[i]->facts.order << ", " << by_dofs[i]->facts.dofs << " DOFs)";
-    md << " deg.\n\n### Under the offsets: |c_n(FE) - c_n(exact)| and |pp(FE) - pp(exact)| (deg)\n\nExact field: ";
-    for (std::size_t c = 1; c < cases.size(); ++c) {
-      const auto& e = row_of("fem", fe.front().label, cases[c].label)->exact;
-      md << (c > 1 ? "; " : "") << cases[c].label << ": c1 " << num(e.c_deg[1]) << ", c2 " << num(e.c_deg[2]) << ", c3 "
-         << num(e.c_deg[3]) << ", c4 " << num(e.c_deg[4]) << ", pp " << num(e.pp_deg);
-    }
-    md << " deg.\n\n";
-    std::vector<std::string> oh{"FE solution"};
-    for (std::size_t c = 1; c < cases.size(); ++c)
-      for (const std::string n : {"c1", "c2", "c3", "c4", "pp"}) oh.push_back(cases[c].label + " " + n);
-    md << md_table(oh, ot) << "\n" << md_image("FE artefacts vs DOFs", "fem_artefacts.png") << "\n";
-  }
-
-  md << "## Verdict per harmonic and case\n\n"
-     << "Physical = the exact field gives c_n >= " << floor_deg
-     << " deg. Artefact = |c_n(sampled) - c_n(exact)|, largest (where) and smallest (where) over the grid variants"
-     << (fe.empty() ? "" : " and, separately, over the FE solutions (directly and via plane grid)") << ".\n\n";
-  const std::vector<ProvenanceRow> grid_rows(rows.begin(), rows.begin() + n_grid_rows), fe_rows(rows.begin() + n_grid_rows, rows.end());
-  const auto gv = harmonic_verdicts(grid_rows, floor_deg);
-  const auto fv = fe.empty() ? std::vector<HarmonicVerdict>{} : harmonic_verdicts(fe_rows, floor_deg);
-  std::vector<std::vector<std::string>> v;
-  const auto cell = [](double a, const std::string& where) { return fmt(a, 5) + " (" + where + ")"; };
-  for (std::size_t i = 0; i < gv.size(); ++i) {
-    const auto& h = gv[i];
-    std::vector<std::string> line{h.case_label, "c" + std::to_string(h.n), fmt(h.exact_deg, 5),
-                                  h.physical ? "physical" : "artefact only", cell(h.worst_artifact_deg, h.worst_variant),
-                                  cell(h.best_artifact_deg, h.best_variant)};
-    if (!fv.empty()) {
-      if (fv[i].case_label != h.case_label || fv[i].n != h.n) throw ComputeError("harmonic_provenance: verdict rows out of step");
-      line.push_back(cell(fv[i].worst_artifact_deg, fv[i].worst_variant));
-      line.push_back(cell(fv[i].best_artifact_deg, fv[i].best_variant));
-    }
-    v.push_back(line);
-  }
-  std::vector<std::string> vh{"case", "harmonic", "exact", "verdict", "grid: worst artefact", "grid: best artefact"};
-  if (!fv.empty()) vh.insert(vh.end(), {"FE: worst artefact", "FE: best artefact"});
-  md << md_table(vh, v) << "\n## Plots\n\n"
-     << md_image("artefacts vs grid spacing", "artefacts_vs_h.png") << "\n"
-     << md_image("ideal-mount harmonics", "ideal_harmonics.png") << "\n";
-  out.write_text("summary.md", md.str());
+  // 3. Table, plots, summary.
+  write_provenance_report(out, run);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  return run_study(kStudy, "harmonic_provenance: physical harmonics vs grid-sampling and FE artefacts", study_keys(),
-                   argc, argv, run);
+  return run_study(kStudy, "harmonic_provenance: physical harmonics vs grid-sampling and FE artefacts",
+                   provenance_keys(), argc, argv, run);
 }

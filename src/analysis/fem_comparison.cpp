@@ -9,10 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/grid_field.hpp"
-#include "report/study_output.hpp"
-#include "report/study_plots.hpp"
 
 namespace magenc {
 
@@ -64,9 +63,6 @@ std::string solve_mismatch(const fs::path& dir, const Config& cfg) {
   }
   return "";
 }
-
-namespace {
-}  // namespace
 
 std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
   const fs::path dir = cfg.str("fem_field.dir");
@@ -150,46 +146,104 @@ std::vector<ComparedCase> compare_sweeps(const SweepResult& fem, const SweepResu
 std::string comparison_csv(const std::vector<ComparedCase>& cases, const std::vector<std::string>& coefs) {
   check_coef_names(coefs, "comparison coefficients");
   std::ostringstream s;
-  s.precision(10);
   s << "array,sweep,swept,x_mm,source,coef,value_deg,exact_deg,diff_deg\n";
   for (const auto& c : cases)
     for (const auto& coef : coefs) {
       const double v = c.value.column(coef), e = c.exact.column(coef);
-      s << c.array << "," << c.sweep << "," << c.swept << "," << c.x_mm << "," << c.source << "," << coef << "," << v
-        << "," << e << "," << (v - e) << "\n";
+      s << c.array << "," << c.sweep << "," << c.swept << "," << fmt_sig(c.x_mm, 10) << "," << c.source << "," << coef
+        << "," << fmt_sig(v, 10) << "," << fmt_sig(e, 10) << "," << fmt_sig(v - e, 10) << "\n";
     }
   return s.str();
 }
 
-PlotSpec difference_figure(const std::string& title, const std::string& xlabel,
-                           const std::vector<DifferenceCase>& cases, const std::vector<std::string>& coefs,
-                           int columns) {
-  static const char* kMarkers[] = {"pt 7", "pt 5", "pt 9", "pt 11", "pt 13", "pt 4", "pt 6"};
-  PlotSpec spec;
-  spec.title = title;
-  spec.columns = columns;
-  spec.width_px = 560 * columns;
-  spec.height_px = 80 + 380 * static_cast<int>((coefs.size() + columns - 1) / columns);
-  for (const auto& coef : coefs) {
-    PlotPanel p;
-    const std::string axis = coef_axis_label(coef);
-    p.title = axis.substr(0, axis.find(' ')) + " (FEM - exact)";
-    p.xlabel = xlabel;
-    p.ylabel = "{/Symbol D}" + axis;
-    p.commands = {"set key outside right top", "set xzeroaxis"};
-    for (std::size_t k = 0; k < cases.size(); ++k) {
-      PlotSeries s;
-      s.title = cases[k].label;
-      s.style = "linespoints";
-      s.extra = std::string(kMarkers[k % 7]) + " lc " + std::to_string(k + 1);
-      s.x = cases[k].value->x_mm();
-      const auto v = cases[k].value->column(coef), e = cases[k].exact->column(coef);
-      for (std::size_t i = 0; i < v.size(); ++i) s.y.push_back(v[i] - e[i]);
-      p.series.push_back(s);
+ComparisonInputs comparison_inputs_from_config(const Config& cfg) {
+  ComparisonInputs in;
+  in.sources = fem_sources_from_config(cfg);  // first: a missing solve directory is the error to report
+  in.exact = std::make_shared<const AnalyticField>(Magnet::from_config(cfg));
+  in.base = Mount::from_config(cfg);
+  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  ProbeArray::parse(cfg.str("sensor.array"));  // unused here (study.arrays), but still checked
+  for (const auto& a : arrays) in.setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
+  in.dir = cfg.str("fem_field.dir");
+  return in;
+}
+
+std::vector<const SourceRun*> ArrayComparison::all() const {
+  std::vector<const SourceRun*> out;
+  for (const auto& f : fem) out.push_back(&f);
+  out.push_back(&exact);
+  return out;
+}
+
+namespace {
+
+SourceRun run_source(const std::string& label, const FieldSource& field, const ProbeSetup& setup,
+                     const ComparisonPlan& plan) {
+  SourceRun r;
+  r.label = label;
+  r.field = field.name();
+  if (plan.ideal) r.ideal = angle_error(field, setup, *plan.ideal);
+  for (const auto& m : plan.points) r.points.push_back(angle_error(field, setup, m));
+  for (const auto& s : plan.sweeps) r.sweeps.push_back(run_sweep(field, setup, s));
+  return r;
+}
+
+}  // namespace
+
+ComparisonRun run_comparison(const std::vector<FemSource>& sources, const FieldSource& exact,
+                             const std::vector<ProbeSetup>& setups, const ComparisonPlan& plan) {
+  ComparisonRun run;
+  run.plan = plan;
+  for (const auto& setup : setups) {
+    ArrayComparison r;
+    r.setup = setup;
+    r.exact = run_source("exact", exact, setup, plan);
+    for (const auto& s : sources) r.fem.push_back(run_source(s.label, *s.field, setup, plan));
+    std::vector<const SourceRun*> fitted = {&r.exact};
+    for (const auto& f : r.fem) fitted.push_back(&f);
+    for (const SourceRun* sr : fitted)
+      for (const auto& s : sr->sweeps) {
+        auto f = fit_sweep(s, plan.study, plan.fit_coefs);
+        run.fits.insert(run.fits.end(), f.begin(), f.end());
+      }
+    for (const auto& f : r.fem) {
+      if (plan.ideal)
+        run.compared.push_back(
+            {setup.array.name, "ideal", "", 0.0, f.label, f.ideal->spectrum, r.exact.ideal->spectrum});
+      for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
+        auto c = compare_sweeps(f.sweeps[k], r.exact.sweeps[k], f.label);
+        run.compared.insert(run.compared.end(), c.begin(), c.end());
+      }
     }
-    spec.panels.push_back(p);
+    run.arrays.push_back(std::move(r));
   }
-  return spec;
+  return run;
+}
+
+std::vector<SpectrumRow> comparison_spectra_rows(const ComparisonRun& run) {
+  std::vector<SpectrumRow> rows;
+  for (const auto& r : run.arrays)
+    for (const SourceRun* sr : r.all()) {
+      if (sr->ideal)
+        rows.push_back({sr->field, r.setup.array.name, r.setup.r0_mm, *run.plan.ideal, sr->ideal->spectrum,
+                        {{"sweep", "ideal"}, {"source", sr->label}}});
+      for (const auto& s : sr->sweeps)
+        for (auto row : s.rows) {
+          row.extra.push_back({"source", sr->label});
+          rows.push_back(row);
+        }
+    }
+  return rows;
+}
+
+double max_abs_difference(const SweepResult& fem, const SweepResult& exact, const std::string& coef) {
+  const auto v = fem.column(coef), e = exact.column(coef);
+  if (v.size() != e.size())
+    throw ComputeError("max_abs_difference: sweeps '" + fem.spec.label + "' and '" + exact.spec.label +
+                       "' differ in length");
+  double worst = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) worst = std::max(worst, std::abs(v[i] - e[i]));
+  return worst;
 }
 
 }  // namespace magenc

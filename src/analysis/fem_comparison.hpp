@@ -1,26 +1,30 @@
-// FEM field vs exact field, case by case (issue "FEM-driven probe studies"):
-// the studies real_field and airgap run every mounting case on a solved FE
-// field (fem:DIR and/or grid:DIR/FILE.vti) and on the exact field of the same
-// magnet, and report each FEM coefficient beside the exact one and their
-// difference. This header holds what they share:
-//   fem_sources_from_config  the solved directory and the FEM field sources
-//                            ([fem_field] keys), with a one-line error naming
-//                            solve_field when the directory is not there
-//   AcceptanceRule           |FEM - exact| <= max(rel*|exact|, abs_deg)
-//   comparison_csv           long table: one row per case, source and coefficient
-//   difference_figure        FEM - exact vs the swept offset, per coefficient
-// The run itself (every sweep on every source, fits, tables, plots) is
-// comparison_run.hpp's.
+// FEM field vs exact field, case by case: the studies real_field and airgap run
+// every mounting case on a solved FE field (fem:DIR and/or grid:DIR/FILE.vti)
+// and on the exact field of the same magnet, and report each FEM coefficient
+// beside the exact one and their difference. This header holds the computation
+// they share (the tables, plots and summaries are report/comparison_run.hpp's):
+//   fem_sources_from_config        the solved directory and the FEM field sources
+//                                  ([fem_field] keys), with a one-line error naming
+//                                  solve_field when the directory is not there
+//   comparison_inputs_from_config  the FEM sources, exact field, base mount and
+//                                  probe setups of the configuration
+//   run_comparison                 all sweeps on all sources, fits, FEM/exact pairs
+//   AcceptanceRule                 |FEM - exact| <= max(rel*|exact|, abs_deg)
+//                                  (judged cell by cell in fem_field_studies.hpp)
+//   comparison_csv                 long table: one row per case, source and coefficient
 #pragma once
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
-#include "fields/field_source.hpp"
-#include "io/plot.hpp"
-#include "probe/spectrum.hpp"
 #include "analysis/sweep.hpp"
+#include "core/config.hpp"
+#include "fields/analytic_field.hpp"
+#include "fields/field_source.hpp"
+#include "probe/mounting.hpp"
+#include "probe/spectrum.hpp"
 
 namespace magenc {
 
@@ -58,7 +62,7 @@ std::string solve_description(const std::filesystem::path& dir);
 // magnet.mu_r recorded in DIR/solve.json, or NaN when absent.
 double solve_mu_r(const std::filesystem::path& dir);
 
-// The issue's acceptance rule for a FEM coefficient against the exact one:
+// The acceptance rule for a FEM coefficient against the exact one:
 // |value - exact| <= max(rel * |exact|, abs_deg).
 struct AcceptanceRule {
   double rel = 0.02;       // fraction of |exact|
@@ -88,15 +92,64 @@ std::vector<ComparedCase> compare_sweeps(const SweepResult& fem, const SweepResu
 // (diff = value - exact), for the coefficients listed.
 std::string comparison_csv(const std::vector<ComparedCase>& cases, const std::vector<std::string>& coefs);
 
-// A labelled pair of sweeps (FEM source and exact field, same spec).
-struct DifferenceCase {
-  std::string label;          // legend entry (enhanced text)
-  const SweepResult* value;   // on the FEM source
-  const SweepResult* exact;   // on the exact field
+// What a FEM-vs-exact study reads from its configuration.
+struct ComparisonInputs {
+  std::string dir;                              // fem_field.dir (solve_field output directory)
+  std::vector<FemSource> sources;               // fem_field.sources, in order; the first is plotted
+  std::shared_ptr<const AnalyticField> exact;   // exact field of the [magnet] keys
+  Mount base;                                   // [mount] (mm)
+  std::vector<ProbeSetup> setups;               // one per study.arrays entry ([sensor] keys for r0, plane, steps)
 };
-// One panel per coefficient: value - exact (deg) vs the swept offset.
-PlotSpec difference_figure(const std::string& title, const std::string& xlabel,
-                           const std::vector<DifferenceCase>& cases, const std::vector<std::string>& coefs,
-                           int columns = 2);
 
+// Reads [fem_field] (fem_sources_from_config: a missing solve directory fails
+// first), [magnet], [mount], study.arrays (comma list of probe arrays) and
+// checks sensor.array (unused by these studies, still validated). Needs
+// register_fem_field_scheme() to have been called when "fem" is a source.
+ComparisonInputs comparison_inputs_from_config(const Config& cfg);
+
+// All results of one probe array on one field (a FEM source or the exact field).
+struct SourceRun {
+  std::string label;                       // FemSource label ("grid", "fem") or "exact"
+  std::string field;                       // FieldSource::name() (spectra column `field`)
+  std::optional<AngleErrorResult> ideal;   // at ComparisonPlan::ideal, when the plan has one
+  std::vector<AngleErrorResult> points;    // one per ComparisonPlan::points entry
+  std::vector<SweepResult> sweeps;         // one per ComparisonPlan::sweeps entry
+};
+
+// One probe array run on every FEM source and on the exact field.
+struct ArrayComparison {
+  ProbeSetup setup;
+  std::vector<SourceRun> fem;  // per FEM source, in ComparisonInputs::sources order
+  SourceRun exact;
+  // The FEM sources in order, then the exact field.
+  std::vector<const SourceRun*> all() const;
+};
+
+// What every array runs on every source.
+struct ComparisonPlan {
+  std::string study;                    // fits.csv `study` column
+  std::vector<SweepSpec> sweeps;        // swept cases; SweepSpec::label names them in tables
+  std::vector<std::string> fit_coefs;   // spectra columns fitted with a cubic over each sweep (and plotted)
+  std::optional<Mount> ideal;           // a single mount tabulated as sweep "ideal" in spectra/comparison rows
+  std::vector<Mount> points;            // further single mounts, computed but not tabulated
+};
+
+struct ComparisonRun {
+  ComparisonPlan plan;
+  std::vector<ArrayComparison> arrays;  // one per setup, in order
+  std::vector<FitRow> fits;             // per array: exact, then each FEM source; per sweep, per coefficient
+  std::vector<ComparedCase> compared;   // per array and FEM source: the ideal mount (if any), then each sweep's rows
+};
+
+// Runs plan on every setup, on each FEM source and on `exact`.
+ComparisonRun run_comparison(const std::vector<FemSource>& sources, const FieldSource& exact,
+                             const std::vector<ProbeSetup>& setups, const ComparisonPlan& plan);
+
+// Spectra-table rows: per array, each FEM source then the exact field; per
+// source the ideal mount (extra column sweep = "ideal") if the plan has one,
+// then every sweep row; each row carries extra columns sweep and source.
+std::vector<SpectrumRow> comparison_spectra_rows(const ComparisonRun& run);
+
+// Largest |FEM - exact| of coef over two sweeps of equal length (deg).
+double max_abs_difference(const SweepResult& fem, const SweepResult& exact, const std::string& coef);
 }  // namespace magenc

@@ -2,17 +2,123 @@
 
 #include <cmath>
 #include <map>
-#include <sstream>
+
+#include "analysis/fem_comparison.hpp"
+#include "analysis/sweep.hpp"
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "fields/magnet.hpp"
 
 namespace magenc {
 
 namespace {
-std::string h_text(double h) {
-  std::ostringstream os;
-  os << h;
-  return os.str();
+
+// A grid spacing in a variant name: 6 significant digits ("0.05").
+std::string h_text(double h) { return fmt_sig(h, 6); }
+
+// Positive numbers of a comma list (mm); InputError naming `what` otherwise.
+std::vector<double> parse_positive_numbers(const std::string& text, const std::string& what) {
+  std::vector<double> v;
+  for (const auto& s : split_list(text, what)) {
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(s, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used != s.size() || !(x > 0)) throw InputError(what + ": '" + s + "' is not a positive number (mm)");
+    v.push_back(x);
+  }
+  return v;
 }
+
+const char* kDefaultVariants =
+    "coarse P1: config=meshes/coarse.toml fem.order=1; coarse P2: config=meshes/coarse.toml fem.order=2; "
+    "medium P2: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5; "
+    "medium P2 D16: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5 mesh.symmetry_order=16";
+
 }  // namespace
+
+std::vector<KeySpec> provenance_keys() {
+  return {
+      string_key("provenance.spacings_mm", "0.2,0.1,0.05,0.025", {}, "comma-separated grid spacings h (mm), coarse to fine"),
+      string_key("provenance.interps", "nearest,linear,cubic", {}, "comma-separated interpolation modes"),
+      real_key("provenance.half_width_mm", 3.5, 0, 100, "mm", "plane grids span [-w, w] in x and y", true),
+      real_key("provenance.offset_mm", 0.1, 0, 10, "mm", "size of the sx and dx cases", true),
+      string_key(kFemVariantsKey, kDefaultVariants, {},
+                 "FE variants solved here with magnet.mu_r = 1: 'LABEL: config=FILE key=value ...' entries separated by "
+                 "';' (config=FILE: a TOML file of solve_field keys, relative to the working directory or the magenc "
+                 "source tree; key=value: a mesh.*, fem.* or grid.* key); empty: none"),
+      string_key("provenance.fem_dirs", "", {}, "comma-separated solve_field output directories to include (may be empty)"),
+      string_key("provenance.fem_grid_interp", "cubic", {"none", "nearest", "linear", "cubic"},
+                 "also evaluate each FE solution through its plane grid (plane.vti) with this interpolation; none: directly only"),
+      real_key("provenance.floor_deg", 1e-4, 0, 1, "deg", "exact c_n at or above this is physical", true),
+  };
+}
+
+ProvenanceOptions ProvenanceOptions::from_config(const Config& cfg) {
+  ProvenanceOptions o;
+  o.setup = probe_setup_from_config(cfg, cfg.str("sensor.array"));
+  o.spacings_text = cfg.str("provenance.spacings_mm");
+  o.spacings_mm = parse_positive_numbers(o.spacings_text, "provenance.spacings_mm");
+  o.interps_text = cfg.str("provenance.interps");
+  for (const auto& m : split_list(o.interps_text, "provenance.interps"))
+    o.modes.push_back(parse_interp(m, "provenance.interps"));
+  o.half_width_mm = cfg.real("provenance.half_width_mm");
+  o.offset_mm = cfg.real("provenance.offset_mm");
+  o.floor_deg = cfg.real("provenance.floor_deg");
+  const Mount base = Mount::from_config(cfg);
+  o.cases = {{"ideal", base},
+             {"sx=" + fmt(o.offset_mm, 2), with_offset(base, "sx_mm", o.offset_mm)},
+             {"dx=" + fmt(o.offset_mm, 2), with_offset(base, "dx_mm", o.offset_mm)}};
+  if (!cfg.str("provenance.fem_dirs").empty())
+    o.fem_dirs = split_list(cfg.str("provenance.fem_dirs"), "provenance.fem_dirs");
+  for (const auto& dir : o.fem_dirs) {
+    if (const std::string why = solve_mismatch(dir, cfg); !why.empty())
+      throw InputError("provenance.fem_dirs: '" + dir + "' " + why);
+    for (const char* f : {"mesh.vtu", "plane.vti", "solve.json"})
+      if (!std::filesystem::exists(std::filesystem::path(dir) / f))
+        throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f +
+                         ": run solve_field first (solve_field --set output.mesh_vtu=true --out " + dir + ")");
+  }
+  o.grid_interp = cfg.str("provenance.fem_grid_interp");
+  return o;
+}
+
+const ProvenanceRow& ProvenanceRun::row(const std::string& source, const std::string& variant,
+                                        const std::string& case_label) const {
+  for (const auto& r : rows)
+    if (r.source == source && r.variant == variant && r.case_label == case_label) return r;
+  throw ComputeError("harmonic_provenance: no row " + source + " " + variant + " " + case_label);
+}
+
+ProvenanceRun run_grid_provenance(const Config& cfg, const ProvenanceOptions& options) {
+  ProvenanceRun run;
+  run.options = options;
+  run.exact = std::make_shared<const AnalyticField>(Magnet::from_config(cfg));
+  const auto& o = run.options;
+  run.rows = grid_sampling_scan(*run.exact, o.setup, o.cases, o.spacings_mm, o.modes, o.half_width_mm);
+  run.n_grid_rows = run.rows.size();
+  for (const auto& c : o.cases) run.exact_spectra.push_back(error_spectrum(*run.exact, o.setup, c.mount));
+  return run;
+}
+
+void add_fe_solution(ProvenanceRun& run, const FeSolution& solution, const FieldSource& field, const GridData* plane) {
+  const auto& o = run.options;
+  auto direct = field_scan(*run.exact, field, "fem", solution.label, o.setup, o.cases);
+  run.rows.insert(run.rows.end(), direct.begin(), direct.end());
+  if (plane) {
+    const GridField g(*plane, parse_interp(o.grid_interp, "provenance.fem_grid_interp"));
+    auto via = field_scan(*run.exact, g, "fem_grid", solution.label + " via plane grid", o.setup, o.cases);
+    for (auto& x : via) {
+      x.h_mm = plane->spacing_mm.x();
+      x.interp = o.grid_interp;
+    }
+    run.rows.insert(run.rows.end(), via.begin(), via.end());
+  }
+  run.fe.push_back(solution);
+}
 
 std::vector<ProvenanceRow> grid_sampling_scan(const FieldSource& exact, const ProbeSetup& setup,
                                               const std::vector<ProvenanceCase>& cases,

@@ -4,12 +4,22 @@
 // it gives are physical. A field source under test (a grid of the exact field
 // at spacing h with an interpolation mode, or an FE solution) is run through
 // the same probe pipeline; its harmonics minus the exact ones are artefacts.
+//
+// The study harmonic_provenance as library calls: ProvenanceOptions from the
+// configuration, run_grid_provenance (the exact field through plane grids),
+// then add_fe_solution once per FE solution (solved in the study with
+// field_solver/fem_variant.hpp or read from a solve_field directory). The
+// report is report/provenance_report.hpp's.
 #pragma once
+#include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "probe/angle_error.hpp"
+#include "core/config.hpp"
+#include "fields/analytic_field.hpp"
 #include "fields/grid_field.hpp"
+#include "probe/angle_error.hpp"
 
 namespace magenc {
 
@@ -54,5 +64,66 @@ struct HarmonicVerdict {
   std::string best_variant;
 };
 std::vector<HarmonicVerdict> harmonic_verdicts(const std::vector<ProvenanceRow>& rows, double floor_deg);
+
+// The [provenance] keys (provenance.fem_variants: see field_solver/fem_variant.hpp).
+inline constexpr const char* kFemVariantsKey = "provenance.fem_variants";
+std::vector<KeySpec> provenance_keys();
+
+// Facts of an FE solution for summaries (field_solver/fem_variant.hpp fills them).
+struct FeSolveFacts {
+  int order = 0;
+  long elements = 0, dofs = 0, iterations = 0;
+  double h_magnet_mm = 0, h_zone_mm = 0;  // target tet edge lengths (TetGen volume bounds)
+  double h_core_mm = 0;                   // core cylinder about the plane; 0 = no core
+  double mu_r = 0;                        // magnet.mu_r of the solve
+  double t_total_s = 0;                   // mesh + assemble + solve + post-processing
+  double plane_step_mm = 0;               // plane grid spacing
+  int symmetry_order = 1;                 // mesh symmetry D_N (1: a whole-domain mesh, 2: mirror planes x, y)
+};
+
+// The study's options, read and checked (solve_field directories included)
+// before anything is computed.
+struct ProvenanceOptions {
+  ProbeSetup setup;                      // [sensor] keys, sensor.array
+  std::vector<ProvenanceCase> cases;     // ideal, sx and dx of offset_mm
+  std::vector<double> spacings_mm;       // grid spacings h, coarse to fine
+  std::string spacings_text;             // provenance.spacings_mm as configured (for the summary)
+  std::vector<Interp> modes;             // interpolation modes of the exact-field grids
+  std::string interps_text;              // provenance.interps as configured
+  double half_width_mm = 0;              // plane grids span [-w, w] in x and y
+  double offset_mm = 0;                  // size of the sx and dx cases
+  double floor_deg = 0;                  // exact c_n at or above this is physical
+  std::vector<std::string> fem_dirs;     // solve_field output directories (checked: files present, same magnet)
+  std::string grid_interp;               // provenance.fem_grid_interp: "none" or an interpolation mode
+  bool via_grid() const { return grid_interp != "none"; }
+  static ProvenanceOptions from_config(const Config& cfg);
+};
+
+// An FE solution of the study: solved in-process (a variant) or read from a solve_field directory.
+struct FeSolution {
+  std::string label;   // variant label or directory
+  std::string origin;  // "solved here" or the directory
+  FeSolveFacts facts;
+};
+
+struct ProvenanceRun {
+  ProvenanceOptions options;
+  std::shared_ptr<const AnalyticField> exact;  // exact field of the [magnet] keys
+  std::vector<Spectrum> exact_spectra;         // per case, on the exact field
+  std::vector<ProvenanceRow> rows;             // grid rows first (n_grid_rows), then per FE solution
+  std::size_t n_grid_rows = 0;
+  std::vector<FeSolution> fe;                  // in the order added
+  // The row of (source, variant, case); ComputeError when there is none.
+  const ProvenanceRow& row(const std::string& source, const std::string& variant, const std::string& case_label) const;
+};
+
+// The exact field of cfg's [magnet] keys sampled on plane grids per options
+// (grid_sampling_scan), with the exact spectra of every case.
+ProvenanceRun run_grid_provenance(const Config& cfg, const ProvenanceOptions& options);
+
+// Adds the rows of one FE solution: evaluated directly (source "fem") and,
+// when plane is given, through that plane grid with options.grid_interp
+// (source "fem_grid", variant "<label> via plane grid").
+void add_fe_solution(ProvenanceRun& run, const FeSolution& solution, const FieldSource& field, const GridData* plane);
 
 }  // namespace magenc

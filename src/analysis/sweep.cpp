@@ -1,11 +1,12 @@
 #include "analysis/sweep.hpp"
 
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "analysis/fit.hpp"
+#include "fields/magnet.hpp"
 
 namespace magenc {
 
@@ -14,13 +15,16 @@ const std::vector<std::string>& swept_names() {
   static const std::vector<std::string> names = {"sx_mm", "sy_mm", "dx_mm", "dy_mm", "dz_mm", "r0_mm"};
   return names;
 }
-
-std::string num_text(double v) {
-  std::ostringstream os;
-  os << std::setprecision(12) << v;
-  return os.str();
-}
 }  // namespace
+
+ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
+  ProbeSetup s;
+  s.array = ProbeArray::parse(array_spec, what);
+  s.r0_mm = cfg.real("sensor.r0_mm");
+  s.plane_z_mm = sensing_plane_z_mm(cfg);
+  s.steps = static_cast<int>(cfg.integer("sensor.steps"));
+  return s;
+}
 
 void check_swept_name(const std::string& swept, const std::string& what) {
   for (const auto& n : swept_names())
@@ -127,7 +131,7 @@ std::vector<FitRow> fit_sweep(const SweepResult& sweep, const std::string& study
     f.p = fit_cubic(x, y);
     f.extra = {{"field", sweep.field},
                {"array", sweep.setup.array.name},
-               {"r0_mm", num_text(sweep.setup.r0_mm)},
+               {"r0_mm", fmt_sig(sweep.setup.r0_mm, 12)},
                {"sweep", sweep.spec.label}};
     fits.push_back(std::move(f));
   }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/config.hpp"
 #include "probe/angle_error.hpp"
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
@@ -41,6 +42,11 @@ std::vector<std::string> split_list(const std::string& text, const std::string& 
 // Checks that each name is a spectra-table coefficient column (a0_deg, ...,
 // c8_deg, pp_deg); InputError naming `what` and the allowed names otherwise.
 void check_coef_names(const std::vector<std::string>& coefs, const std::string& what);
+
+// ProbeSetup from [sensor] keys and the magnet height (z_s = L/2 + h); the
+// array from array_spec ("two", "diff4", "ring:N"; `what` names it in errors).
+ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec,
+                                   const std::string& what = "sensor.array");
 
 struct SweepSpec {
   std::string label;               // short case name for tables/plots, e.g. "dx", "dz (dx=0.05)"

@@ -1,19 +1,14 @@
 #include "core/errors.hpp"
 
+#include "core/format.hpp"
 #include "core/fp_trap.hpp"
 
 #include <CLI/CLI.hpp>
 #include <iostream>
-#include <sstream>
 
 namespace magenc {
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return fmt_sig(v, 6); }
 
 int run_main(const std::string& program, const std::function<int()>& body) {
   enable_fp_trap();  // Debug builds only (fp_trap.hpp); before any OpenMP thread exists

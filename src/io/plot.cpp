@@ -6,17 +6,20 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <iomanip>
 #include <sstream>
 #include <sys/wait.h>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace fs = std::filesystem;
 
 namespace magenc {
 
 namespace {
+
+// A number in a .dat block: 10 significant digits; NaN for gnuplot's missing points.
+std::string data_text(double v) { return std::isfinite(v) ? fmt_sig(v, 10) : std::string("NaN"); }
 
 // A gnuplot single-quoted string literal ('' stands for one quote).
 std::string quoted(const std::string& s) {
@@ -81,7 +84,6 @@ void write_plot(const fs::path& dir, const std::string& name, const PlotSpec& sp
 
   // 1. Data: one block per series, in panel order.
   std::ostringstream dat;
-  dat << std::setprecision(10);
   dat << "# " << name << ".dat: data of " << name << ".png; one block per series (gnuplot index)\n";
   int block = 0;
   std::vector<std::vector<int>> block_of(spec.panels.size());
@@ -93,10 +95,7 @@ void write_plot(const fs::path& dir, const std::string& name, const PlotSpec& sp
       dat << "# index " << block << ": panel " << p << " '" << spec.panels[p].title << "', series '"
           << s.title << "'\n";
       if (s.x.empty()) dat << "NaN NaN\n";
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        auto num = [](double v) { return std::isfinite(v) ? (std::ostringstream() << std::setprecision(10) << v).str() : std::string("NaN"); };
-        dat << num(s.x[i]) << ' ' << num(s.y[i]) << '\n';
-      }
+      for (std::size_t i = 0; i < s.x.size(); ++i) dat << data_text(s.x[i]) << ' ' << data_text(s.y[i]) << '\n';
       block_of[p].push_back(block++);
     }
   }

@@ -1,13 +1,13 @@
 #include "io/tables.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/fp_trap.hpp"
 
 namespace magenc {
@@ -15,11 +15,7 @@ namespace magenc {
 namespace {
 
 // Numbers in tables: 10 significant digits (%.10g), enough for every result.
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string table_num(double v) { return fmt_sig(v, 10); }
 
 // A text cell, quoted (RFC 4180) when it holds a comma, quote or newline.
 std::string cell(const std::string& s) {
@@ -27,13 +23,6 @@ std::string cell(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
   return q + "\"";
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
 }
 
 std::vector<std::string> split_commas(const std::string& line) {
@@ -73,10 +62,10 @@ std::string spectra_csv(const std::vector<SpectrumRow>& rows) {
     for (const auto& [name, text] : rows.front().extra) os << ',' << cell(name);
   os << '\n';
   for (const auto& r : rows) {
-    os << cell(r.field) << ',' << cell(r.array) << ',' << fmt(r.r0_mm) << ',' << fmt(r.mount.sx_mm) << ','
-       << fmt(r.mount.sy_mm) << ',' << fmt(r.mount.dx_mm) << ',' << fmt(r.mount.dy_mm) << ','
-       << fmt(r.mount.dz_mm);
-    for (const auto& c : spectrum_columns()) os << ',' << fmt(r.spectrum.column(c));
+    os << cell(r.field) << ',' << cell(r.array) << ',' << table_num(r.r0_mm) << ',' << table_num(r.mount.sx_mm) << ','
+       << table_num(r.mount.sy_mm) << ',' << table_num(r.mount.dx_mm) << ',' << table_num(r.mount.dy_mm) << ','
+       << table_num(r.mount.dz_mm);
+    for (const auto& c : spectrum_columns()) os << ',' << table_num(r.spectrum.column(c));
     for (const auto& [name, text] : r.extra) os << ',' << cell(text);
     os << '\n';
   }
@@ -92,7 +81,7 @@ std::string fits_csv(const std::vector<FitRow>& rows) {
   os << '\n';
   for (const auto& r : rows) {
     os << cell(r.study) << ',' << cell(r.swept) << ',' << cell(r.coef);
-    for (double v : r.p) os << ',' << fmt(v);
+    for (double v : r.p) os << ',' << table_num(v);
     for (const auto& [name, text] : r.extra) os << ',' << cell(text);
     os << '\n';
   }

@@ -14,7 +14,6 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "magenc_version.hpp"
-#include "fields/magnet.hpp"
 
 namespace fs = std::filesystem;
 
@@ -85,33 +84,6 @@ int run_study(const std::string& study, const std::string& description,
   });
 }
 
-ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array_spec, what);
-  s.r0_mm = cfg.real("sensor.r0_mm");
-  s.plane_z_mm = sensing_plane_z_mm(cfg);
-  s.steps = static_cast<int>(cfg.integer("sensor.steps"));
-  return s;
-}
-
-std::string fmt(double v, int digits) {
-  if (!std::isfinite(v)) return "nan";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  std::string t = os.str();
-  if (t.front() == '-' && t.find_first_not_of("-0.") == std::string::npos) t.erase(0, 1);
-  return t;
-}
-
-std::string fmt_auto(double v, int digits, double zero_below) {
-  if (!std::isfinite(v)) return "nan";
-  if (v == 0 || std::abs(v) < zero_below) return "0";
-  if (std::abs(v) >= std::pow(10.0, -(digits - 1))) return fmt(v, digits);
-  std::ostringstream os;
-  os << std::scientific << std::setprecision(1) << v;
-  return os.str();
-}
-
 std::string md_table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows) {
   std::ostringstream os;
@@ -151,9 +123,6 @@ std::string harmonics_text(const std::vector<Harmonic>& h, int digits) {
   return t;
 }
 
-}  // namespace magenc
-
-namespace magenc {
 std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, int digits) {
   if (!h.empty()) return harmonics_text(h, digits);
   int nmax = 1;
@@ -162,4 +131,5 @@ std::string harmonics_text(const std::vector<Harmonic>& h, const Spectrum& s, in
   if (s.c_deg[nmax] < kRoundingZeroDeg) return "none (all c_n < " + fmt_auto(kRoundingZeroDeg, 1) + ")";
   return "none (largest c" + std::to_string(nmax) + " = " + fmt_auto(s.c_deg[nmax], digits) + ")";
 }
+
 }  // namespace magenc

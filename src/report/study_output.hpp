@@ -5,7 +5,9 @@
 //                 config.toml (the values used) and run.json (version, git
 //                 revision, date, command line, wall time), then commits. A
 //                 failure anywhere leaves no output directory behind.
-//   md_*()/fmt()  small builders for summary.md.
+//   md_*()        small builders for summary.md (numbers: core/format.hpp and
+//                 fmt_deg below); dominant_harmonics()/harmonics_text() for
+//                 the harmonic lists of summaries.
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -13,9 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "probe/angle_error.hpp"
+#include "analysis/sweep.hpp"
 #include "core/atomic_output.hpp"
 #include "core/config.hpp"
+#include "core/format.hpp"
+#include "probe/angle_error.hpp"
 
 namespace magenc {
 
@@ -49,22 +53,13 @@ using StudyBody = std::function<void(const Config& cfg, StudyOutput& out)>;
 int run_study(const std::string& study, const std::string& description,
               const std::vector<KeySpec>& study_keys, int argc, char** argv, const StudyBody& body);
 
-// ProbeSetup from [sensor] keys and the magnet height (z_s = L/2 + h); the
-// array from array_spec ("two", "diff4", "ring:N"; `what` names it in errors).
-ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec,
-                                   const std::string& what = "sensor.array");
-
-// Fixed-point text with `digits` decimals ("-0.000" printed as "0.000").
-std::string fmt(double v, int digits = 3);
 // Angle-error values (deg) below this magnitude are rounding noise of the
 // double-precision pipeline (an ideal mount on the exact field gives ~1e-14),
 // shown as 0 in summaries and plots.
 inline constexpr double kRoundingZeroDeg = 1e-12;
+// An angle-error value (deg) in a summary table: fmt_auto(v, 4, kRoundingZeroDeg).
+inline std::string fmt_deg(double v) { return fmt_auto(v, 4, kRoundingZeroDeg); }
 
-// Number for tables: fixed with `digits` decimals when |v| >= 10^-(digits-1),
-// otherwise scientific with 2 significant digits ("3.1e-06"); "0" when
-// |v| < zero_below (e.g. kRoundingZeroDeg).
-std::string fmt_auto(double v, int digits = 4, double zero_below = 0.0);
 // A Markdown table.
 std::string md_table(const std::vector<std::string>& header,
                      const std::vector<std::vector<std::string>>& rows);

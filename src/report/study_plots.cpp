@@ -132,4 +132,35 @@ PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
   return spec;
 }
 
+PlotSpec difference_figure(const std::string& title, const std::string& xlabel,
+                           const std::vector<DifferenceCase>& cases, const std::vector<std::string>& coefs,
+                           int columns) {
+  static const char* kMarkers[] = {"pt 7", "pt 5", "pt 9", "pt 11", "pt 13", "pt 4", "pt 6"};
+  PlotSpec spec;
+  spec.title = title;
+  spec.columns = columns;
+  spec.width_px = 560 * columns;
+  spec.height_px = 80 + 380 * static_cast<int>((coefs.size() + columns - 1) / columns);
+  for (const auto& coef : coefs) {
+    PlotPanel p;
+    const std::string axis = coef_axis_label(coef);
+    p.title = axis.substr(0, axis.find(' ')) + " (FEM - exact)";
+    p.xlabel = xlabel;
+    p.ylabel = "{/Symbol D}" + axis;
+    p.commands = {"set key outside right top", "set xzeroaxis"};
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      PlotSeries s;
+      s.title = cases[k].label;
+      s.style = "linespoints";
+      s.extra = std::string(kMarkers[k % 7]) + " lc " + std::to_string(k + 1);
+      s.x = cases[k].value->x_mm();
+      const auto v = cases[k].value->column(coef), e = cases[k].exact->column(coef);
+      for (std::size_t i = 0; i < v.size(); ++i) s.y.push_back(v[i] - e[i]);
+      p.series.push_back(s);
+    }
+    spec.panels.push_back(p);
+  }
+  return spec;
+}
+
 }  // namespace magenc

@@ -4,6 +4,8 @@
 //   coefficient_figure one panel per spectrum coefficient: value vs swept
 //                      offset (points) with its cubic fit (line), one colour
 //                      per sweep
+//   difference_figure  one panel per coefficient: FEM - exact vs the swept
+//                      offset, one series per FEM source and array
 #pragma once
 #include <string>
 #include <vector>
@@ -47,5 +49,16 @@ struct SweepCase {
 PlotSpec coefficient_figure(const std::string& title, const std::string& xlabel,
                             const std::vector<SweepCase>& sweeps, const std::vector<FitRow>& fits,
                             const std::vector<std::string>& coefs, int columns = 3);
+
+// A labelled pair of sweeps (FEM source and exact field, same spec).
+struct DifferenceCase {
+  std::string label;          // legend entry (enhanced text)
+  const SweepResult* value;   // on the FEM source
+  const SweepResult* exact;   // on the exact field
+};
+// One panel per coefficient: value - exact (deg) vs the swept offset.
+PlotSpec difference_figure(const std::string& title, const std::string& xlabel,
+                           const std::vector<DifferenceCase>& cases, const std::vector<std::string>& coefs,
+                           int columns = 2);
 
 }  // namespace magenc

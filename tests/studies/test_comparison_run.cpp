@@ -126,7 +126,7 @@ TEST_CASE("run_comparison: the exact field as a FEM source differs by 0, another
     if (c.source == "grid")
       for (int n = 1; n <= 4; ++n) CHECK(c.value.c_deg[n] == c.exact.c_deg[n]);
   }
-  const ArrayRun& two = run.arrays[0];
+  const ArrayComparison& two = run.arrays[0];
   CHECK(max_abs_difference(two.fem[0].sweeps[0], two.exact.sweeps[0], "c1_deg") == 0.0);
   // R = 2.3 mm changes the field at r0 = 2.4 mm: dx gives a different c1 (a few % of ~2.5 deg at 0.1 mm).
   const double d = max_abs_difference(two.fem[1].sweeps[0], two.exact.sweeps[0], "c1_deg");

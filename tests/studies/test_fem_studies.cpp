@@ -1,6 +1,5 @@
-// End-to-end tests of the FEM-driven probe studies (issue "FEM-driven probe
-// studies"): real_field, airgap and harmonic_provenance as tiny-config smoke
-// runs, and error_spectrum with --field fem:DIR / grid:DIR/box.vti (dz != 0),
+// End-to-end tests of the FEM-driven probe studies: real_field, airgap and
+// harmonic_provenance as tiny-config smoke runs, and error_spectrum with --field fem:DIR / grid:DIR/box.vti (dz != 0),
 // all against a COARSE solve made here: meshes/coarse.toml with fem.order = 2
 // and magnet.mu_r = 1 (so the exact field is the reference), ~17k tets, ~1 s.
 //

@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# Proof that a refactoring leaves study outputs unchanged: run the studies with
+# one build, run them again with another, and compare every output file.
+#
+#   scripts/compare_outputs.sh run  BIN_DIR OUT_ROOT FIELD_DIR [--quick]
+#       runs linear_model, exact_field, real_field, airgap and harmonic_provenance
+#       with small configurations (suffix _small) and, unless --quick, their
+#       default configurations (suffix _default) into OUT_ROOT/<study>_<size>.
+#       FIELD_DIR is a solve_field output directory of the default magnet, e.g.
+#         build/bin/solve_field --config meshes/coarse.toml --out /tmp/field
+#   scripts/compare_outputs.sh diff OUT_ROOT_A OUT_ROOT_B
+#       compares every file of every run folder: CSV, summary.md, config.toml and
+#       plot data (.dat, .gp) byte for byte, except what is run metadata:
+#         run.json                        (version, git revision, date, wall time)
+#         the "solve s" column of harmonic_provenance's FE table (the wall time of the
+#         solves done in-process)
+#       PNGs are compared too but listed separately (gnuplot output).
+#       Exit 0 when everything matches, 1 otherwise.
+#
+# Example (before/after a change, same FIELD_DIR for both):
+#   git stash; scripts/build.sh; cp -r build/bin /tmp/bin_before; git stash pop; scripts/build.sh
+#   scripts/compare_outputs.sh run /tmp/bin_before /tmp/out_before /tmp/field
+#   scripts/compare_outputs.sh run build/bin /tmp/out_after /tmp/field
+#   scripts/compare_outputs.sh diff /tmp/out_before /tmp/out_after
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+
+run_one() {  # bin out_root name study args...
+  local bin=$1 root=$2 name=$3 study=$4
+  shift 4
+  echo "== $name: $study $*" >&2
+  rm -rf "${root:?}/$name"
+  "$bin/$study" --out "$root/$name" "$@" >"$root/$name.log" 2>&1 || {
+    echo "FAILED: $study (see $root/$name.log)" >&2
+    return 1
+  }
+}
+
+cmd_run() {
+  [[ $# -ge 3 ]] || usage
+  local bin root field quick=0
+  bin=$(realpath "$1"); root=$2; field=$(realpath "$3")
+  [[ ${4:-} == --quick ]] && quick=1
+  mkdir -p "$root"
+  root=$(realpath "$root")
+  local coarse; coarse=$(realpath meshes/coarse.toml)
+  local fem=(--set "fem_field.dir=$field")
+
+  run_one "$bin" "$root" linear_model_small linear_model --config studies/linear_model.toml \
+    --set sensor.steps=360 --set sweep.points=6 --set sweep.offsets=sx_mm,dx_mm,dz_mm
+  run_one "$bin" "$root" exact_field_small exact_field --config studies/exact_field.toml \
+    --set sensor.steps=360 --set sweep.points=6 --set dz_sweep.points=5 --set study.arrays=two,ring:5
+  run_one "$bin" "$root" real_field_small real_field --config studies/real_field.toml "${fem[@]}" \
+    --set sensor.steps=360 --set sweep.points=6 --set study.arrays=two,diff4
+  run_one "$bin" "$root" airgap_small airgap --config studies/airgap.toml "${fem[@]}" \
+    --set sensor.steps=360 --set dz_sweep.points=5 --set study.arrays=two,diff4
+  run_one "$bin" "$root" harmonic_provenance_small harmonic_provenance \
+    --config studies/harmonic_provenance.toml --set sensor.steps=360 \
+    --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic \
+    --set "provenance.fem_variants=coarse P1: config=$coarse fem.order=1" \
+    --set "provenance.fem_dirs=$field"
+  # No FE variants and no directories: the FE section is absent.
+  run_one "$bin" "$root" harmonic_provenance_nofe harmonic_provenance \
+    --config studies/harmonic_provenance.toml --set sensor.steps=360 \
+    --set provenance.spacings_mm=0.2,0.1,0.05 --set provenance.fem_variants= \
+    --set provenance.fem_grid_interp=none
+  [[ $quick == 1 ]] && return 0
+  run_one "$bin" "$root" linear_model_default linear_model --config studies/linear_model.toml
+  run_one "$bin" "$root" exact_field_default exact_field --config studies/exact_field.toml
+  run_one "$bin" "$root" real_field_default real_field --config studies/real_field.toml "${fem[@]}"
+  run_one "$bin" "$root" airgap_default airgap --config studies/airgap.toml "${fem[@]}"
+}
+
+# summary.md with the in-process solve times blanked (column "solve s" of any table).
+normalized() {
+  python3 - "$1" <<'EOF'
+import sys
+col = None
+for line in open(sys.argv[1], encoding="utf-8"):
+    line = line.rstrip("\n")
+    if line.startswith("|"):
+        cells = line.split("|")
+        if col is None and any(c.strip() == "solve s" for c in cells):
+            col = [c.strip() for c in cells].index("solve s")
+        elif col is not None and len(cells) > col and not set(cells[col].strip()) <= set("-:"):
+            cells[col] = " <time> "
+        line = "|".join(cells)
+    else:
+        col = None
+    print(line)
+EOF
+}
+
+cmd_diff() {
+  [[ $# -eq 2 ]] || usage
+  local a=$1 b=$2 bad=0 same=0 png_diff=0
+  for da in "$a"/*/; do
+    local name; name=$(basename "$da")
+    local db="$b/$name"
+    if [[ ! -d $db ]]; then echo "MISSING in $b: $name"; bad=1; continue; fi
+    # Same file names on both sides.
+    if ! diff <(cd "$da" && ls) <(cd "$db" && ls) >/dev/null; then
+      echo "FILES DIFFER in $name:"; diff <(cd "$da" && ls) <(cd "$db" && ls) || true; bad=1
+    fi
+    for fa in "$da"*; do
+      local f; f=$(basename "$fa")
+      local fb="$db/$f"
+      [[ -f $fb ]] || continue
+      case $f in
+        run.json) continue ;;
+        *.png)
+          if ! cmp -s "$fa" "$fb"; then echo "png differs: $name/$f"; png_diff=1; fi
+          continue ;;
+        summary.md)
+          if diff <(normalized "$fa") <(normalized "$fb") >/dev/null; then same=$((same + 1))
+          else echo "DIFFERS: $name/$f"; diff <(normalized "$fa") <(normalized "$fb") | head -20; bad=1; fi ;;
+        *)
+          if cmp -s "$fa" "$fb"; then same=$((same + 1))
+          else echo "DIFFERS: $name/$f"; diff "$fa" "$fb" | head -20; bad=1; fi ;;
+      esac
+    done
+  done
+  echo "compare_outputs: $same files identical (CSV, summary.md, config.toml, plot data)" \
+       "$([[ $png_diff == 0 ]] && echo '; PNGs identical' || echo '; some PNGs differ (listed above)')"
+  [[ $bad == 0 ]] && echo "compare_outputs: OK, no differences" || echo "compare_outputs: DIFFERENCES found"
+  return $bad
+}
+
+case ${1:-} in
+  run) shift; cmd_run "$@" ;;
+  diff) shift; cmd_diff "$@" ;;
+  *) usage ;;
+esac
