@@ -30,7 +30,8 @@ fs::path scratch(const std::string& name) {
 }
 
 int run(const std::string& prefix, const fs::path& out, const std::string& args) {
-  const std::string cmd = prefix + std::string(MAGENC_BIN_DIR) + "/solve_field --config " + MAGENC_SOURCE_DIR +
+  // timeout: a rank left waiting must fail the test, not hang it.
+  const std::string cmd = (prefix.empty() ? std::string() : "timeout 600 " + prefix) + std::string(MAGENC_BIN_DIR) + "/solve_field --config " + MAGENC_SOURCE_DIR +
                           "/meshes/coarse.toml --set fem.order=2 --set fem.solver=petsc-gamg --set output.mesh_vtu=true " +
                           args + " --out " + out.string() + " > " + out.string() + ".log 2>&1";
   const int status = std::system(cmd.c_str());
@@ -99,4 +100,9 @@ TEST_CASE("mpirun -n 2 solve_field: bad input is one error, non-zero exit, no ou
   const fs::path out2 = scratch("noconv");
   CHECK(run(mpirun, out2, "--set fem.max_iterations=1") != 0);
   CHECK_FALSE(fs::exists(out2));
+  // Command-line errors and --help end every rank (no rank left waiting).
+  const fs::path out3 = scratch("badflag");
+  CHECK(run(mpirun, out3, "--no-such-flag") == 2);
+  CHECK_FALSE(fs::exists(out3));
+  CHECK(run(mpirun, scratch("help"), "--help") == 0);
 }
