@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <petscksp.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -167,6 +168,67 @@ void gather_rss(int rank, int size) {
   if (rank == 0) g_rank_rss_mib = all;
 }
 
+// Breadth-first (Cuthill-McKee-like) ordering of the matrix graph: perm[new] =
+// old. The FE numbering puts all vertex dofs before all P2 edge dofs, so
+// contiguous row blocks of it would couple every row of one rank with the
+// other's; level sets of a BFS from a peripheral node are spatially compact
+// slabs, so contiguous blocks of the BFS order have small interfaces.
+std::vector<int> bfs_order(const SparseMatrix& K) {
+  const int n = static_cast<int>(K.rows());
+  const int* op = K.outerIndexPtr();
+  const int* ix = K.innerIndexPtr();
+  std::vector<int> perm;
+  perm.reserve(static_cast<size_t>(n));
+  std::vector<char> seen(static_cast<size_t>(n), 0);
+  auto bfs = [&](int start, std::vector<int>& order) {
+    size_t head = order.size();
+    order.push_back(start);
+    seen[static_cast<size_t>(start)] = 1;
+    while (head < order.size()) {
+      const int r = order[head++];
+      for (int k = op[r]; k < op[r + 1]; ++k)
+        if (!seen[static_cast<size_t>(ix[k])]) {
+          seen[static_cast<size_t>(ix[k])] = 1;
+          order.push_back(ix[k]);
+        }
+    }
+  };
+  for (int s0 = 0; s0 < n; ++s0) {
+    if (seen[static_cast<size_t>(s0)]) continue;
+    // One pass to find a far node of this component, then order from it.
+    const size_t base = perm.size();
+    bfs(s0, perm);
+    const int far = perm.back();
+    for (size_t k = base; k < perm.size(); ++k) seen[static_cast<size_t>(perm[k])] = 0;
+    perm.resize(base);
+    bfs(far, perm);
+  }
+  return perm;
+}
+
+// Rows [lo, hi) of P K P^T in CSR (columns renumbered and sorted).
+void permuted_rows(const SparseMatrix& K, const std::vector<int>& perm, const std::vector<int>& inv, int lo, int hi,
+                   std::vector<PetscInt>& rowptr, std::vector<PetscInt>& cols, std::vector<PetscScalar>& vals) {
+  const int* op = K.outerIndexPtr();
+  const int* ix = K.innerIndexPtr();
+  const double* v = K.valuePtr();
+  rowptr.assign(1, 0);
+  cols.clear();
+  vals.clear();
+  std::vector<std::pair<int, double>> row;
+  for (int i = lo; i < hi; ++i) {
+    const int r = perm[static_cast<size_t>(i)];
+    row.clear();
+    for (int k = op[r]; k < op[r + 1]; ++k) row.emplace_back(inv[static_cast<size_t>(ix[k])], v[k]);
+    std::sort(row.begin(), row.end());
+    for (const auto& [c, a] : row) {
+      cols.push_back(c);
+      vals.push_back(a);
+    }
+    rowptr.push_back(static_cast<PetscInt>(cols.size()));
+  }
+}
+
 void gather_solution(const std::vector<double>& x_local, int n, int size, double* x_all) {
   std::vector<int> counts(static_cast<size_t>(size)), displs(static_cast<size_t>(size));
   for (int r = 0; r < size; ++r) {
@@ -216,34 +278,49 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   h.backend = backend_code(backend);
   h.max_iterations = max_iterations;
   h.tol = tol;
-  if (size > 1) {
-    bcast_header(h, false);
-    // Send each rank its contiguous block of rows (column indices stay global).
-    for (int r = 1; r < size; ++r) {
-      int lo, hi;
-      row_range(n, r, size, lo, hi);
-      const int* op = K.outerIndexPtr();
-      std::vector<PetscInt> rp(static_cast<size_t>(hi - lo) + 1);
-      for (int i = lo; i <= hi; ++i) rp[static_cast<size_t>(i - lo)] = op[i] - op[lo];
-      MPI_Send(rp.data(), hi - lo + 1, MPIU_INT, r, kTagRowptr, MPI_COMM_WORLD);
-      MPI_Send(K.innerIndexPtr() + op[lo], op[hi] - op[lo], MPIU_INT, r, kTagCols, MPI_COMM_WORLD);
-      MPI_Send(K.valuePtr() + op[lo], op[hi] - op[lo], MPIU_SCALAR, r, kTagVals, MPI_COMM_WORLD);
-      MPI_Send(f.data() + lo, hi - lo, MPIU_SCALAR, r, kTagRhs, MPI_COMM_WORLD);
-    }
-  }
   LocalSystem s;
   s.n_global = n;
   row_range(n, 0, size, s.lo, s.hi);
-  const int* op = K.outerIndexPtr();
-  s.rowptr.assign(op, op + s.hi + 1);
-  s.cols.assign(K.innerIndexPtr(), K.innerIndexPtr() + op[s.hi]);
-  s.vals.assign(K.valuePtr(), K.valuePtr() + op[s.hi]);
-  s.f.assign(f.data(), f.data() + s.hi);
+  std::vector<int> perm, inv;  // several ranks: rows in BFS order (perm[new] = old)
+  if (size > 1) {
+    bcast_header(h, false);
+    perm = bfs_order(K);
+    inv.resize(perm.size());
+    for (size_t i = 0; i < perm.size(); ++i) inv[static_cast<size_t>(perm[i])] = static_cast<int>(i);
+    // Send each rank its contiguous block of the permuted rows (global columns).
+    std::vector<PetscInt> rp, cols;
+    std::vector<PetscScalar> vals, fr;
+    for (int r = 1; r < size; ++r) {
+      int lo, hi;
+      row_range(n, r, size, lo, hi);
+      permuted_rows(K, perm, inv, lo, hi, rp, cols, vals);
+      fr.resize(static_cast<size_t>(hi - lo));
+      for (int i = lo; i < hi; ++i) fr[static_cast<size_t>(i - lo)] = f[perm[static_cast<size_t>(i)]];
+      MPI_Send(rp.data(), hi - lo + 1, MPIU_INT, r, kTagRowptr, MPI_COMM_WORLD);
+      MPI_Send(cols.data(), static_cast<int>(cols.size()), MPIU_INT, r, kTagCols, MPI_COMM_WORLD);
+      MPI_Send(vals.data(), static_cast<int>(vals.size()), MPIU_SCALAR, r, kTagVals, MPI_COMM_WORLD);
+      MPI_Send(fr.data(), hi - lo, MPIU_SCALAR, r, kTagRhs, MPI_COMM_WORLD);
+    }
+    permuted_rows(K, perm, inv, s.lo, s.hi, s.rowptr, s.cols, s.vals);
+    s.f.resize(static_cast<size_t>(s.hi));
+    for (int i = 0; i < s.hi; ++i) s.f[static_cast<size_t>(i)] = f[perm[static_cast<size_t>(i)]];
+  } else {
+    const int* op = K.outerIndexPtr();
+    s.rowptr.assign(op, op + s.hi + 1);
+    s.cols.assign(K.innerIndexPtr(), K.innerIndexPtr() + op[s.hi]);
+    s.vals.assign(K.valuePtr(), K.valuePtr() + op[s.hi]);
+    s.f.assign(f.data(), f.data() + s.hi);
+  }
   std::vector<double> x_local;
   LinearSolveResult r = solve_local(s, h.backend > 0.5 ? 1 : 0, tol, max_iterations, x_local);
   x.resize(n);
-  if (size > 1) gather_solution(x_local, n, size, x.data());
-  else std::copy(x_local.begin(), x_local.end(), x.data());
+  if (size > 1) {
+    std::vector<double> xp(static_cast<size_t>(n));
+    gather_solution(x_local, n, size, xp.data());
+    for (int i = 0; i < n; ++i) x[perm[static_cast<size_t>(i)]] = xp[static_cast<size_t>(i)];
+  } else {
+    std::copy(x_local.begin(), x_local.end(), x.data());
+  }
   gather_rss(0, size);
   if (r.iterations < 0) {
     char buf[320];
