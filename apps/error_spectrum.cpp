@@ -14,11 +14,17 @@
 // --cases, each row is a complete mount (missing columns = 0) and the mount
 // flags/keys are not used; combining --cases with --sx..--dz is an error.
 // --field defaults to analytic; --interp (default cubic) applies to grid: fields.
+// Tilts, magnetization elevation and the signal chain (physics.md "Beyond the
+// five offsets") come through --config/--set (mount.tilt_x_deg, ...,
+// magnet.magnetization_elevation_deg, sensor.offset_cos_mT, ...) or, for the
+// tilts, as --cases columns; when any case is tilted the table gains the
+// columns tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg.
 // Writes the spectra table to --out atomically, or to stdout. --paths (one
 // case only) also writes the probe paths of that case as .vtp polylines with
 // Bz and theta_deg (src/io/probe_paths_vtk.hpp; ParaView's probe_paths.pvsm).
 // Example: error_spectrum --field analytic --array two --r0 2.4 --dx 0.1
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -88,7 +94,9 @@ int run(int argc, char** argv) {
   app.add_option("--dx", f.dx, "dynamic eccentricity x in mm (mount.dx_mm)");
   app.add_option("--dy", f.dy, "dynamic eccentricity y in mm (mount.dy_mm)");
   app.add_option("--dz", f.dz, "air-gap offset in mm, + = farther (mount.dz_mm)");
-  app.add_option("--cases", f.cases, "CSV of mounting cases: columns sx_mm,sy_mm,dx_mm,dy_mm,dz_mm (missing = 0)");
+  app.add_option("--cases", f.cases,
+                 "CSV of mounting cases: columns sx_mm,sy_mm,dx_mm,dy_mm,dz_mm and optionally tilt_x_deg,tilt_y_deg,"
+                 "magnet_tilt_deg,magnet_tilt_azimuth_deg (missing = 0)");
   app.add_option("--steps", f.steps, "samples M of theta per turn (sensor.steps, >= 16)");
   app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
@@ -110,6 +118,8 @@ int run(int argc, char** argv) {
   setup.r0_mm = cfg.real("sensor.r0_mm");
   setup.steps = static_cast<int>(cfg.integer("sensor.steps"));
   setup.plane_z_mm = magenc::sensing_plane_z_mm(cfg);
+  setup.chain = magenc::SignalChain::from_config(cfg);
+  setup.magnet_height_mm = cfg.real("magnet.height_mm");
   const std::vector<magenc::Mount> cases =
       f.cases.empty() ? std::vector<magenc::Mount>{magenc::Mount::from_config(cfg)}
                       : magenc::read_cases_csv(f.cases);
@@ -120,12 +130,25 @@ int run(int argc, char** argv) {
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;
   std::optional<magenc::AngleErrorResult> single;  // the one case's full result, for --paths
+  bool any_tilt = false;
+  for (const auto& mount : cases) any_tilt = any_tilt || mount.tilted();
   for (const auto& mount : cases) {
     magenc::SpectrumRow row;
     row.field = field->name();
     row.array = setup.array.name;
     row.r0_mm = setup.r0_mm;
     row.mount = mount;
+    if (any_tilt) {  // the tilts of each case, as extra columns after the standard ones
+      auto g10 = [](double v) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.10g", v);
+        return std::string(buf);
+      };
+      row.extra = {{"tilt_x_deg", g10(mount.tilt_x_deg)},
+                   {"tilt_y_deg", g10(mount.tilt_y_deg)},
+                   {"magnet_tilt_deg", g10(mount.magnet_tilt_deg)},
+                   {"magnet_tilt_azimuth_deg", g10(mount.magnet_tilt_azimuth_deg)}};
+    }
     magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
     row.spectrum = res.spectrum;
     if (!f.paths.empty()) single = std::move(res);

@@ -34,8 +34,11 @@ Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
 
 Eigen::Vector3d source_remanence_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {
   if (!source.inside_or_on_magnet(x_mm)) return Eigen::Vector3d::Zero();
-  const double a = deg_to_rad(source.magnet().magnetization_deg);
-  return source.magnet().br_T * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+  const Magnet& m = source.magnet();
+  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
+  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
+  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
+  return m.br_T * Eigen::Vector3d(ce * std::cos(a), ce * std::sin(a), se);
 }
 
 Eigen::Vector3d source_H_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {

@@ -64,7 +64,8 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["peak_rss_mib"] = peak_rss_mib();
   j["git_revision"] = kGitRevision;
   j["magnet"] = {{"radius_mm", d.magnet.radius_mm}, {"height_mm", d.magnet.height_mm}, {"br_T", d.magnet.br_T},
-                 {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg}};
+                 {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg},
+                 {"magnetization_elevation_deg", d.magnet.magnetization_elevation_deg}};
   j["domain"] = {{"outer_radius_mm", d.mesh.outer_radius_mm},
                  {"boundary", solver.options().robin ? "robin" : "dirichlet"},
                  {"segments", d.mesh.segments},

@@ -83,6 +83,15 @@ Eigen::Matrix3Xd cell_br(const TetMesh& mesh, const Eigen::Vector3d& br_T) {
   return b;
 }
 
+// Br = mu0 M0 (T) of the magnet: azimuth magnetization_deg, elevation
+// magnetization_elevation_deg (physics.md "Beyond the five offsets").
+Eigen::Vector3d remanence_T(const Magnet& m) {
+  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
+  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
+  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
+  return {m.br_T * ce * std::cos(a), m.br_T * ce * std::sin(a), m.br_T * se};
+}
+
 }  // namespace
 
 MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions options)
@@ -136,9 +145,8 @@ void MagnetostaticSolver::setup_system() {
   stats_.dofs = space_->num_dofs();
   stats_.order = options_.order;
   stats_.threads = options_.threads;
-  const double a = deg_to_rad(domain_.magnet.magnetization_deg);
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
-  br_cell_ = cell_br(mesh_, Eigen::Vector3d(domain_.magnet.br_T * std::cos(a), domain_.magnet.br_T * std::sin(a), 0.0));
+  br_cell_ = cell_br(mesh_, remanence_T(domain_.magnet));
   stats_.solved_dofs = stats_.dofs;
   if (quadrant_solve_) {
     quad_space_ = std::make_unique<FeSpace>(quad_, options_.order);
@@ -150,20 +158,20 @@ void MagnetostaticSolver::setup_system() {
 void MagnetostaticSolver::assemble_system() {
   if (quadrant_solve_) {
     // The quadrant's cells carry the same materials; one load per non-zero
-    // component of Br (magnetization_deg = 0: x only).
+    // component of Br (magnetization_deg = 0, no elevation: x only).
     K_ = assemble_stiffness(quad_, *quad_space_, cell_mu_r(domain_, quad_), options_.robin, options_.threads);
-    const double a = deg_to_rad(domain_.magnet.magnetization_deg);
-    const double comp[2] = {std::cos(a), std::sin(a)};
+    const Eigen::Vector3d br_T = remanence_T(domain_.magnet);
     quad_loads_.clear();
-    for (int c = 0; c < 2; ++c) {
-      if (std::abs(comp[c]) < 1e-12) continue;
+    for (int c = 0; c < 3; ++c) {
+      if (std::abs(br_T[c]) < 1e-12 * domain_.magnet.br_T) continue;
       Eigen::Vector3d br = Eigen::Vector3d::Zero();
-      br[c] = domain_.magnet.br_T * comp[c];
+      br[c] = br_T[c];
       if (options_.potential == "reduced") {
-        // The source field of this component alone: |Br comp| along +-x_c.
+        // The source field of this component alone: |Br_c| along +-x_c.
         Magnet m = domain_.magnet;
-        m.br_T = domain_.magnet.br_T * std::abs(comp[c]);
-        m.magnetization_deg = (c == 0 ? 0.0 : 90.0) + (comp[c] < 0 ? 180.0 : 0.0);
+        m.br_T = std::abs(br_T[c]);
+        m.magnetization_deg = c == 0 ? (br_T[c] < 0 ? 180.0 : 0.0) : c == 1 ? (br_T[c] < 0 ? 270.0 : 90.0) : 0.0;
+        m.magnetization_elevation_deg = c == 2 ? (br_T[c] < 0 ? -90.0 : 90.0) : 0.0;
         quad_loads_.emplace_back(c, assemble_reaction_rhs(quad_, *quad_space_, cell_mu_r(domain_, quad_), AnalyticField(m)));
       } else {
         quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
@@ -206,9 +214,12 @@ void MagnetostaticSolver::solve() {
   stats_.residual = 0;
   stats_.solves = 0;
   if (quadrant_solve_) {
-    // Component c of Br gives a potential odd across the plane x_c = 0 (psi = 0
+    // Component c of Br (x or y) gives a potential odd across the plane x_c = 0 (psi = 0
     // there) and even across the other (natural condition): solve, then mirror
-    // with the sign of x_c.
+    // with the sign of x_c. The axial component (c = 2, magnetization
+    // elevation) is unchanged by both reflections x -> -x and y -> -y, which
+    // map the magnet and every region onto themselves: its potential is even
+    // in x and in y (natural condition on both planes), mirrored without a sign.
     const Eigen::Matrix3Xd& qp = quad_space_->dof_points();
     const Eigen::Matrix3Xd& fp = space_->dof_points();
     const std::vector<int> image = mirror_dof_map(fp, qp);
@@ -216,15 +227,17 @@ void MagnetostaticSolver::solve() {
     for (size_t k = 0; k < quad_loads_.size(); ++k) {
       auto& [c, f] = quad_loads_[k];
       std::vector<int> plane;
-      for (Eigen::Index i = 0; i < qp.cols(); ++i)
-        if (qp(c, i) == 0.0) plane.push_back(static_cast<int>(i));
+      if (c < 2)
+        for (Eigen::Index i = 0; i < qp.cols(); ++i)
+          if (qp(c, i) == 0.0) plane.push_back(static_cast<int>(i));
       SparseMatrix Kc;
       if (k + 1 < quad_loads_.size()) Kc = K_;  // the last solve may overwrite K_
       SparseMatrix& K = k + 1 < quad_loads_.size() ? Kc : K_;
       apply_zero_dirichlet(K, f, plane);
       Eigen::VectorXd psi_q;
       cg(K, f, psi_q);
-      for (Eigen::Index i = 0; i < fp.cols(); ++i) psi_[i] += (fp(c, i) < 0 ? -1.0 : 1.0) * psi_q[image[static_cast<size_t>(i)]];
+      for (Eigen::Index i = 0; i < fp.cols(); ++i)
+        psi_[i] += (c < 2 && fp(c, i) < 0 ? -1.0 : 1.0) * psi_q[image[static_cast<size_t>(i)]];
     }
     quad_loads_.clear();
     quad_space_.reset();

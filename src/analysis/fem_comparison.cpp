@@ -54,6 +54,13 @@ std::string solve_mismatch(const fs::path& dir, const Config& cfg) {
       return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
              ": solve again with the study's [magnet] keys";
   }
+  {  // solves written before the key existed had no elevation
+    const double solved = j["magnet"].value("magnetization_elevation_deg", 0.0);
+    const double want = cfg.real("magnet.magnetization_elevation_deg");
+    if (differs(solved, want))
+      return "was solved with magnet.magnetization_elevation_deg = " + fmt(solved, 4) + ", the study uses " +
+             fmt(want, 4) + ": solve again with the study's [magnet] keys";
+  }
   if (j.contains("plane_z_mm")) {
     const double solved = j["plane_z_mm"].get<double>();
     const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");

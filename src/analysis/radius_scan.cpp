@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "probe/angle_error.hpp"
+#include "probe/signal_chain.hpp"
 #include "core/errors.hpp"
 #include "analysis/fem_comparison.hpp"
 #include "fields/magnet.hpp"
@@ -254,6 +255,11 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.validate_radii = static_cast<int>(cfg.integer("radius.validate_radii"));
   o.validate_samples = static_cast<int>(cfg.integer("radius.validate_samples"));
   o.band_rel = cfg.real("radius.band_rel");
+  // The surrogate pipeline models the five offsets and ideal channels only: refuse a signal chain
+  // rather than ignore it (tilts are not read here: the study's mounts come from its tolerance box).
+  if (!SignalChain::from_config(cfg).ideal())
+    throw InputError("sensor.offset_cos_mT/offset_sin_mT/gain_mismatch/phase_error_deg: the radius study's "
+                     "pipeline has no signal chain: allowed 0 (use error_spectrum for signal-chain errors)");
   o.validate();
   return o;
 }

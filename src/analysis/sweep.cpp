@@ -23,6 +23,8 @@ ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_s
   s.r0_mm = cfg.real("sensor.r0_mm");
   s.plane_z_mm = sensing_plane_z_mm(cfg);
   s.steps = static_cast<int>(cfg.integer("sensor.steps"));
+  s.chain = SignalChain::from_config(cfg);
+  s.magnet_height_mm = cfg.real("magnet.height_mm");
   return s;
 }
 

@@ -33,6 +33,11 @@ const std::vector<AnalyticField::NodeTable>& AnalyticField::node_tables() {
 
 AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&node_tables()) {
   magnet_.validate();
+  const double el_rad = deg_to_rad(magnet_.magnetization_elevation_deg);
+  if (magnet_.magnetization_elevation_deg != 0.0) {
+    cos_el_ = std::cos(el_rad);
+    sin_el_ = std::sin(el_rad);
+  }
   const double alpha_rad = deg_to_rad(magnet_.magnetization_deg);
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
@@ -74,6 +79,92 @@ Eigen::Vector2d two_d_dipole_integral(double x, double y, double R) {
 }
 }  // namespace
 
+namespace {
+// Bulirsch's general complete elliptic integral
+//   cel(kc, p, c, s) = Int_0^{pi/2} (c cos^2 t + s sin^2 t) / ((cos^2 t + p sin^2 t) sqrt(cos^2 t + kc^2 sin^2 t)) dt
+// (R. Bulirsch, Numer. Math. 13 (1969) 305; the iteration as given by Derby & Olbert, Am. J. Phys. 78
+// (2010) 229). Converges quadratically (AGM-like); the stopping test |g - k| <= g*1e-9 leaves a
+// relative error ~1e-18. kc != 0 (kc = 0 only on a rim circle of the magnet).
+double cel(double kc, double p, double c, double s) {
+  constexpr double errtol = 1e-9;
+  double k = std::abs(kc), pp = p, cc = c, ss = s, em = 1.0;
+  if (p > 0) {
+    pp = std::sqrt(p);
+    ss = s / pp;
+  } else {
+    double f = kc * kc;
+    double q = 1.0 - f;
+    const double g = 1.0 - pp;
+    f = f - pp;
+    q = q * (ss - c * pp);
+    pp = std::sqrt(f / g);
+    cc = (c - ss) / g;
+    ss = -q / (g * g * pp) + cc * pp;
+  }
+  double f = cc;
+  cc = cc + ss / pp;
+  double g = k / pp;
+  ss = 2.0 * (ss + f * g);
+  pp = g + pp;
+  g = em;
+  em = k + em;
+  double kk = k;
+  for (int it = 0; it < 60 && std::abs(g - k) > g * errtol; ++it) {
+    k = 2.0 * std::sqrt(kk);
+    kk = k * em;
+    f = cc;
+    cc = cc + ss / pp;
+    g = kk / pp;
+    ss = 2.0 * (ss + f * g);
+    pp = g + pp;
+    g = em;
+    em = k + em;
+  }
+  return 0.5 * kPi * (ss + cc * em) / (em * (em + pp));
+}
+}  // namespace
+
+// Axial magnetization M0 (B0 = Br here; the caller scales by sin(el)). Its
+// magnetic charges +-M0 on the top/bottom faces give, outside the magnet, the
+// same B as the equivalent surface current K = M0 phi_hat on the curved face
+// (an ideal finite solenoid); inside, the current model gives B = mu0 (H + M)
+// directly, so this is the total B everywhere (no interior term to add). With
+// a = R, b = L/2, z_(+-) = z +- b (Derby & Olbert 2010, eqs. for a finite solenoid):
+//   alpha_(+-) = a / sqrt(z_(+-)^2 + (rho + a)^2),  beta_(+-) = z_(+-) / sqrt(z_(+-)^2 + (rho + a)^2),
+//   gamma = (a - rho)/(a + rho),  kc_(+-) = sqrt((z_(+-)^2 + (a - rho)^2) / (z_(+-)^2 + (a + rho)^2)),
+//   B_rho = (Br/pi) [alpha_+ cel(kc_+, 1, 1, -1) - alpha_- cel(kc_-, 1, 1, -1)]
+//   B_z   = (Br/pi) a/(a + rho) [beta_+ cel(kc_+, gamma^2, 1, gamma) - beta_- cel(kc_-, gamma^2, 1, gamma)].
+// On the axis (rho = 0: kc = 1, gamma = 1, cel(1,1,1,1) = pi/2, cel(1,1,1,-1) = 0) this is
+//   B_z = (Br/2) [z_+/sqrt(z_+^2 + a^2) - z_-/sqrt(z_-^2 + a^2)],  B_rho = 0,
+// the textbook on-axis field (tested), and far away a dipole of moment M0 pi a^2 L (tested).
+Vec3 AnalyticField::B_axial_closed_form_T(double x, double y, double z) const {
+  const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
+  const double rho = std::hypot(x, y);
+  const double zp = z + b, zm = z - b;
+  const double sp = std::sqrt(zp * zp + (rho + a) * (rho + a)), sm = std::sqrt(zm * zm + (rho + a) * (rho + a));
+  const double kcp = std::sqrt(zp * zp + (a - rho) * (a - rho)) / sp;
+  const double kcm = std::sqrt(zm * zm + (a - rho) * (a - rho)) / sm;
+  const double gamma = (a - rho) / (a + rho);
+  const double B0 = magnet_.br_T / kPi;
+  const double Bz = B0 * a / (a + rho) *
+                    (zp / sp * cel(kcp, gamma * gamma, 1.0, gamma) - zm / sm * cel(kcm, gamma * gamma, 1.0, gamma));
+  if (!(rho > 0)) return {0.0, 0.0, Bz};
+  const double Brho = B0 * (a / sp * cel(kcp, 1.0, 1.0, -1.0) - a / sm * cel(kcm, 1.0, 1.0, -1.0));
+  return {Brho * x / rho, Brho * y / rho, Bz};
+}
+
+double AnalyticField::Bz_axial_closed_form_T(double x, double y, double z) const {
+  const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
+  const double rho = std::hypot(x, y);
+  const double zp = z + b, zm = z - b;
+  const double sp = std::sqrt(zp * zp + (rho + a) * (rho + a)), sm = std::sqrt(zm * zm + (rho + a) * (rho + a));
+  const double kcp = std::sqrt(zp * zp + (a - rho) * (a - rho)) / sp;
+  const double kcm = std::sqrt(zm * zm + (a - rho) * (a - rho)) / sm;
+  const double gamma = (a - rho) / (a + rho);
+  return magnet_.br_T / kPi * a / (a + rho) *
+         (zp / sp * cel(kcp, gamma * gamma, 1.0, gamma) - zm / sm * cel(kcm, gamma * gamma, 1.0, gamma));
+}
+
 double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
@@ -95,7 +186,17 @@ double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
   return magnet_.br_T * R / (4.0 * kPi) * weight * (2.0 * z * L) * acc;
 }
 
-Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
+// Full kernel. Per node one division: with e_i = s_i + a_i, s12 = s1 + s2 and
+// q = 1/(s1 s2 s12 e1 e2):  1/(s1 s2 s12) = e1 e2 q,  g/L = [(a1 + a2 + s2) s12 + a1 (a1 + a2)] q
+// (above/below the slab), gr = -(s1 e1 + s2 e2) s12 q (beside it).
+// With kAxial, the same nodes also give the axial part (unit M0 along z) as the field of the
+// equivalent surface current K = M0 phi_hat on the curved face (Biot-Savart, z' integrated):
+//   B_ax = Br R/(4 pi) Int (cos phi' (1/s1 - 1/s2), sin phi' (1/s1 - 1/s2), (R - x cos phi' - y sin phi') g) dphi'
+// (total B, inside too). Beside the magnet the pole part 2/rho^2 of g integrates in closed form:
+// Int (R - x cos phi' - y sin phi') 2/rho^2 dphi' = 4 pi/R inside (r < R), 0 outside (the 2-D field of
+// a solenoid's current sheet). The integrands are analytic in the same strip as the diametric ones.
+template <bool kAxial>
+void AnalyticField::B_aligned_parts_T(double x, double y, double z, Vec3& Bd, Vec3& Bax) const {
   const double R = magnet_.radius_mm, L = magnet_.height_mm;
   const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
   const double a1 = std::abs(t1), a2 = std::abs(t2);
@@ -104,56 +205,129 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
-  double acc_x = 0.0, acc_y = 0.0, acc_z = 0.0;
+  double acc_x = 0.0, acc_y = 0.0, acc_z = 0.0, acc_zs = 0.0, acc_ax = 0.0;
   if (t1 * t2 >= 0) {
     // Above or below the magnet's slab: g = L*N/D without cancellation.
-#pragma omp simd reduction(+ : acc_x, acc_y, acc_z)
+    const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
+#pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
       const double dx = x - R * cphi[j], dy = y - R * sphi[j];
       const double rho2 = dx * dx + dy * dy;
       const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double inv12 = 1.0 / (s1 + s2);
-      const double num = a1 + a2 + s2 + a1 * (a1 + a2) * inv12;
-      const double g = num / (s1 * s2 * (s1 + a1) * (s2 + a2));  // times L below
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const double g = ((a12 + s2) * s12 + a1a12) * q;  // times L below
+      const double kz = e1 * e2 * q;                      // 1/(s1 s2 (s1 + s2))
       acc_x += cphi[j] * dx * g;
       acc_y += cphi[j] * dy * g;
-      acc_z += cphi[j] / (s1 * s2) * inv12;
+      acc_z += cphi[j] * kz;
+      if constexpr (kAxial) {
+        acc_zs += sphi[j] * kz;
+        acc_ax += (R - x * cphi[j] - y * sphi[j]) * g;
+      }
     }
     acc_x *= L;
     acc_y *= L;
+    acc_ax *= L;
   } else {
     // Beside the magnet (|z| < L/2): g = (a1/s1 + a2/s2)/rho^2 has a pole at
     // rho = 0 (the curved face). Split g = 2/rho^2 + gr with the regular part
     // gr = -[1/(s1 (s1 + a1)) + 1/(s2 (s2 + a2))]; the pole part integrates in
     // closed form (2-D field of a cos-charged circle, see two_d_dipole_integral).
-#pragma omp simd reduction(+ : acc_x, acc_y, acc_z)
+#pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
       const double dx = x - R * cphi[j], dy = y - R * sphi[j];
       const double rho2 = dx * dx + dy * dy;
       const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double gr = -(1.0 / (s1 * (s1 + a1)) + 1.0 / (s2 * (s2 + a2)));
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const double gr = -(s1 * e1 + s2 * e2) * s12 * q;
+      const double kz = e1 * e2 * q;
       acc_x += cphi[j] * dx * gr;
       acc_y += cphi[j] * dy * gr;
-      acc_z += cphi[j] / (s1 * s2 * (s1 + s2));
+      acc_z += cphi[j] * kz;
+      if constexpr (kAxial) {
+        acc_zs += sphi[j] * kz;
+        acc_ax += (R - x * cphi[j] - y * sphi[j]) * gr;
+      }
     }
     const double weight = 2.0 * kPi / n;
     const Eigen::Vector2d I = two_d_dipole_integral(x, y, R);
     acc_x += 2.0 * I.x() / weight;  // the sums below are multiplied by the weight
     acc_y += 2.0 * I.y() / weight;
+    if constexpr (kAxial)
+      if (x * x + y * y < R * R) acc_ax += 2.0 * (2.0 * kPi / R) / weight;
   }
   const double pref = magnet_.br_T * R / (4.0 * kPi) * (2.0 * kPi / n);
-  return {pref * acc_x, pref * acc_y, pref * (2.0 * z * L) * acc_z};
+  Bd = {pref * acc_x, pref * acc_y, pref * (2.0 * z * L) * acc_z};
+  if constexpr (kAxial) Bax = {pref * (2.0 * z * L) * acc_z, pref * (2.0 * z * L) * acc_zs, pref * acc_ax};
+}
+
+Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
+  Vec3 Bd, unused;
+  B_aligned_parts_T<false>(x, y, z, Bd, unused);
+  return Bd;
+}
+
+// Bz only, diametric and axial parts (elevation != 0): the nodes of the full kernel, z parts only.
+void AnalyticField::Bz_aligned_parts_T(double x, double y, double z, double& bz_d, double& bz_ax) const {
+  const double R = magnet_.radius_mm, L = magnet_.height_mm;
+  const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
+  const double a1 = std::abs(t1), a2 = std::abs(t2);
+  const double t1sq = t1 * t1, t2sq = t2 * t2;
+  const NodeTable& tab = table_for(std::hypot(x, y), z);
+  const double* __restrict cphi = tab.cos_phi.data();
+  const double* __restrict sphi = tab.sin_phi.data();
+  const int n = tab.n;
+  double acc_z = 0.0, acc_ax = 0.0;
+  if (t1 * t2 >= 0) {
+    const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
+#pragma omp simd reduction(+ : acc_z, acc_ax)
+    for (int j = 0; j < n; ++j) {
+      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
+      const double rho2 = dx * dx + dy * dy;
+      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      acc_z += cphi[j] * e1 * e2 * q;
+      acc_ax += (R - x * cphi[j] - y * sphi[j]) * ((a12 + s2) * s12 + a1a12) * q;
+    }
+    acc_ax *= L;
+  } else {
+#pragma omp simd reduction(+ : acc_z, acc_ax)
+    for (int j = 0; j < n; ++j) {
+      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
+      const double rho2 = dx * dx + dy * dy;
+      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
+      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
+      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      acc_z += cphi[j] * e1 * e2 * q;
+      acc_ax -= (R - x * cphi[j] - y * sphi[j]) * (s1 * e1 + s2 * e2) * s12 * q;
+    }
+    if (x * x + y * y < R * R) acc_ax += 2.0 * (2.0 * kPi / R) / (2.0 * kPi / n);
+  }
+  const double pref = magnet_.br_T * R / (4.0 * kPi) * (2.0 * kPi / n);
+  bz_d = pref * (2.0 * z * L) * acc_z;
+  bz_ax = pref * acc_ax;
 }
 
 Vec3 AnalyticField::B_T(const Vec3& p) const {
   // Rotate the point into the frame where M0 is along +x, evaluate, rotate back.
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
-  const Vec3 Ba = B_aligned_T(xa, ya, p.z());
+  Vec3 Ba, Bax;
+  if (sin_el_ == 0.0) {
+    B_aligned_parts_T<false>(xa, ya, p.z(), Ba, Bax);
+  } else {
+    // Elevation: diametric part scaled by cos(el), axial part (total B already) by sin(el);
+    // both are vectors of the aligned frame, rotated back together.
+    B_aligned_parts_T<true>(xa, ya, p.z(), Ba, Bax);
+    Ba = cos_el_ * Ba + sin_el_ * Bax;
+  }
   Vec3 B(cos_alpha_ * Ba.x() - sin_alpha_ * Ba.y(), sin_alpha_ * Ba.x() + cos_alpha_ * Ba.y(), Ba.z());
   if (std::hypot(p.x(), p.y()) < magnet_.radius_mm && std::abs(p.z()) < magnet_.top_z_mm()) {
-    B.x() += magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside
-    B.y() += magnet_.br_T * sin_alpha_;
+    B.x() += cos_el_ * magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside (diametric part)
+    B.y() += cos_el_ * magnet_.br_T * sin_alpha_;
   }
   return B;
 }
@@ -161,7 +335,10 @@ Vec3 AnalyticField::B_T(const Vec3& p) const {
 double AnalyticField::Bz_T(const Vec3& p) const {
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
-  return Bz_aligned_T(xa, ya, p.z());
+  if (sin_el_ == 0.0) return Bz_aligned_T(xa, ya, p.z());
+  double bz_d = 0, bz_ax = 0;
+  Bz_aligned_parts_T(xa, ya, p.z(), bz_d, bz_ax);
+  return cos_el_ * bz_d + sin_el_ * bz_ax;
 }
 
 Eigen::Matrix3Xd AnalyticField::B_T(const Eigen::Matrix3Xd& p_mm) const {

@@ -28,6 +28,14 @@
 // with N*a >= kQuadratureExponent (+ log(r/R) for the far-field
 // cancellation), capped at kMaxNodes: only points within ~36 R / kMaxNodes
 // ~ 1 um of a rim circle (where a -> 0) get less than ~1e-12 relative accuracy.
+//
+// Magnetization elevation el (magnet.magnetization_elevation_deg): M = M0 (cos el
+// cos beta, cos el sin beta, sin el). The diametric part is the kernel above
+// scaled by cos el; the axial part M0 sin el (charges +-M0 sin el on the top and
+// bottom faces, equivalently a surface current M0 sin el phi_hat on the curved
+// face) is integrated over z' in closed form too, leaving phi' integrals on the
+// same nodes (B_aligned_parts_T); an independent closed form with complete
+// elliptic integrals (B_axial_closed_form_T) cross-checks it in the tests.
 #pragma once
 #include <vector>
 
@@ -51,6 +59,12 @@ class AnalyticField final : public FieldSource {
   bool inside_or_on_magnet(const Vec3& p_mm) const;
   // Number of midpoint nodes the quadrature uses at p_mm (tests, benchmarks).
   int nodes_at(const Vec3& p_mm) const;
+  // Field of the axial magnetization alone with |M| = M0 (elevation 90 deg), total B
+  // (inside too), by an independent closed form: the finite solenoid with complete
+  // elliptic integrals (Bulirsch's cel). A cross-check of the quadrature (tests); the
+  // field itself uses the quadrature, which shares its nodes with the diametric part.
+  Vec3 B_axial_closed_form_T(const Vec3& p_mm) const { return B_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
+  double Bz_axial_closed_form_T(const Vec3& p_mm) const { return Bz_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
 
   static constexpr double kQuadratureExponent = 36.0;  // exp(-36) ~ 2e-16
   static constexpr int kMinNodes = 16;
@@ -70,18 +84,29 @@ class AnalyticField final : public FieldSource {
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;
+  Vec3 B_axial_closed_form_T(double x_mm, double y_mm, double z_mm) const;
+  double Bz_axial_closed_form_T(double x_mm, double y_mm, double z_mm) const;
+  // Diametric part (M0 along +x, no interior term) and, with kAxial, the axial
+  // part (unit M0 along +z, total B) from the same quadrature nodes.
+  template <bool kAxial>
+  void B_aligned_parts_T(double x_mm, double y_mm, double z_mm, Vec3& B_diametric, Vec3& B_axial) const;
+  void Bz_aligned_parts_T(double x_mm, double y_mm, double z_mm, double& bz_diametric, double& bz_axial) const;
 
   Magnet magnet_;
-  double cos_alpha_ = 1, sin_alpha_ = 0;  // direction of M0 in the magnet frame
+  double cos_alpha_ = 1, sin_alpha_ = 0;  // azimuth of M0 in the magnet frame
+  double cos_el_ = 1, sin_el_ = 0;        // elevation of M0 (exactly 1, 0 when it is 0)
   const std::vector<NodeTable>* tables_;   // node_tables(), increasing node counts
 };
 
 // Linear model of the study: Bz = k*x (k = 1 T/mm; it cancels in atan2),
-// Bx = By = 0.
+// Bx = By = 0. It models Bz on the sensing plane only (Bx = By = 0 and no z
+// dependence are not a magnetic field: curl B != 0), so it does not serve
+// tilted probes (gives_full_vector() is false).
 class LinearField final : public FieldSource {
  public:
   explicit LinearField(double k_T_per_mm = 1.0) : k_(k_T_per_mm) {}
   std::string name() const override { return "linear"; }
+  bool gives_full_vector() const override { return false; }
   Vec3 B_T(const Vec3& p_mm) const override { return {0.0, 0.0, k_ * p_mm.x()}; }
   double Bz_T(const Vec3& p_mm) const override { return k_ * p_mm.x(); }
   using FieldSource::B_T;

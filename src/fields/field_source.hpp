@@ -17,6 +17,11 @@ class FieldSource {
   // B [T] at p_mm (magnet frame, mm). Throws InputError when p lies outside
   // the region the source can serve (never extrapolates silently).
   virtual Vec3 B_T(const Vec3& p_mm) const = 0;
+  // True when the source knows the full vector B in a 3-D region, so that it
+  // can serve tilted probes (sensor or magnet tilt: positions off the sensing
+  // plane, normals off z). False for sources that only know Bz on a plane (a
+  // 2-D grid, the linear model Bz = k*x).
+  virtual bool gives_full_vector() const { return true; }
   // Bz only; sources may override with a cheaper kernel.
   virtual double Bz_T(const Vec3& p_mm) const { return B_T(p_mm).z(); }
   // Batch evaluation: p_mm is 3xN (mm), returns 3xN (T). Parallel (OpenMP).

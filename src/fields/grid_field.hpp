@@ -84,6 +84,8 @@ class GridField final : public FieldSource {
   static std::shared_ptr<GridField> from_file(const std::filesystem::path& file, Interp mode);
 
   std::string name() const override { return "grid"; }
+  // A 3-D box with the B vector serves tilted probes; a 2-D plane (or a grid with Bz only) does not.
+  bool gives_full_vector() const override { return !grid_.is_plane() && grid_.has_B(); }
   Vec3 B_T(const Vec3& p_mm) const override;
   double Bz_T(const Vec3& p_mm) const override;
   // Batch versions: one bounds pass, then a mode-specialized loop (OpenMP), no

@@ -19,6 +19,9 @@ void Magnet::validate() const {
     throw InputError("magnet.mu_r = " + num(mu_r) + " is out of range: allowed [1, 1e6]");
   if (!std::isfinite(magnetization_deg))
     throw InputError("magnet.magnetization_deg is NaN: allowed [-360, 360] deg");
+  if (!(std::isfinite(magnetization_elevation_deg) && std::abs(magnetization_elevation_deg) <= 90.0))
+    throw InputError("magnet.magnetization_elevation_deg = " + num(magnetization_elevation_deg) +
+                     " is out of range: allowed [-90, 90] deg");
 }
 
 Magnet Magnet::from_config(const Config& cfg) {
@@ -28,6 +31,7 @@ Magnet Magnet::from_config(const Config& cfg) {
   m.br_T = cfg.real("magnet.br_T");
   m.mu_r = cfg.real("magnet.mu_r");
   m.magnetization_deg = cfg.real("magnet.magnetization_deg");
+  m.magnetization_elevation_deg = cfg.real("magnet.magnetization_elevation_deg");
   m.validate();
   return m;
 }

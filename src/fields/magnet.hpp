@@ -10,10 +10,13 @@ struct Magnet {
   double height_mm = 4.0;          // L
   double br_T = 1.2;               // remanence Br = mu0*M0 (tesla)
   double mu_r = 1.05;              // recoil permeability (FEM only)
-  double magnetization_deg = 0.0;  // direction of M0 in the xy plane
+  double magnetization_deg = 0.0;  // azimuth beta of M0 (direction in the xy plane)
+  // Elevation al of M0 out of the xy plane (physics.md, "Beyond the five offsets"):
+  // M = M0 (cos al cos beta, cos al sin beta, sin al).
+  double magnetization_elevation_deg = 0.0;
 
   double top_z_mm() const { return 0.5 * height_mm; }
-  // Throws InputError for non-positive sizes / Br, mu_r < 1, NaN.
+  // Throws InputError for non-positive sizes / Br, mu_r < 1, |elevation| > 90, NaN.
   void validate() const;
   static Magnet from_config(const Config& cfg);
 };

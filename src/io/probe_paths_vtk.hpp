@@ -9,7 +9,8 @@
 //     (point index k*M + m). When theta_deg is M uniform steps over exactly
 //     one turn (theta_m = theta_0 + 360*m/M), each polyline is closed: its
 //     M+1 point ids end with its first point again (no duplicated point);
-//   * point data  `Bz`        (double, T)   field the probe reads at that point;
+//   * point data  `Bz`        (double, T)   field the probe reads at that point
+//                                           (n.B with a tilted sensor or magnet; Bz otherwise);
 //   * point data  `theta_deg` (double, deg) rotor angle of that sample;
 //   * point data  `probe`     (int)         probe index k (0-based);
 //   * cell data   `probe`     (int)         probe index k of each polyline.

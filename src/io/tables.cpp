@@ -90,7 +90,12 @@ std::string fits_csv(const std::vector<FitRow>& rows) {
 
 std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
   const std::string where = "--cases " + path.string();
-  const std::string allowed_cols = "allowed columns sx_mm, sy_mm, dx_mm, dy_mm, dz_mm";
+  const std::string allowed_cols =
+      "allowed columns sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg, magnet_tilt_deg, "
+      "magnet_tilt_azimuth_deg";
+  static const char* const known[] = {"sx_mm",      "sy_mm",      "dx_mm",           "dy_mm",
+                                      "dz_mm",      "tilt_x_deg", "tilt_y_deg",      "magnet_tilt_deg",
+                                      "magnet_tilt_azimuth_deg"};
   std::ifstream in(path);
   if (!in) throw InputError(where + ": cannot open file");
 
@@ -106,7 +111,9 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
     if (header.empty()) {
       // 1. Header: known, distinct column names.
       for (const auto& name : cells) {
-        if (name != "sx_mm" && name != "sy_mm" && name != "dx_mm" && name != "dy_mm" && name != "dz_mm")
+        bool ok = false;
+        for (const char* k : known) ok = ok || name == k;
+        if (!ok)
           throw InputError(at + ": unknown column '" + name + "': " + allowed_cols);
         for (const auto& h : header)
           if (h == name) throw InputError(at + ": column '" + name + "' appears twice: " + allowed_cols);
@@ -130,12 +137,21 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
       }
       if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
         throw InputError(at + ": column " + header[i] + " = '" + text +
-                         "' is not a finite number: allowed finite numbers in mm");
+                         "' is not a finite number: allowed finite numbers (mm, deg)");
       if (header[i] == "sx_mm") m.sx_mm = v;
       else if (header[i] == "sy_mm") m.sy_mm = v;
       else if (header[i] == "dx_mm") m.dx_mm = v;
       else if (header[i] == "dy_mm") m.dy_mm = v;
-      else m.dz_mm = v;
+      else if (header[i] == "dz_mm") m.dz_mm = v;
+      else if (header[i] == "tilt_x_deg") m.tilt_x_deg = v;
+      else if (header[i] == "tilt_y_deg") m.tilt_y_deg = v;
+      else if (header[i] == "magnet_tilt_deg") m.magnet_tilt_deg = v;
+      else m.magnet_tilt_azimuth_deg = v;
+    }
+    try {
+      m.validate();  // tilt ranges
+    } catch (const InputError& e) {
+      throw InputError(at + ": " + e.what());
     }
     cases.push_back(m);
   }

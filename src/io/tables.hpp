@@ -33,8 +33,9 @@ struct FitRow {
 };
 std::string fits_csv(const std::vector<FitRow>& rows);
 
-// Reads a cases file: header with any of sx_mm,sy_mm,dx_mm,dy_mm,dz_mm
-// (missing = 0). InputError on malformed CSV, unknown column, NaN, no rows.
+// Reads a cases file: header with any of sx_mm,sy_mm,dx_mm,dy_mm,dz_mm and
+// tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg (missing = 0).
+// InputError on malformed CSV, unknown column, NaN, a tilt out of range, no rows.
 std::vector<Mount> read_cases_csv(const std::filesystem::path& path);
 
 }  // namespace magenc

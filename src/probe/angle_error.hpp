@@ -6,6 +6,7 @@
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
+#include "probe/signal_chain.hpp"
 #include "probe/spectrum.hpp"
 
 namespace magenc {
@@ -15,28 +16,44 @@ struct ProbeSetup {
   double r0_mm = 2.4;         // nominal probe radius
   double plane_z_mm = 4.55;   // sensing plane height in the magnet frame (z_s)
   int steps = 3600;           // M samples of theta over one turn (>= 16)
+  SignalChain chain;          // channel offsets, gain mismatch, phase error (applied before atan2)
+  // Magnet height L (mm): the magnet tilt pivots about the centre of the magnet's
+  // bottom face P = (0, 0, -L/2) (magnet frame), so the kinematics need L. Set it
+  // with the magnet's height (probe_setup_from_config does); it matters only when
+  // mount.magnet_tilt_deg != 0. With the exact field a mismatch with the field's
+  // magnet is an InputError.
+  double magnet_height_mm = 4.0;
 };
 
 struct AngleErrorResult {
   Eigen::VectorXd theta_deg;  // M rotor angles, 360*m/M
   Eigen::VectorXd eps_deg;    // angle error wrap(phi - theta), degrees
-  Eigen::MatrixXd probe_B_T;  // M x K probe readings (measured component, T)
+  Eigen::MatrixXd probe_B_T;  // M x K probe readings n.B (measured component, T; before the signal chain)
   Spectrum spectrum;
 };
 
 // Probe positions for every theta: returns 3 x (M*K) in the magnet frame (mm),
-// column m*K + k = probe k at theta_m.
+// column m*K + k = probe k at theta_m. Full kinematics (tilts included, mounting.hpp).
 Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount);
 // The same for arbitrary rotor angles theta_deg (M values): 3 x (M*K).
 Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_deg);
 // The M = steps uniform rotor angles 360*m/M of one turn, in degrees.
 Eigen::VectorXd uniform_theta_deg(int steps);
 
-// Runs the pipeline for one mounting case: all M*K probe positions, one batch
-// field call (OpenMP inside the source), channels, atan2, wrap, spectrum.
+// Probe normals (magnet frame, unit) for the same columns: 3 x (M*K).
+Eigen::Matrix3Xd probe_normals(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_deg);
+
+// Runs the pipeline for one mounting case: all M*K probe positions (and, with
+// a tilt, normals), one batch field call (OpenMP inside the source), readings
+// n.B, channels, signal chain, atan2, wrap, spectrum. Without any tilt the
+// readings are Bz (the source's cheaper Bz kernel); with a tilt, n.B from the
+// full vector.
 // Throws InputError when
 //  * the setup is invalid: r0 <= 0 or NaN, steps < 16, non-finite plane height,
-//    non-finite mount values, non-zero tilt;
+//    non-finite mount values, |tilt| > 45 deg, invalid signal chain, magnet
+//    height <= 0 when the magnet is tilted;
+//  * a tilt (sensor or magnet) is asked of a source that only knows Bz on a
+//    plane (gives_full_vector() false: linear, a 2-D grid);
 //  * the path is degenerate: r0 - |s| - |d| <= 0 (a probe circle may pass over
 //    the rotation axis, the angle no longer turns once per turn) - any field;
 //  * for the exact field (AnalyticField): a probe path enters the magnet or
@@ -48,6 +65,13 @@ Eigen::VectorXd uniform_theta_deg(int steps);
 //    The field itself is defined inside too (B includes mu0*M0), but a probe
 //    inside a magnet is not a mounting the program should silently answer.
 //    grid:/fem: sources reject points outside their region themselves.
+//    With a tilt the test is conservative (it may refuse a mount that just
+//    clears the magnet, never accepts one that enters it): the probe's path
+//    in the rotor frame is a circle about the axis of radius rho_k at height
+//    z_k; the tilted magnet lies within radius |d| + R + L|sin g| of the axis
+//    and within z in [-L/2 - R|sin g|, -L/2 + L cos g + R|sin g|]; the path
+//    must avoid that ring-shaped hull (| rho_k - |d| | > R + L|sin g|, or z_k
+//    outside the z range). With g = 0 this is the exact test above.
 // Throws ComputeError if the field gives a non-finite angle.
 AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, const Mount& mount);
 

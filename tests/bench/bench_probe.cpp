@@ -5,6 +5,10 @@
 //   ExactFieldB    the same for the full vector B
 //   MountingCase   error_spectrum cases/s on the exact field, 3600 steps,
 //                  arrays `two` and `ring:8` (static + dynamic eccentricity)
+//   MountingCaseChainElev  the same plus magnetization elevation 2 deg and a
+//                  signal chain (offsets, gain, phase): no tilt, so the Bz path
+//   MountingCaseTilted     the same plus sensor tilt (0.5, 0.3 deg) and magnet
+//                  tilt 0.5 deg: every term of "Beyond the five offsets", full-B path
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -54,6 +58,35 @@ void MountingCase(benchmark::State& state, const char* array) {
 }
 BENCHMARK_CAPTURE(MountingCase, two, "two")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(MountingCase, ring8, "ring:8")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// The new terms: tilted = false: elevation + signal chain (Bz path); true: also both tilts (n.B path).
+void MountingCaseNew(benchmark::State& state, const char* array, bool tilted) {
+  magenc::Magnet mag;
+  mag.magnetization_elevation_deg = 2.0;
+  const magenc::AnalyticField f{mag};
+  magenc::ProbeSetup setup;
+  setup.array = magenc::ProbeArray::parse(array);
+  setup.steps = 3600;
+  setup.chain.offset_cos_mT = 0.1;
+  setup.chain.offset_sin_mT = -0.1;
+  setup.chain.gain_mismatch = 0.005;
+  setup.chain.phase_error_deg = 0.2;
+  magenc::Mount m;
+  m.sx_mm = 0.03;
+  m.dx_mm = 0.05;
+  if (tilted) {
+    m.tilt_x_deg = 0.5;
+    m.tilt_y_deg = 0.3;
+    m.magnet_tilt_deg = 0.5;
+    m.magnet_tilt_azimuth_deg = 30.0;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(magenc::error_spectrum(f, setup, m).c_deg[1]);
+  state.SetItemsProcessed(state.iterations());  // items = mounting cases
+}
+BENCHMARK_CAPTURE(MountingCaseNew, chain_elev_two, "two", false)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCaseNew, chain_elev_ring8, "ring:8", false)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCaseNew, tilted_two, "two", true)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCaseNew, tilted_ring8, "ring:8", true)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -96,7 +96,8 @@ TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the r
 }
 
 TEST_CASE("reduced potential: mesh.vtu keeps the source magnet; read back, B is the same", "[fem][reduced]") {
-  const auto s = solved({"magnet.mu_r=1.05", "fem.potential=reduced", "magnet.magnetization_deg=30"});
+  const auto s = solved({"magnet.mu_r=1.05", "fem.potential=reduced", "magnet.magnetization_deg=30",
+                         "magnet.magnetization_elevation_deg=20"});  // all three quadrant loads
   const std::filesystem::path f =
       std::filesystem::temp_directory_path() / ("magenc_reduced_" + std::to_string(::getpid()) + ".vtu");
   write_solution_vtu(f, s->solution(), s->B_cell());

@@ -36,6 +36,8 @@ int run(int argc, char** argv) {
   setup.r0_mm = cfg.real("sensor.r0_mm");
   setup.steps = static_cast<int>(cfg.integer("sensor.steps"));
   setup.plane_z_mm = magenc::sensing_plane_z_mm(cfg);
+  setup.chain = magenc::SignalChain::from_config(cfg);
+  setup.magnet_height_mm = cfg.real("magnet.height_mm");
   const magenc::Mount mount = magenc::Mount::from_config(cfg);
   const magenc::FieldSourcePtr field = magenc::make_field_source(field_spec, cfg);
 

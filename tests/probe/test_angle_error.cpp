@@ -125,6 +125,7 @@ TEST_CASE("angle_error rejects invalid setups", "[probe][validation]") {
   // |s| + |d| >= r0: the probe circle no longer surrounds the axis (degenerate).
   CHECK_THROWS_AS(angle_error(lin, setup_for("two"), mount(1.5, 0, 0, 0.9)), InputError);
   CHECK_NOTHROW(angle_error(lin, setup_for("two"), mount(1.2, 0, 0, 0.9)));
+  // A tilt needs the full field vector: the linear model (Bz only) refuses it (test_beyond_offsets).
   Mount tilted;
   tilted.tilt_x_deg = 1.0;
   CHECK_THROWS_AS(angle_error(lin, setup_for("two"), tilted), InputError);

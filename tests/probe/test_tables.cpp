@@ -58,6 +58,31 @@ TEST_CASE("cases CSV: columns in any order, missing = 0", "[probe][tables]") {
   fs::remove(p);
 }
 
+TEST_CASE("cases CSV: optional tilt columns", "[probe][tables][tilt]") {
+  const auto p = write_temp("tilt.csv", "sx_mm,tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg\n"
+                                        "0.1,1,-0.5,2,30\n0,0,0,0,0\n");
+  const auto cases = read_cases_csv(p);
+  REQUIRE(cases.size() == 2);
+  CHECK(cases[0].tilt_x_deg == 1.0);
+  CHECK(cases[0].tilt_y_deg == -0.5);
+  CHECK(cases[0].magnet_tilt_deg == 2.0);
+  CHECK(cases[0].magnet_tilt_azimuth_deg == 30.0);
+  CHECK_FALSE(cases[1].tilted());
+  fs::remove(p);
+  const auto bad = write_temp("tilt_bad.csv", "tilt_x_deg\n50\n");
+  try {
+    read_cases_csv(bad);
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    CAPTURE(msg);
+    CHECK(msg.find(":2:") != std::string::npos);
+    CHECK(msg.find("mount.tilt_x_deg") != std::string::npos);
+    CHECK(msg.find("allowed") != std::string::npos);
+  }
+  fs::remove(bad);
+}
+
 TEST_CASE("cases CSV: strict errors name the file, line and column", "[probe][tables]") {
   struct Bad {
     const char* text;

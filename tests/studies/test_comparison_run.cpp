@@ -9,12 +9,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <unistd.h>
 
 #include "fields/analytic_field.hpp"
 #include "report/comparison_run.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
+#include "analysis/fem_comparison.hpp"
 #include "analysis/sweep.hpp"
 
 using namespace magenc;
@@ -179,4 +183,20 @@ TEST_CASE("comparison_inputs_from_config: a missing solve directory is one line 
     CHECK(what.find("solve_field") != std::string::npos);
     CHECK(what.find('\n') == std::string::npos);
   }
+}
+
+TEST_CASE("solve_mismatch: a solve of another magnetization elevation is not this magnet", "[studies][elevation]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("magenc_test_mismatch_elev_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Config cfg(common_keys());
+  // An older solve.json without the key counts as elevation 0.
+  std::ofstream(dir / "solve.json") << R"({"magnet": {"radius_mm": 2.0, "height_mm": 4.0, "br_T": 1.2}, "plane_z_mm": 4.55})";
+  CHECK(solve_mismatch(dir, cfg).empty());
+  cfg.set("magnet.magnetization_elevation_deg=5");
+  CHECK(solve_mismatch(dir, cfg).find("magnetization_elevation_deg") != std::string::npos);
+  std::ofstream(dir / "solve.json") << R"({"magnet": {"radius_mm": 2.0, "height_mm": 4.0, "br_T": 1.2, )"
+                                    << R"("magnetization_elevation_deg": 5.0}, "plane_z_mm": 4.55})";
+  CHECK(solve_mismatch(dir, cfg).empty());
+  fs::remove_all(dir);
 }

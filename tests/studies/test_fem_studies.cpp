@@ -131,6 +131,74 @@ TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the e
   fs::remove(cases);
 }
 
+TEST_CASE("error_spectrum: tilts on fem:DIR and grid:DIR/box.vti agree with the exact field and plane.vti refuses them",
+          "[studies][fem_e2e][tilt]") {
+  // Tilted probes read n.B of the full vector off the sensing plane: the FE solution and the 3-D box serve
+  // that, the 2-D plane grid does not. Cases (r0 2.4, `two`, 360 steps): sensor tilt_x 1 deg (exact: a0 -0.403,
+  // c2 0.754), magnet tilt 1 deg at azimuth 0 (c1 2.476, c3 0.259) and at 90 deg with dx 0.05 (mixed).
+  // Tolerance kCoarseTolDeg (0.15 deg, the coarse mesh's FEM-vs-exact scale set above) on a0, c1, c2, c3;
+  // a wrong tilt sign moves a0 by 0.8 deg, an ignored magnet tilt c1 by 2.5 deg.
+  const fs::path dir = coarse_field();
+  const std::string cases = (temp_out("tilt_cases") += ".csv").string();
+  {
+    std::ofstream f(cases);
+    f << "dx_mm,tilt_x_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg\n0,1,0,0\n0,0,1,0\n0.05,0,1,90\n";
+  }
+  const std::string common = " --array two --r0 2.4 --steps 360 --cases '" + cases + "'";
+  const CliRun ex = error_spectrum("--field analytic" + common);
+  INFO(ex.err);
+  REQUIRE(ex.code == 0);
+  REQUIRE(ex.rows.size() == 3);
+  CHECK(num(ex.rows[0], "tilt_x_deg") == 1.0);  // the tilt columns are written when a case is tilted
+  CHECK(num(ex.rows[0], "a0_deg") == Approx(-0.403).margin(0.001));
+  CHECK(num(ex.rows[1], "c1_deg") == Approx(2.476).margin(0.001));
+  for (const std::string field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
+    const CliRun r = error_spectrum("--field " + field + common);
+    INFO(field << ": " << r.err);
+    REQUIRE(r.code == 0);
+    REQUIRE(r.rows.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (const char* c : {"a0_deg", "c1_deg", "c2_deg", "c3_deg"}) {
+        const double got = num(r.rows[i], c), want = num(ex.rows[i], c);
+        INFO("case " << i << " " << c << ": " << got << " vs exact " << want);
+        WARN(field << " case " << i << " " << c << ": " << got << " vs exact " << want << " (diff " << got - want
+                   << ")");
+        CHECK(std::abs(got - want) < kCoarseTolDeg);
+      }
+  }
+  const CliRun plane = error_spectrum("--field grid:" + (dir / "plane.vti").string() + common);
+  INFO(plane.err);
+  CHECK(plane.code != 0);
+  CHECK(lines(plane.err) == 1);
+  CHECK(plane.err.find("tilt_x_deg") != std::string::npos);
+  CHECK(plane.rows.empty());
+  fs::remove(cases);
+}
+
+TEST_CASE("magnetization elevation: FEM (quadrant solve, axial load) vs exact on a coarse solve", "[studies][fem_e2e][elevation]") {
+  // solve_field with magnet.magnetization_elevation_deg = 5: the quadrant solve adds the axial component as
+  // a third load (even across both symmetry planes); solve.json records the solves and the elevation.
+  // Exact: `two` c1 7.70 deg (a common offset on both probes), diff4 ~ 0. Tolerance kCoarseTolDeg.
+  const fs::path dir = solve_coarse_config("coarse_elev5", "--set magnet.magnetization_elevation_deg=5");
+  const std::string json = slurp(dir / "solve.json");
+  CHECK(json.find("\"magnetization_elevation_deg\": 5") != std::string::npos);
+  CHECK(json.find("\"solves\": 2") != std::string::npos);  // x and z components
+  for (const char* array : {"two", "diff4"}) {
+    const std::string common = std::string(" --array ") + array + " --r0 2.4 --steps 360 --set magnet.magnetization_elevation_deg=5";
+    const CliRun ex = error_spectrum("--field analytic" + common);
+    const CliRun fe = error_spectrum("--field fem:" + dir.string() + common);
+    INFO(ex.err << fe.err);
+    REQUIRE(ex.code == 0);
+    REQUIRE(fe.code == 0);
+    for (const char* c : {"a0_deg", "c1_deg", "c2_deg", "c3_deg"}) {
+      const double got = num(fe.rows[0], c), want = num(ex.rows[0], c);
+      WARN(array << " " << c << ": fem " << got << " vs exact " << want);
+      CHECK(std::abs(got - want) < kCoarseTolDeg);
+    }
+    if (std::string(array) == "two") CHECK(num(ex.rows[0], "c1_deg") == Approx(7.70).margin(0.005));
+  }
+}
+
 TEST_CASE("error_spectrum: a missing fem: directory is a one-line error", "[studies][fem_e2e]") {
   const CliRun r = error_spectrum("--field fem:/nonexistent/field_dir --array two --r0 2.4");
   INFO(r.err);

@@ -87,7 +87,8 @@ TEST_CASE("radius study: bad input exits non-zero with one line and no output", 
   const fs::path out = fs::temp_directory_path() / "magenc_test_radius_bad";
   const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
                                    "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
-                                   "--set radius.arrays=three", "--set radius.r0_min_mm=0.2");
+                                   "--set radius.arrays=three", "--set radius.r0_min_mm=0.2",
+                                   "--set sensor.offset_cos_mT=0.5");
   CAPTURE(bad);
   fs::remove_all(out);
   const Run r = run_radius(tiny() + " " + bad, out);
