@@ -9,7 +9,10 @@
 #   6. harmonic_provenance artefact vs physics harmonics    -> output/harmonic_provenance
 #      (solves its own quick mu_r = 1 FE variants in-process; adds output/field)
 #   7. radius             choosing r0, tolerance analysis   -> output/radius
-#   8. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
+#   8. error_sources      tilts, elevation, signal chain    -> output/error_sources
+#   9. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
+#  10. diagnosis          diagnose round trip + anomalies    -> output/diagnosis
+#      (exact field, 100 cases per array; FE field 5 cases per array from output/field)
 # fem_convergence (several solves, a few minutes) runs with MAGENC_CONVERGENCE=1.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -27,9 +30,11 @@ step "$BIN/airgap" --out output/airgap
 # medium P2, mu_r = 1; seconds each) itself and adds the default solve.
 step "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field --out output/harmonic_provenance
 step "$BIN/radius" --out output/radius
+step "$BIN/error_sources" --config studies/error_sources.toml --out output/error_sources
 # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
 step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
   --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv
+step "$BIN/diagnosis" --set fem_field.dir=output/field --set roundtrip.fem_cases=5 --out output/diagnosis
 if [ "${MAGENC_CONVERGENCE:-0}" = 1 ]; then
   step "$BIN/fem_convergence" --out output/fem_convergence
 fi

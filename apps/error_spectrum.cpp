@@ -1,7 +1,7 @@
 // error_spectrum: angle-error spectra of a magnetic encoder for one mounting
 // case (flags) or many (--cases FILE.csv), interfaces.md.
 //
-//   error_spectrum --field linear|analytic|grid:FILE.vti|fem:DIR
+//   error_spectrum --field linear|analytic|grid:FILE.vti|table:FILE|fem:DIR
 //                  --array two|diff4|ring:N  --r0 MM
 //                  [--sx MM] [--sy MM] [--dx MM] [--dy MM] [--dz MM]
 //                  [--cases FILE.csv] [--steps M] [--interp nearest|linear|cubic]
@@ -86,7 +86,7 @@ int run(int argc, char** argv) {
   Flags f;
   const auto schema = magenc::common_keys();
   magenc::add_common_options(app, common, schema);
-  app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, fem:DIR (default analytic)");
+  app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, table:FILE, fem:DIR (default analytic)");
   app.add_option("--array", f.array, "probe array: two, diff4, ring:N (sensor.array)");
   app.add_option("--r0", f.r0, "probe radius r0 in mm (sensor.r0_mm)");
   app.add_option("--sx", f.sx, "static eccentricity x in mm (mount.sx_mm)");
@@ -98,7 +98,7 @@ int run(int argc, char** argv) {
                  "CSV of mounting cases: columns sx_mm,sy_mm,dx_mm,dy_mm,dz_mm and optionally tilt_x_deg,tilt_y_deg,"
                  "magnet_tilt_deg,magnet_tilt_azimuth_deg (missing = 0)");
   app.add_option("--steps", f.steps, "samples M of theta per turn (sensor.steps, >= 16)");
-  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: fields only; default cubic)")
+  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid: and table: fields; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   app.add_option("--paths", f.paths, "also write the probe paths of the (single) case as FILE.vtp (ParaView)");
   magenc::parse_cli(app, argc, argv);

@@ -14,12 +14,10 @@ PKGS=(
   nlohmann-json3-dev       # JSON (solve.json)
   libbenchmark-dev         # Google Benchmark (bench target)
   gnuplot-nox              # plots (PNG via pngcairo)
+  libceres-dev             # Ceres Solver: nonlinear least squares (diagnose)
   libpetsc-real-dev        # PETSc 3.18 (pulls OpenMPI): fem.solver = petsc-gamg / petsc-hypre, mpirun solves
   openmpi-bin              # mpirun (the 2-rank solve_field test)
 )
-# GetDP for scripts/bench_getdp.sh only (the benchmark skips GetDP when absent):
-# MAGENC_WITH_GETDP=1 scripts/install_deps.sh
-if [ "${MAGENC_WITH_GETDP:-0}" = 1 ]; then PKGS+=(getdp); fi
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
 # Debian 12 conflicts with python3-vtk9 and so would remove libvtk9-dev.

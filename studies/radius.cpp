@@ -5,7 +5,8 @@
 // r0 in radius.r0_min_mm..r0_max_mm: the spectra of six mounting cases, the
 // worst case over the tolerance box corners, a seeded Monte Carlo over the box
 // (mean, 95th, 99th percentile of the peak-to-peak error), the sensor-noise
-// contribution and the recommended r0. The physics and the fast surrogate
+// contribution, the recommended r0 and the error budget there (each group of
+// the tolerance box alone: offsets, air gap, sensor tilt, magnet tilt). The physics and the fast surrogate
 // live in src/analysis/radius_scan.*, the outputs in src/report/radius_report.*.
 //   radius [--config studies/radius.toml] [--set radius.samples=20000] [--out DIR]
 #include <chrono>
@@ -44,7 +45,9 @@ void run(const Config& cfg, StudyOutput& out) {
   out.write_text("radius_spectra.csv", spectra_csv(result.spectra));
   out.write_text("radius_recommendation.csv", recommendation_csv(result));
   out.write_text("radius_validation.csv", validation_csv(result));
+  out.write_text("radius_budget.csv", budget_csv(result));
   write_radius_plots(result, opt, out.dir());
+  write_budget_plot(result, out.dir());
   out.write_text("summary.md", radius_summary_md(result, opt, cfg, notes, wall_s));
 }
 

@@ -44,8 +44,8 @@ constexpr int kStencil = 5;  // points per axis of the fit stencil
 // CircleFieldModel
 
 CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
-                                   double reach_xy_mm, double reach_z_mm, int order)
-    : nodes_(nodes), r0_mm_(r0_mm), reach_xy_mm_(std::max(reach_xy_mm, 0.01)),
+                                   double reach_xy_mm, double reach_z_mm, int order, bool full_vector)
+    : nodes_(nodes), r0_mm_(r0_mm), plane_z_mm_(plane_z_mm), reach_xy_mm_(std::max(reach_xy_mm, 0.01)),
       reach_z_mm_(std::max(reach_z_mm, 0.01)) {
   if (nodes < 16) throw InputError("radius.fast_steps = " + std::to_string(nodes) + " is out of range: allowed >= 16");
   if (order < 2 || order > 4)
@@ -91,7 +91,16 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
           Eigen::Vector3d(x0 + stencil[p].x() * reach_xy_mm_, y0 + stencil[p].y() * reach_xy_mm_,
                           plane_z_mm + stencil[p].z() * reach_z_mm_);
   }
-  const Eigen::VectorXd bz = field.Bz_T(pts);
+  Eigen::Matrix3Xd B;
+  if (full_vector) {
+    if (!field.gives_full_vector())
+      throw InputError("field " + field.name() + " gives only Bz on a plane: tilts in the tolerance box "
+                       "(radius.tol_tilt_x_deg, tol_tilt_y_deg, tol_magnet_tilt_deg) need the full field vector: "
+                       "allowed 0 for this field");
+    B = field.B_T(pts);
+    if (!B.allFinite()) throw ComputeError("field " + field.name() + " returned a non-finite B near r0 = " + num(r0_mm) + " mm");
+  }
+  const Eigen::VectorXd bz = full_vector ? Eigen::VectorXd(B.row(2).transpose()) : field.Bz_T(pts);
   if (!bz.allFinite()) throw ComputeError("field " + field.name() + " returned a non-finite Bz near r0 = " + num(r0_mm) + " mm");
   const Eigen::Map<const Eigen::MatrixXd> samples(bz.data(), P, nodes_);  // column j = node j
 
@@ -102,6 +111,20 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
   coef_.row(0) = center_T_.transpose();
   coef_.bottomRows(T - 1) = pinv * rel;
   fit_residual_T_ = (V * coef_.bottomRows(T - 1) - rel).cwiseAbs().maxCoeff();
+  if (full_vector) {
+    // Bx and By: the same least-squares operator, constant term = the exact node value.
+    for (int c = 0; c < 2; ++c) {
+      const Eigen::VectorXd bc = B.row(c).transpose();
+      const Eigen::Map<const Eigen::MatrixXd> sc(bc.data(), P, nodes_);
+      const Eigen::VectorXd centre_c = sc.row(centre).transpose();
+      const Eigen::MatrixXd rel_c = sc - Eigen::VectorXd::Ones(P) * centre_c.transpose();
+      Eigen::MatrixXd& coef = c == 0 ? coef_x_ : coef_y_;
+      coef.resize(T, nodes_);
+      coef.row(0) = centre_c.transpose();
+      coef.bottomRows(T - 1) = pinv * rel_c;
+      fit_residual_T_ = std::max(fit_residual_T_, (V * coef.bottomRows(T - 1) - rel_c).cwiseAbs().maxCoeff());
+    }
+  }
   double re = 0, im = 0;
   for (int j = 0; j < nodes_; ++j) {
     const double phi = 2.0 * kPi * j / nodes_;
@@ -125,8 +148,8 @@ void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, doubl
 // ---------------------------------------------------------------------------
 // FastPipeline
 
-FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays)
-    : model_(model), arrays_(arrays) {
+FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm)
+    : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm) {
   const int N = model.nodes();
   for (const auto& a : arrays_) {
     std::vector<int> slots;
@@ -156,7 +179,49 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
   }
 }
 
+void FastPipeline::eps_tilted(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
+  if (!model_.full_vector())
+    throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
+  const int N = model_.nodes();
+  const int T = model_.terms();
+  const double r0 = model_.r0_mm(), zs = model_.plane_z_mm();
+  const MountKinematics K(mt, zs, magnet_height_mm_);
+  eps_deg.resize(arrays_.size());
+  for (auto& e : eps_deg) e.resize(N);
+  // Fixed-frame position of each distinct probe (angle index i -> b = 2 pi i / N).
+  std::vector<Eigen::Vector3d> fixed(angle_index_.size());
+  for (std::size_t i = 0; i < angle_index_.size(); ++i)
+    fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
+  std::vector<double> u(T), Bn(angle_index_.size());
+  double B[3];
+  for (int m = 0; m < N; ++m) {
+    const double theta = 2.0 * kPi * m / N;
+    const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, theta);
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      // Displacement from node j (nominal position of this probe at theta, magnet frame).
+      const Eigen::Vector3d q = K.point_to_magnet(fixed[i], theta);
+      model_.monomials(q.x() - r0 * cos_theta_[std::size_t(j)], q.y() - r0 * sin_theta_[std::size_t(j)], q.z() - zs, u.data());
+      model_.B_T(j, u.data(), B);
+      Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+    }
+    const double theta_deg = 360.0 * m / N;
+    for (std::size_t a = 0; a < arrays_.size(); ++a) {
+      const ProbeArray& arr = arrays_[a];
+      double C = 0, S = 0;
+      for (std::size_t k = 0; k < arr.size(); ++k) {
+        const double Bk = Bn[static_cast<std::size_t>(slot_[a][k])];
+        C += arr.w_cos[k] * Bk;
+        S += arr.w_sin[k] * Bk;
+      }
+      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    }
+  }
+}
+
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
+  if (mt.tilted()) return eps_tilted(mt, eps_deg);
   const int N = model_.nodes();
   const int T = model_.terms();
   eps_deg.resize(arrays_.size());
@@ -199,7 +264,7 @@ void FastPipeline::pp(const Mount& m, double* pp_deg) const {
 std::vector<KeySpec> RadiusScanOptions::keys() {
   std::vector<KeySpec> k = {
       string_key("radius.fields", "analytic", {},
-                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, fem:DIR)"),
+                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, table:FILE, fem:DIR)"),
       string_key("radius.fem_dir", "output/field", {},
                  "add fem:<dir> when <dir>/solve.json exists and no fem: field is listed (empty = never)"),
       string_key("radius.arrays", "two,diff4,ring:8", {}, "probe arrays to compare, comma-separated"),
@@ -211,6 +276,10 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       real_key("radius.tol_dx_mm", 0.1, 0, 10, "mm", "tolerance box: |dx| <= this"),
       real_key("radius.tol_dy_mm", 0.1, 0, 10, "mm", "tolerance box: |dy| <= this"),
       real_key("radius.tol_dz_mm", 0.2, 0, 10, "mm", "tolerance box: |dz| <= this"),
+      real_key("radius.tol_tilt_x_deg", 0.5, 0, 10, "deg", "tolerance box: |sensor tilt about x| <= this"),
+      real_key("radius.tol_tilt_y_deg", 0.5, 0, 10, "deg", "tolerance box: |sensor tilt about y| <= this"),
+      real_key("radius.tol_magnet_tilt_deg", 0.5, 0, 10, "deg",
+               "tolerance box: each magnet lean component (toward x, toward y) within +-this"),
       real_key("radius.case_offset_mm", 0.1, 0, 10, "mm", "spectra cases: this much of each of sx, sy, dx, dy"),
       real_key("radius.case_dz_mm", 0.2, 0, 10, "mm", "spectra cases: dz = +-this (with the residual dx)"),
       real_key("radius.case_residual_dx_mm", 0.05, 0, 10, "mm", "spectra cases: residual dx of the dz cases"),
@@ -246,6 +315,10 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.box.dx_mm = cfg.real("radius.tol_dx_mm");
   o.box.dy_mm = cfg.real("radius.tol_dy_mm");
   o.box.dz_mm = cfg.real("radius.tol_dz_mm");
+  o.box.tilt_x_deg = cfg.real("radius.tol_tilt_x_deg");
+  o.box.tilt_y_deg = cfg.real("radius.tol_tilt_y_deg");
+  o.box.magnet_tilt_deg = cfg.real("radius.tol_magnet_tilt_deg");
+  o.magnet_height_mm = cfg.real("magnet.height_mm");
   o.case_offset_mm = cfg.real("radius.case_offset_mm");
   o.case_dz_mm = cfg.real("radius.case_dz_mm");
   o.case_residual_dx_mm = cfg.real("radius.case_residual_dx_mm");
@@ -347,6 +420,24 @@ Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel) {
   return r;
 }
 
+std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0_mm) {
+  double xy = std::max(opt.box.max_inplane_mm(), std::max(opt.case_offset_mm, std::hypot(opt.case_residual_dx_mm, 0.0)));
+  double z = std::max(opt.box.dz_mm, opt.case_dz_mm);
+  if (opt.box.has_tilts()) {
+    // Sensor tilt a, b: a probe at radius r0 rises or sinks by up to r0 (sin a + sin b) and moves in
+    // plane by r0 (2 - cos a - cos b). Magnet lean g (up to sqrt(2) x the half-width): a point at height
+    // H above the pivot (H = z_s + dz + L/2) moves in plane by H sin g and vertically by
+    // (r0 + in-plane reach) sin g + H (1 - cos g). 5 % margin.
+    const double a = deg_to_rad(opt.box.tilt_x_deg), b = deg_to_rad(opt.box.tilt_y_deg);
+    const double g = deg_to_rad(std::sqrt(2.0) * opt.box.magnet_tilt_deg);
+    const double H = opt.plane_z_mm + z + 0.5 * opt.magnet_height_mm;
+    const double xy0 = xy;
+    xy += 1.05 * (r0_mm * (2.0 - std::cos(a) - std::cos(b)) + H * std::sin(g));
+    z += 1.05 * (r0_mm * (std::sin(a) + std::sin(b)) + (r0_mm + xy0) * std::sin(g) + H * (1.0 - std::cos(g)));
+  }
+  return {xy, z};
+}
+
 // ---------------------------------------------------------------------------
 // The scan
 
@@ -355,10 +446,7 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
   opt.validate();
   const std::size_t A = opt.arrays.size();
   const auto cases = spectra_cases(opt);
-  // The displacements the local models must serve: the box and the spectra cases.
-  const double reach_xy = std::max(opt.box.max_inplane_mm(),
-                                   std::max(opt.case_offset_mm, std::hypot(opt.case_residual_dx_mm, 0.0)));
-  const double reach_z = std::max(opt.box.dz_mm, opt.case_dz_mm);
+  const bool tilts = opt.box.has_tilts();
   const std::vector<Mount> corners = opt.box.corners();
   const std::vector<Mount> samples = monte_carlo_samples(opt.box, opt.samples, opt.seed);
 
@@ -380,8 +468,10 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     const double r0 = opt.r0_mm[ir];
     // 1. Local field models on the probe circle.
     auto t0 = std::chrono::steady_clock::now();
-    const CircleFieldModel model(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z, opt.surrogate_order);
-    const FastPipeline fast(model, opt.arrays);
+    // The displacements the local models must serve: the box (tilts included) and the spectra cases.
+    const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
+    const CircleFieldModel model(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z, opt.surrogate_order, tilts);
+    const FastPipeline fast(model, opt.arrays, opt.magnet_height_mm);
     info.max_fit_residual_T = std::max(info.max_fit_residual_T, model.fit_residual_T());
     info.t_models_s += seconds_since(t0);
 
@@ -443,6 +533,7 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
         setup.r0_mm = r0;
         setup.plane_z_mm = opt.plane_z_mm;
         setup.steps = opt.direct_steps;
+        setup.magnet_height_mm = opt.magnet_height_mm;
         const Spectrum direct = error_spectrum(field, setup, mount);
         setup.steps = opt.fast_steps;
         const Spectrum coarse = error_spectrum(field, setup, mount);
@@ -476,6 +567,32 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
   for (std::size_t a = 0; a < A; ++a) {
     out.recommendations.push_back(recommend(rows[a], opt.band_rel));
     out.rows.insert(out.rows.end(), rows[a].begin(), rows[a].end());
+  }
+
+  // 5. Error budget at each array's recommended r0: the same MC samples with one group of the box at a time.
+  for (std::size_t a = 0; a < A; ++a) {
+    const Recommendation& rec = out.recommendations[out.recommendations.size() - A + a];
+    const auto [reach_xy, reach_z] = model_reach_mm(opt, rec.r0_best_mm);
+    const CircleFieldModel model(field, rec.r0_best_mm, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
+                                 opt.surrogate_order, tilts);
+    const FastPipeline fast(model, {opt.arrays[a]}, opt.magnet_height_mm);
+    auto pp_of = [&](std::size_t, const Mount& m, double* o) { fast.pp(m, o); };
+    const Eigen::MatrixXd all = evaluate_cases(samples, 1, pp_of);
+    const double p99_all = sample_stats(all.col(0)).p99;
+    for (const auto& group : ToleranceBox::groups()) {
+      const ToleranceBox only = opt.box.only(group);
+      if (only.max_inplane_mm() == 0 && only.dz_mm == 0 && !only.has_tilts()) continue;  // group not in the box
+      const Eigen::MatrixXd pp = evaluate_cases(monte_carlo_samples(only, opt.samples, opt.seed), 1, pp_of);
+      BudgetRow b;
+      b.field = field.name();
+      b.array = opt.arrays[a].name;
+      b.r0_mm = rec.r0_best_mm;
+      b.group = group;
+      b.p99_only_deg = sample_stats(pp.col(0)).p99;
+      b.p99_all_deg = p99_all;
+      b.share = p99_all > 0 ? b.p99_only_deg / p99_all : 0.0;
+      out.budget.push_back(b);
+    }
   }
   out.fields.push_back(info);
 }

@@ -53,12 +53,23 @@ class CircleFieldModel {
   // frame); nodes: N; reach_xy_mm / reach_z_mm: largest in-plane / vertical
   // displacement the model must serve (floored at 0.01 mm); order: total
   // polynomial degree 2..4. Stencil: 5 x 5 x 5 points spanning +-reach.
+  // full_vector: also fit Bx and By (needed for tilted mounts: the probes
+  // then read n.B; the field must give the full vector).
   CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes, double reach_xy_mm,
-                   double reach_z_mm, int order = 4);
+                   double reach_z_mm, int order = 4, bool full_vector = false);
 
   int nodes() const { return nodes_; }
   int terms() const { return static_cast<int>(exps_.size()); }
   double r0_mm() const { return r0_mm_; }
+  double plane_z_mm() const { return plane_z_mm_; }
+  bool full_vector() const { return coef_x_.size() > 0; }
+  // Model B (T, 3 components) at node j displaced by the displacement whose monomials are u (full_vector only).
+  void B_T(int node, const double* u, double* B) const {
+    const Eigen::Map<const Eigen::VectorXd> uu(u, terms());
+    B[0] = coef_x_.col(node).dot(uu);
+    B[1] = coef_y_.col(node).dot(uu);
+    B[2] = coef_.col(node).dot(uu);
+  }
   double reach_xy_mm() const { return reach_xy_mm_; }
   double reach_z_mm() const { return reach_z_mm_; }
   // Monomials of a displacement (magnet frame, mm): u must hold terms() values.
@@ -74,9 +85,10 @@ class CircleFieldModel {
 
  private:
   int nodes_ = 0;
-  double r0_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
+  double r0_mm_ = 0, plane_z_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
   std::vector<std::array<int, 3>> exps_;  // exponents (a, b, c) of u_x^a u_y^b u_z^c
-  Eigen::MatrixXd coef_;                  // terms x nodes: fit coefficients per node (T)
+  Eigen::MatrixXd coef_;                  // terms x nodes: fit coefficients of Bz per node (T)
+  Eigen::MatrixXd coef_x_, coef_y_;       // the same for Bx, By (empty unless full_vector)
   Eigen::VectorXd center_T_;              // exact Bz at the nodes (T)
   double amplitude_T_ = 0;
   double fit_residual_T_ = 0;
@@ -87,10 +99,14 @@ class FastPipeline {
  public:
   // Throws InputError when a probe angle is not a multiple of 360/N degrees
   // (then choose radius.fast_steps as a multiple of the array's N).
-  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays);
+  // magnet_height_mm: L, the pivot height of a magnet tilt (tilted mounts only).
+  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = 4.0);
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
   // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m.
+  // A tilted mount (sensor or magnet tilt) needs a full_vector model
+  // (InputError otherwise): each probe's position and normal then come from
+  // MountKinematics and it reads n.B of the model at its own displacement.
   void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
@@ -101,6 +117,8 @@ class FastPipeline {
   std::vector<int> angle_index_;                // distinct probe angles as node indices
   std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
   std::vector<double> cos_theta_, sin_theta_;   // theta grid
+  double magnet_height_mm_ = 4.0;               // L (magnet-tilt pivot)
+  void eps_tilted(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
 };
 
 // Settings of the scan ([radius] keys; [noise] for the noise model).
@@ -111,7 +129,8 @@ struct RadiusScanOptions {
   int direct_steps = 3600;              // theta samples of the direct pipeline (validation)
   int fast_steps = 360;                 // theta samples N of the surrogate pipeline
   int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
-  ToleranceBox box;                     // mounting tolerance box (half-widths, mm)
+  ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg)
+  double magnet_height_mm = 4.0;        // L (magnet-tilt pivot and reach)
   double case_offset_mm = 0.1;          // spectra cases: this much of each of sx, sy, dx, dy
   double case_dz_mm = 0.2;              // spectra cases: dz = +-this ...
   double case_residual_dx_mm = 0.05;    // ... with this residual dx
@@ -177,17 +196,36 @@ struct FieldScanInfo {
   double t_models_s = 0, t_cases_s = 0, t_validate_s = 0;  // wall time per stage
 };
 
+// Error budget at a recommended radius: the Monte Carlo p99 of pp with only
+// one group of the tolerance box active (the same samples, the other
+// half-widths 0) against the p99 with the whole box. share = p99_only / p99_all
+// (the shares need not add up to 1: the sources combine neither linearly nor
+// in quadrature).
+struct BudgetRow {
+  std::string field, array;
+  double r0_mm = 0;                // the recommended r0 of (field, array)
+  std::string group;               // static, dynamic, air gap, sensor tilt, magnet tilt
+  double p99_only_deg = 0;         // p99 of pp with only this group active (deg)
+  double p99_all_deg = 0;          // p99 of pp with the whole box (deg), same samples
+  double share = 0;                // p99_only / p99_all
+};
+
 struct RadiusScanResult {
   std::vector<RadiusRow> rows;                 // field-major, then array, then r0
   std::vector<SpectrumRow> spectra;            // spectra cases (surrogate, fast_steps); extra "case"
   std::vector<ValidationRow> validation;
   std::vector<Recommendation> recommendations; // one per (field, array)
   std::vector<FieldScanInfo> fields;
+  std::vector<BudgetRow> budget;               // per (field, array): one row per non-empty group
 };
 
 // The scan for one field; results appended to `out`. `spec` is recorded.
 void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
                      RadiusScanResult& out);
+
+// The in-plane and vertical displacement (mm) the local field models must
+// serve at radius r0 for the box and the spectra cases (tilts included).
+std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0_mm);
 
 // Recommendation from rows of one (field, array), increasing r0.
 Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel);

@@ -30,45 +30,85 @@ void ToleranceBox::validate(const std::string& prefix) const {
   for (const auto& [name, v] : items)
     if (!(std::isfinite(v) && v >= 0 && v <= 10))
       throw InputError(prefix + name + " = " + num(v) + " is out of range: allowed [0, 10] mm");
+  const std::pair<const char*, double> tilts[] = {
+      {"tilt_x_deg", tilt_x_deg}, {"tilt_y_deg", tilt_y_deg}, {"magnet_tilt_deg", magnet_tilt_deg}};
+  for (const auto& [name, v] : tilts)
+    if (!(std::isfinite(v) && v >= 0 && v <= 10))
+      throw InputError(prefix + name + " = " + num(v) + " is out of range: allowed [0, 10] deg");
 }
 
+namespace {
+// Mount from the nine box coordinates (sx, sy, dx, dy, dz, tilt_x, tilt_y, lean x, lean y).
+Mount mount_of(const double* v) {
+  Mount m;
+  m.sx_mm = v[0];
+  m.sy_mm = v[1];
+  m.dx_mm = v[2];
+  m.dy_mm = v[3];
+  m.dz_mm = v[4];
+  m.tilt_x_deg = v[5];
+  m.tilt_y_deg = v[6];
+  m.magnet_tilt_deg = std::hypot(v[7], v[8]);
+  m.magnet_tilt_azimuth_deg = m.magnet_tilt_deg > 0 ? std::atan2(v[8], v[7]) * 180.0 / M_PI : 0.0;
+  return m;
+}
+}  // namespace
+
 std::vector<Mount> ToleranceBox::corners() const {
-  const double half[5] = {sx_mm, sy_mm, dx_mm, dy_mm, dz_mm};
+  const double half[9] = {sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg, magnet_tilt_deg, magnet_tilt_deg};
   std::vector<Mount> out;
-  for (int c = 0; c < 32; ++c) {
-    double v[5];
+  for (int c = 0; c < 512; ++c) {
+    double v[9];
     bool duplicate = false;
-    for (int b = 0; b < 5; ++b) {
+    for (int b = 0; b < 9; ++b) {
       const bool minus = (c >> b) & 1;
       if (minus && half[b] == 0) duplicate = true;  // same as the '+' corner
       v[b] = minus ? -half[b] : half[b];
     }
     if (duplicate) continue;
-    Mount m;
-    m.sx_mm = v[0];
-    m.sy_mm = v[1];
-    m.dx_mm = v[2];
-    m.dy_mm = v[3];
-    m.dz_mm = v[4];
-    out.push_back(m);
+    out.push_back(mount_of(v));
   }
   return out;
 }
 
 Mount ToleranceBox::sample(std::uint64_t seed, std::uint64_t index) const {
-  // One independent stream per sample: state from (seed, index), then five draws.
+  // One independent stream per sample: state from (seed, index), then five draws for the offsets
+  // and four for the tilts (drawn only when the box has tilts, so a five-offset box is unchanged).
   std::uint64_t state = splitmix64(splitmix64(seed) ^ (index * 0xD1B54A32D192ED03ull + 0x632BE59BD9B4E019ull));
   auto next = [&] {
     state = splitmix64(state);
     return 2.0 * unit_uniform(state) - 1.0;  // [-1, 1)
   };
-  Mount m;
-  m.sx_mm = sx_mm * next();
-  m.sy_mm = sy_mm * next();
-  m.dx_mm = dx_mm * next();
-  m.dy_mm = dy_mm * next();
-  m.dz_mm = dz_mm * next();
-  return m;
+  double v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  v[0] = sx_mm * next();
+  v[1] = sy_mm * next();
+  v[2] = dx_mm * next();
+  v[3] = dy_mm * next();
+  v[4] = dz_mm * next();
+  if (has_tilts()) {
+    v[5] = tilt_x_deg * next();
+    v[6] = tilt_y_deg * next();
+    v[7] = magnet_tilt_deg * next();
+    v[8] = magnet_tilt_deg * next();
+  }
+  return mount_of(v);
+}
+
+const std::vector<std::string>& ToleranceBox::groups() {
+  static const std::vector<std::string> g = {"static", "dynamic", "air gap", "sensor tilt", "magnet tilt"};
+  return g;
+}
+
+ToleranceBox ToleranceBox::only(const std::string& group) const {
+  ToleranceBox b;
+  b.sx_mm = b.sy_mm = b.dx_mm = b.dy_mm = b.dz_mm = 0;
+  if (group == "static") b.sx_mm = sx_mm, b.sy_mm = sy_mm;
+  else if (group == "dynamic") b.dx_mm = dx_mm, b.dy_mm = dy_mm;
+  else if (group == "air gap") b.dz_mm = dz_mm;
+  else if (group == "sensor tilt") b.tilt_x_deg = tilt_x_deg, b.tilt_y_deg = tilt_y_deg;
+  else if (group == "magnet tilt") b.magnet_tilt_deg = magnet_tilt_deg;
+  else throw InputError("tolerance group '" + group + "': allowed static, dynamic, air gap, sensor tilt, magnet tilt");
+  return b;
 }
 
 double ToleranceBox::max_inplane_mm() const { return std::hypot(sx_mm, sy_mm) + std::hypot(dx_mm, dy_mm); }
@@ -138,8 +178,16 @@ WorstCase worst_case(const Eigen::MatrixXd& values, int col) {
 
 std::string corner_text(const Mount& m) {
   auto sgn = [](double v) { return v > 0 ? "+" : (v < 0 ? "-" : "0"); };
-  return std::string("sx") + sgn(m.sx_mm) + " sy" + sgn(m.sy_mm) + " dx" + sgn(m.dx_mm) + " dy" + sgn(m.dy_mm) +
-         " dz" + sgn(m.dz_mm);
+  std::string t = std::string("sx") + sgn(m.sx_mm) + " sy" + sgn(m.sy_mm) + " dx" + sgn(m.dx_mm) + " dy" + sgn(m.dy_mm) +
+                  " dz" + sgn(m.dz_mm);
+  if (m.sensor_tilted()) t += std::string(" tx") + sgn(m.tilt_x_deg) + " ty" + sgn(m.tilt_y_deg);
+  if (m.magnet_tilted()) {
+    const double psi = m.magnet_tilt_azimuth_deg * M_PI / 180.0;
+    const double gx = m.magnet_tilt_deg * std::cos(psi), gy = m.magnet_tilt_deg * std::sin(psi);
+    auto sgn_lean = [&](double v) { return std::abs(v) < 1e-12 * m.magnet_tilt_deg ? "0" : sgn(v); };
+    t += std::string(" gx") + sgn_lean(gx) + " gy" + sgn_lean(gy);
+  }
+  return t;
 }
 
 }  // namespace magenc

@@ -3,7 +3,15 @@
 //
 // A tolerance box allows |sx| <= tol.sx_mm, |sy| <= tol.sy_mm, |dx| <= tol.dx_mm,
 // |dy| <= tol.dy_mm, |dz| <= tol.dz_mm (half-widths, mm, >= 0; the offsets are
-// those of mounting.hpp). Monte Carlo samples are uniform in the box.
+// those of mounting.hpp), and the tilts of physics.md "Beyond the five
+// offsets": sensor tilts |tilt_x|, |tilt_y| <= tol.tilt_x_deg, tol.tilt_y_deg
+// and a magnet lean whose two components (toward +x and toward +y of the
+// rotor frame: magnet_tilt_deg * (cos psi, sin psi) with psi the tilt azimuth)
+// each lie in +-tol.magnet_tilt_deg (so the magnet tilt itself reaches
+// sqrt(2) * tol.magnet_tilt_deg at the corners). Monte Carlo samples are
+// uniform in the box (in the lean components for the magnet tilt). The tilt
+// half-widths default to 0 here (the five-offset box); the radius study's
+// configuration sets them (radius.tol_tilt_*).
 //
 // Reproducibility: sample i is a pure function of (seed, i) (a counter-based
 // generator: SplitMix64 of seed and index), so a run gives bit-identical
@@ -28,16 +36,29 @@ struct ToleranceBox {
   double dx_mm = 0.1;  // half-width of dynamic eccentricity x (magnet off axis), mm
   double dy_mm = 0.1;  // half-width of dynamic eccentricity y, mm
   double dz_mm = 0.2;  // half-width of the air-gap offset, mm
+  double tilt_x_deg = 0;      // half-width of the sensor tilt about x, deg
+  double tilt_y_deg = 0;      // half-width of the sensor tilt about y, deg
+  double magnet_tilt_deg = 0; // half-width of each magnet lean component (toward x, toward y), deg
 
   // Throws InputError naming `prefix`+"sx_mm" etc. for a negative or
-  // non-finite half-width (allowed [0, 10] mm).
+  // non-finite half-width (allowed [0, 10] mm; tilts [0, 10] deg).
   void validate(const std::string& prefix = "tolerance.") const;
-  // The box corners (every offset at +-half-width), 2^5 = 32 of them,
-  // fewer when half-widths are 0 (duplicates dropped). Order: bit b of the
-  // corner index selects the sign of offset b (sx, sy, dx, dy, dz), + first.
+  // The box corners (every offset and tilt component at +-half-width), up to
+  // 2^9 = 512 of them, fewer when half-widths are 0 (duplicates dropped; with
+  // no tilts the 32 five-offset corners as before). Order: bit b of the
+  // corner index selects the sign of b (sx, sy, dx, dy, dz, tilt_x, tilt_y,
+  // lean x, lean y), + first.
   std::vector<Mount> corners() const;
-  // Monte Carlo sample `index` (uniform in the box) for `seed`.
+  // Monte Carlo sample `index` (uniform in the box) for `seed`. The five
+  // offsets are the first five draws of the sample's stream, the tilts the
+  // next four, so a box without tilts gives exactly the five-offset samples.
   Mount sample(std::uint64_t seed, std::uint64_t index) const;
+  bool has_tilts() const { return tilt_x_deg > 0 || tilt_y_deg > 0 || magnet_tilt_deg > 0; }
+  // The same box with only the named group's half-widths kept (the others 0):
+  // "static" (sx, sy), "dynamic" (dx, dy), "air gap" (dz), "sensor tilt"
+  // (tilt_x, tilt_y), "magnet tilt". InputError for another name.
+  ToleranceBox only(const std::string& group) const;
+  static const std::vector<std::string>& groups();
   // Largest in-plane displacement of a probe from its nominal path over the
   // box: |s| + |d| at a corner (mm).
   double max_inplane_mm() const;
@@ -76,7 +97,8 @@ struct WorstCase {
 };
 WorstCase worst_case(const Eigen::MatrixXd& values, int col);
 
-// Compact sign text of a corner, e.g. "sx+ sy- dx+ dy+ dz-" (0 half-widths show "0").
+// Compact sign text of a corner, e.g. "sx+ sy- dx+ dy+ dz-" (0 half-widths show "0");
+// tilted corners append "tx+ ty-" and the magnet lean "gx+ gy-".
 std::string corner_text(const Mount& m);
 
 }  // namespace magenc

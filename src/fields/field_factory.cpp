@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "fields/analytic_field.hpp"
+#include "fields/field_table.hpp"
 #include "core/errors.hpp"
 
 namespace magenc {
@@ -43,6 +44,16 @@ FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg, con
       throw InputError("--field " + spec + ": " + e.what());
     }
   }
+  if (spec.rfind("table:", 0) == 0) {
+    const std::string file = spec.substr(6);
+    if (file.empty())
+      throw InputError("--field table: needs a file: table:FILE (a text table of B on a regular grid, interfaces.md)");
+    try {
+      return table_field_from_file(file, cfg, opts.interp);
+    } catch (const InputError& e) {
+      throw InputError("--field " + spec + ": " + e.what());
+    }
+  }
   if (const auto colon = spec.find(':'); colon != std::string::npos) {
     const std::string scheme = spec.substr(0, colon);
     FieldSchemeMaker maker;
@@ -54,9 +65,9 @@ FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg, con
     if (maker) return maker(spec.substr(colon + 1), cfg, opts);
     if (scheme == "fem")
       throw InputError("--field " + spec + ": fem: sources come from the field_solver library, which this "
-                       "executable does not register: allowed linear, analytic, grid:FILE.vti");
+                       "executable does not register: allowed linear, analytic, grid:FILE.vti, table:FILE");
   }
-  throw InputError("--field '" + spec + "' is not a field source: allowed linear, analytic, grid:FILE.vti, fem:DIR");
+  throw InputError("--field '" + spec + "' is not a field source: allowed linear, analytic, grid:FILE.vti, table:FILE, fem:DIR");
 }
 
 }  // namespace magenc

@@ -3,6 +3,7 @@
 //   analytic        exact field of the configured magnet ([magnet] keys)
 //   grid:FILE.vti   (issue: FEM-driven studies) samples a solve_field grid
 //   fem:DIR         (issue: FEM-driven studies) evaluates the FE solution in DIR
+//   table:FILE      a text table of B on a regular grid from another tool (field_table.hpp)
 // Unknown names throw an InputError listing the allowed values.
 #pragma once
 #include <functional>
@@ -18,7 +19,7 @@ FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg);
 
 // Options some sources take (error_spectrum's --interp for grid: sources).
 struct FieldOptions {
-  Interp interp = Interp::Cubic;  // grid: interpolation (nearest, linear, cubic)
+  Interp interp = Interp::Cubic;  // grid: and table: interpolation (nearest, linear, cubic)
 };
 FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg, const FieldOptions& opts);
 

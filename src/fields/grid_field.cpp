@@ -223,7 +223,8 @@ GridData sample_grid(const FieldSource& field, const Vec3& origin_mm, const Vec3
   return g;
 }
 
-GridField::GridField(GridData grid, Interp mode) : grid_(std::move(grid)), mode_(mode) {
+GridField::GridField(GridData grid, Interp mode, std::string name)
+    : grid_(std::move(grid)), mode_(mode), name_(std::move(name)) {
   grid_.validate();
   const int need = mode_ == Interp::Nearest ? 1 : (mode_ == Interp::Linear ? 2 : 4);
   for (int d = 0; d < (grid_.is_plane() ? 2 : 3); ++d)
@@ -258,9 +259,11 @@ std::string GridField::extent_text() const {
 void GridField::throw_outside(const Vec3& p) const {
   const auto& g = grid_;
   if (g.is_plane() && !std::islessequal(std::abs(p.z() - g.origin_mm.z()), kPlaneTolerance_mm))  // quiet: p may be NaN
-    throw InputError("grid " + g.source + ": point " + point_text(p) + " is off the grid's plane z = " +
-                     fmt(g.origin_mm.z()) + " mm: a 2-D plane grid serves only dz = 0; use box.vti for air-gap offsets");
-  throw InputError("grid " + g.source + ": point " + point_text(p) + " is outside the sampled region " + extent_text() +
+    throw InputError(name_ + " " + g.source + ": point " + point_text(p) + " is off the " + name_ + "'s plane z = " +
+                     fmt(g.origin_mm.z()) + " mm: a 2-D " + name_ + " serves only dz = 0 (no tilts); " +
+                     (name_ == "table" ? "give a z column with several levels" : "use box.vti") +
+                     " for air-gap offsets");
+  throw InputError(name_ + " " + g.source + ": point " + point_text(p) + " is outside the sampled region " + extent_text() +
                    "; grids are never extrapolated: enlarge the grid or reduce r0 and the offsets");
 }
 

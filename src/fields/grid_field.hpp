@@ -79,11 +79,12 @@ class GridField final : public FieldSource {
 
   // Throws InputError if the grid has too few nodes along an interpolated axis
   // for the mode (linear: 2, cubic: 4) or fails GridData::validate().
-  GridField(GridData grid, Interp mode);
+  // name: what name() returns ("grid" for .vti grids, "table" for field tables).
+  GridField(GridData grid, Interp mode, std::string name = "grid");
   // Reads `file` with read_grid_vti.
   static std::shared_ptr<GridField> from_file(const std::filesystem::path& file, Interp mode);
 
-  std::string name() const override { return "grid"; }
+  std::string name() const override { return name_; }
   // A 3-D box with the B vector serves tilted probes; a 2-D plane (or a grid with Bz only) does not.
   bool gives_full_vector() const override { return !grid_.is_plane() && grid_.has_B(); }
   Vec3 B_T(const Vec3& p_mm) const override;
@@ -106,6 +107,8 @@ class GridField final : public FieldSource {
 
   GridData grid_;
   Interp mode_;
+  std::string name_;  // "grid" or "table"
+
 };
 
 }  // namespace magenc

@@ -64,6 +64,50 @@ std::string last_lines(const std::string& text, int n) {
   return out;
 }
 
+// Writes dir/name.dat and dir/name.gp and runs gnuplot, which must write dir/name.png.
+void run_gnuplot(const fs::path& dir, const std::string& name, const std::string& dat_text, const std::string& gp_text) {
+  const std::string png = name + ".png", datfile = name + ".dat";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  {
+    std::ofstream f(dir / datfile);
+    f << dat_text;
+    std::ofstream g(dir / (name + ".gp"));
+    g << gp_text;
+    if (!f || !g) throw ComputeError("plot " + name + ": cannot write into " + dir.string());
+  }
+  const fs::path log = dir / (name + ".gnuplot.log");
+  fs::remove(dir / png, ec);
+  const std::string cmd = "cd " + shell_quoted(dir.string()) + " && gnuplot " + shell_quoted(name + ".gp") +
+                          " >" + shell_quoted(log.filename().string()) + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::string log_text;
+  {
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    log_text = ss.str();
+  }
+  fs::remove(log, ec);
+  const bool exited_ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!exited_ok) {
+    fs::remove(dir / png, ec);  // gnuplot may have drawn some panels before failing: no partial PNG
+    const bool missing = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 127;
+    throw ComputeError("plot " + name + ": " +
+                       (missing ? std::string("gnuplot not found (install gnuplot-nox)")
+                                : "gnuplot failed: " + last_lines(log_text, 3)));
+  }
+  if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0) {
+    fs::remove(dir / png, ec);
+    throw ComputeError("plot " + name + ": gnuplot wrote no " + png + " (" + last_lines(log_text, 3) + ")");
+  }
+}
+
+void check_plot_name(const std::string& name) {
+  if (name.empty() || name.find('/') != std::string::npos || name.find('\'') != std::string::npos)
+    throw InputError("plot name '" + name + "' must be a plain file name");
+}
+
 }  // namespace
 
 std::string plot_literal(const std::string& s) {
@@ -76,8 +120,7 @@ std::string plot_literal(const std::string& s) {
 }
 
 void write_plot(const fs::path& dir, const std::string& name, const PlotSpec& spec) {
-  if (name.empty() || name.find('/') != std::string::npos || name.find('\'') != std::string::npos)
-    throw InputError("plot name '" + name + "' must be a plain file name");
+  check_plot_name(name);
   if (spec.panels.empty()) throw InputError("plot " + name + ": no panels");
   const int columns = std::max(1, spec.columns);
   const int rows = (static_cast<int>(spec.panels.size()) + columns - 1) / columns;
@@ -152,40 +195,80 @@ void write_plot(const fs::path& dir, const std::string& name, const PlotSpec& sp
   gp << "\nunset multiplot\nset output\n";
 
   // 3. Files and gnuplot.
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  {
-    std::ofstream f(dir / datfile);
-    f << dat.str();
-    std::ofstream g(dir / (name + ".gp"));
-    g << gp.str();
-    if (!f || !g) throw ComputeError("plot " + name + ": cannot write into " + dir.string());
+  run_gnuplot(dir, name, dat.str(), gp.str());
+}
+
+void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSpec& spec) {
+  check_plot_name(name);
+  const std::size_t nr = spec.row_labels.size(), nc = spec.column_labels.size();
+  if (nr == 0 || nc == 0) throw InputError("heat map " + name + ": no rows or no columns");
+  if (spec.values.size() != nr) throw InputError("heat map " + name + ": values and row labels differ in count");
+  for (const auto& r : spec.values)
+    if (r.size() != nc) throw InputError("heat map " + name + ": a row of values has the wrong length");
+  if (!spec.cell_text.empty() && spec.cell_text.size() != nr)
+    throw InputError("heat map " + name + ": cell texts and row labels differ in count");
+  if (spec.log_colour && !(spec.log_floor > 0)) throw InputError("heat map " + name + ": log_floor must be > 0");
+
+  // 1. Data: x (column), y (row, first row on top), colour value, cell text.
+  double vmax = spec.log_colour ? spec.log_floor : 0, vmin = 0;
+  bool first = true;
+  for (const auto& r : spec.values)
+    for (double v : r)
+      if (std::isfinite(v)) {
+        vmax = first ? v : std::max(vmax, v);
+        vmin = first ? v : std::min(vmin, v);
+        first = false;
+      }
+  std::ostringstream dat;
+  dat << std::setprecision(10);
+  dat << "# " << name << ".dat: data of " << name << ".png; columns: column index, row index (0 = bottom), colour value"
+      << (spec.log_colour ? " (clipped below at " + (std::ostringstream() << spec.log_floor).str() + ")" : std::string())
+      << ", cell text\n";
+  for (std::size_t r = 0; r < nr; ++r) {
+    for (std::size_t c = 0; c < nc; ++c) {
+      double v = spec.values[r][c];
+      if (std::isfinite(v) && spec.log_colour) v = std::max(v, spec.log_floor);
+      std::string text = spec.cell_text.empty() || spec.cell_text[r].size() != nc ? "" : spec.cell_text[r][c];
+      for (char& ch : text)
+        if (ch == '"') ch = '\'';
+      dat << c << ' ' << (nr - 1 - r) << ' ' << (std::isfinite(v) ? (std::ostringstream() << std::setprecision(10) << v).str() : "NaN")
+          << " \"" << text << "\"\n";
+    }
+    dat << "\n";
   }
-  const fs::path log = dir / (name + ".gnuplot.log");
-  fs::remove(dir / png, ec);
-  const std::string cmd = "cd " + shell_quoted(dir.string()) + " && gnuplot " + shell_quoted(name + ".gp") +
-                          " >" + shell_quoted(log.filename().string()) + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::string log_text;
-  {
-    std::ifstream in(log);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    log_text = ss.str();
+
+  // 2. Script.
+  const std::string png = name + ".png", datfile = name + ".dat";
+  std::ostringstream gp;
+  gp << "# " << name << ".gp: draws " << png << " from " << datfile << " (run: gnuplot " << name << ".gp)\n";
+  gp << "set terminal pngcairo size " << spec.width_px << "," << spec.height_px << " enhanced font 'sans,11'\n";
+  gp << "set output " << quoted(png) << "\n";
+  gp << "set datafile missing 'NaN'\n";
+  gp << "set title " << quoted(spec.title) << " font 'sans,13'\n";
+  gp << "set xlabel " << quoted(spec.xlabel) << "\nset ylabel " << quoted(spec.ylabel) << "\n";
+  gp << "set xrange [-0.5:" << nc - 0.5 << "]\nset yrange [-0.5:" << nr - 0.5 << "]\n";
+  gp << "set xtics (";
+  for (std::size_t c = 0; c < nc; ++c) gp << (c ? ", " : "") << quoted(spec.column_labels[c]) << " " << c;
+  gp << ") scale 0\nset ytics (";
+  for (std::size_t r = 0; r < nr; ++r) gp << (r ? ", " : "") << quoted(spec.row_labels[r]) << " " << nr - 1 - r;
+  gp << ") scale 0\n";
+  gp << "set cblabel " << quoted(spec.cblabel) << "\n";
+  if (spec.log_colour) {
+    gp << "set logscale cb\nset format cb '10^{%L}'\n";
+    gp << "set cbrange [" << spec.log_floor << ":" << std::max(vmax, 10 * spec.log_floor) << "]\n";
+  } else {
+    gp << "set cbrange [" << std::min(vmin, 0.0) << ":" << (vmax > std::min(vmin, 0.0) ? vmax : 1.0) << "]\n";
   }
-  fs::remove(log, ec);
-  const bool exited_ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (!exited_ok) {
-    fs::remove(dir / png, ec);  // gnuplot may have drawn some panels before failing: no partial PNG
-    const bool missing = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 127;
-    throw ComputeError("plot " + name + ": " +
-                       (missing ? std::string("gnuplot not found (install gnuplot-nox)")
-                                : "gnuplot failed: " + last_lines(log_text, 3)));
-  }
-  if (!fs::exists(dir / png) || fs::file_size(dir / png) == 0) {
-    fs::remove(dir / png, ec);
-    throw ComputeError("plot " + name + ": gnuplot wrote no " + png + " (" + last_lines(log_text, 3) + ")");
-  }
+  gp << "set palette defined (0 '#fffff0', 1 '#fdd49e', 2 '#fc8d59', 3 '#d7301f', 4 '#7f0000')\n";
+  gp << "unset key\n";
+  for (int sep : spec.row_separators)
+    if (sep > 0 && std::size_t(sep) < nr)
+      gp << "set arrow from -0.5," << nr - sep - 0.5 << " to " << nc - 0.5 << "," << nr - sep - 0.5
+         << " nohead front lw 2 lc rgb '#000000'\n";
+  gp << "plot " << quoted(datfile) << " using 1:2:3 with image, \\\n     " << quoted(datfile)
+     << " using 1:2:4 with labels font 'sans," << spec.cell_font_size << "' tc rgb '#000000'\n";
+  gp << "set output\n";
+  run_gnuplot(dir, name, dat.str(), gp.str());
 }
 
 }  // namespace magenc

@@ -49,4 +49,24 @@ std::string plot_literal(const std::string& s);
 // message) if gnuplot is missing, fails, or leaves no PNG.
 void write_plot(const std::filesystem::path& dir, const std::string& name, const PlotSpec& spec);
 
+// A heat map: a matrix of values, one coloured cell per (row, column), each
+// cell optionally labelled with a text (e.g. its value). First row on top.
+struct HeatmapSpec {
+  std::string title;
+  std::string xlabel, ylabel;                  // axis titles (enhanced text)
+  std::vector<std::string> column_labels;      // x tick labels, left to right (enhanced text)
+  std::vector<std::string> row_labels;         // y tick labels, top to bottom (enhanced text)
+  std::vector<std::vector<double>> values;     // rows x columns; NaN = blank cell
+  std::vector<std::vector<std::string>> cell_text;  // rows x columns, or empty (no labels)
+  std::string cblabel;                         // colour-bar title
+  bool log_colour = true;                      // logarithmic colour scale ...
+  double log_floor = 1e-4;                     // ... values below this get the lowest colour
+  std::vector<int> row_separators;             // draw a line above these rows (e.g. between groups)
+  int cell_font_size = 9;
+  int width_px = 1100, height_px = 900;
+};
+// Writes dir/name.{png,gp,dat} (gnuplot `with image` plus `with labels`).
+// InputError for a bad name or inconsistent sizes; ComputeError as write_plot.
+void write_heatmap(const std::filesystem::path& dir, const std::string& name, const HeatmapSpec& spec);
+
 }  // namespace magenc

@@ -246,6 +246,59 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
   }
 }
 
+std::string budget_csv(const RadiusScanResult& r) {
+  std::ostringstream os;
+  os << std::setprecision(10) << "field,array,r0_mm,group,p99_only_deg,p99_all_deg,share\n";
+  for (const auto& b : r.budget)
+    os << b.field << "," << b.array << "," << b.r0_mm << "," << b.group << "," << b.p99_only_deg << "," << b.p99_all_deg
+       << "," << b.share << "\n";
+  return os.str();
+}
+
+void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& dir) {
+  if (r.budget.empty()) return;
+  PlotSpec spec;
+  spec.title = "Error budget at the recommended r_0: p99 of pp with one group of the tolerance box alone / p99 with the whole box";
+  std::vector<std::string> keys;  // field/array in order
+  for (const auto& b : r.budget)
+    if (std::find(keys.begin(), keys.end(), b.field + "|" + b.array) == keys.end()) keys.push_back(b.field + "|" + b.array);
+  spec.columns = std::min<int>(3, int(keys.size()));
+  const int rows = (int(keys.size()) + spec.columns - 1) / spec.columns;
+  spec.width_px = 520 * spec.columns;
+  spec.height_px = 80 + 380 * rows;
+  for (const auto& key : keys) {
+    PlotPanel p;
+    std::vector<const BudgetRow*> bs;
+    for (const auto& b : r.budget)
+      if (b.field + "|" + b.array == key) bs.push_back(&b);
+    p.title = plot_literal(bs.front()->field) + ", " + plot_literal(bs.front()->array) + ", r_0 = " +
+              fmt(bs.front()->r0_mm, 2) + " mm (p99 all = " + fmt(bs.front()->p99_all_deg, 3) + " deg)";
+    p.xlabel = "";
+    p.ylabel = "share of the p99 [%]";
+    PlotSeries bars;
+    bars.style = "boxes";
+    bars.extra = "lc rgb '#3b75af'";
+    std::string tics = "set xtics (";
+    for (std::size_t i = 0; i < bs.size(); ++i) {
+      bars.x.push_back(double(i));
+      bars.y.push_back(100.0 * bs[i]->share);
+      tics += (i ? ", " : "") + std::string("'") + bs[i]->group + "' " + std::to_string(i);
+      p.commands.push_back("set label '" + fmt(100.0 * bs[i]->share, 0) + "' at " + std::to_string(i) + ", " +
+                           g(100.0 * bs[i]->share) + " center offset 0,0.7 font ',9'");
+    }
+    p.series.push_back(bars);
+    p.commands.push_back(tics + ") rotate by -30 font ',9'");
+    p.commands.push_back("set boxwidth 0.6");
+    p.commands.push_back("set xrange [-0.6:" + g(double(bs.size()) - 0.4) + "]");
+    double top = 0;
+    for (const auto* b : bs) top = std::max(top, 100.0 * b->share);
+    p.commands.push_back("set yrange [0:" + g(std::max(1.0, 1.15 * top)) + "]");
+    p.commands.push_back("unset key");
+    spec.panels.push_back(p);
+  }
+  write_plot(dir, "budget", spec);
+}
+
 std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
                               const std::vector<std::string>& notes, double wall_s) {
   std::ostringstream md;
@@ -267,7 +320,13 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
   md << ".\n";
   md << "- Tolerance box: |sx| <= " << fmt(opt.box.sx_mm, 3) << ", |sy| <= " << fmt(opt.box.sy_mm, 3)
      << ", |dx| <= " << fmt(opt.box.dx_mm, 3) << ", |dy| <= " << fmt(opt.box.dy_mm, 3) << ", |dz| <= "
-     << fmt(opt.box.dz_mm, 3) << " mm; worst case over its " << opt.box.corners().size() << " corners; Monte Carlo "
+     << fmt(opt.box.dz_mm, 3) << " mm";
+  if (opt.box.has_tilts())
+    md << "; sensor tilt |tilt_x| <= " << fmt(opt.box.tilt_x_deg, 2) << ", |tilt_y| <= " << fmt(opt.box.tilt_y_deg, 2)
+       << " deg; magnet lean components (toward x, toward y) each within +-" << fmt(opt.box.magnet_tilt_deg, 2)
+       << " deg (magnet tilt up to " << fmt(std::sqrt(2.0) * opt.box.magnet_tilt_deg, 2)
+       << " deg in any azimuth; pivot at the bottom-face centre, L = " << fmt(opt.magnet_height_mm, 2) << " mm)";
+  md << "; worst case over its " << opt.box.corners().size() << " corners; Monte Carlo "
      << opt.samples << " samples per radius, uniform in the box, seed " << opt.seed
      << " (the same samples at every radius and array).\n";
   md << "- Sensor noise (assumptions): " << fmt(opt.noise.probe_noise_uT_rms, 1) << " uT rms field noise per probe, "
@@ -411,6 +470,34 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
         "elements): the surrogate then acts as a local least-squares smoothing of the field, and its difference to the "
         "direct pipeline measures that roughness (note the direct pipeline's own theta-grid dependence for such a "
         "field) rather than a surrogate error.\n\n";
+  if (!r.budget.empty()) {
+    md << "## Error budget at the recommended r0\n\n"
+       << "Share of a group = p99 of the peak-to-peak error with only that group of the tolerance box active (the same "
+       << opt.samples << " Monte Carlo samples, seed " << opt.seed << ", every other half-width 0) divided by the p99 "
+          "with the whole box, at the recommended r0 of each field and array (mounting error only, no noise). The shares "
+          "do not add up to 100 %: the sources combine neither linearly nor in quadrature.\n\n";
+    std::vector<std::string> groups;
+    for (const auto& b : r.budget)
+      if (std::find(groups.begin(), groups.end(), b.group) == groups.end()) groups.push_back(b.group);
+    std::vector<std::string> header = {"field", "array", "r0 [mm]", "p99 all [deg]"};
+    for (const auto& gname : groups) header.push_back(gname + " p99 [deg] (share)");
+    std::vector<std::vector<std::string>> bt;
+    for (const auto& x : r.recommendations) {
+      std::vector<std::string> row = {x.field, "`" + x.array + "`", "", ""};
+      for (const auto& gname : groups) {
+        std::string cell = "-";
+        for (const auto& b : r.budget)
+          if (b.field == x.field && b.array == x.array && b.group == gname) {
+            row[2] = fmt(b.r0_mm, 2);
+            row[3] = fmt(b.p99_all_deg, 4);
+            cell = fmt(b.p99_only_deg, 4) + " (" + fmt(100.0 * b.share, 0) + " %)";
+          }
+        row.push_back(cell);
+      }
+      bt.push_back(row);
+    }
+    md << md_table(header, bt) << "\n" << md_image("error budget at the recommended r0", "budget.png") << "\n";
+  }
   md << "## Timing\n\n";
   std::vector<std::vector<std::string>> tt;
   for (const auto& f : r.fields)
@@ -425,7 +512,8 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
   for (const auto& f : r.fields)
     for (const auto& a : arrays)
       md << md_image("harmonics " + f.field + " " + a, "harmonics_" + file_tag(f.field) + "_" + file_tag(a) + ".png");
-  md << "\nFiles: radius.csv, radius_spectra.csv, radius_recommendation.csv, radius_validation.csv, config.toml, run.json.\n";
+  md << "\nFiles: radius.csv, radius_spectra.csv, radius_recommendation.csv, radius_validation.csv, radius_budget.csv, "
+        "config.toml, run.json.\n";
   return md.str();
 }
 

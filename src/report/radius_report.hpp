@@ -37,6 +37,11 @@ ValidationSummary summarize_validation(const RadiusScanResult& r, const std::str
 // Safe file-name part of an array name: "ring:8" -> "ring8".
 std::string file_tag(const std::string& name);
 
+// radius_budget.csv: field,array,r0_mm,group,p99_only_deg,p99_all_deg,share (radius_scan.hpp BudgetRow).
+std::string budget_csv(const RadiusScanResult& r);
+// budget.png: one panel per (field, array), bars of 100 * share per group (nothing when there is no budget).
+void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& dir);
+
 // Writes the plots into dir.
 void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir);
 

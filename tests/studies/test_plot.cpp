@@ -62,3 +62,30 @@ TEST_CASE("write_plot reports gnuplot failures and bad input", "[plot][studies]"
   CHECK_THROWS_AS(write_plot(dir, "a/b", two_panel_spec()), InputError);
   fs::remove_all(dir);
 }
+
+TEST_CASE("write_heatmap writes a labelled log-colour heat map and refuses inconsistent sizes", "[plot][studies]") {
+  const fs::path dir = test::temp_out("heatmap");
+  HeatmapSpec h;
+  h.title = "heat map test";
+  h.column_labels = {"|a_0|", "c_1", "c_2"};
+  h.row_labels = {"first", "second"};
+  h.values = {{0.5, 0.0, 1e-6}, {NAN, 2.0, 0.01}};
+  h.cell_text = {{"0.5", "0", "1e-6"}, {"", "2", "0.01"}};
+  h.row_separators = {1};
+  write_heatmap(dir, "hm", h);
+  REQUIRE(fs::exists(dir / "hm.png"));
+  CHECK(fs::file_size(dir / "hm.png") > 1000);
+  std::ifstream dat(dir / "hm.dat");
+  const std::string text((std::istreambuf_iterator<char>(dat)), {});
+  CHECK(text.find("0 1 0.5 \"0.5\"") != std::string::npos);  // first row on top (y = 1)
+  CHECK(text.find("1 1 0.0001 \"0\"") != std::string::npos);  // zero clipped to the log floor
+  CHECK(text.find("0 0 NaN") != std::string::npos);          // a blank cell
+  HeatmapSpec bad = h;
+  bad.values[1].pop_back();
+  CHECK_THROWS_AS(write_heatmap(dir, "bad", bad), InputError);
+  bad = h;
+  bad.row_labels.pop_back();
+  CHECK_THROWS_AS(write_heatmap(dir, "bad", bad), InputError);
+  CHECK_FALSE(fs::exists(dir / "bad.png"));
+  fs::remove_all(dir);
+}

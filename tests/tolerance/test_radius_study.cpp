@@ -2,6 +2,9 @@
 // its bad-input behaviour (non-zero exit, one-line message, no output dir).
 #include <catch2/catch.hpp>
 
+#include <set>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -80,6 +83,52 @@ TEST_CASE("radius study: tiny configuration", "[radius][study]") {
     ++recs;
   }
   CHECK(recs == 3);
+  // Error budget at the recommended r0 (the default box: offsets, sensor tilt, magnet tilt): one row per group and
+  // array; the whole-box p99 is the recommendation's MC p99 (same samples, same surrogate); each group alone stays
+  // below the whole box (the groups only add error here).
+  CHECK(fs::exists(out / "radius_budget.csv"));
+  CHECK(fs::exists(out / "budget.png"));
+  std::ifstream bud(out / "radius_budget.csv");
+  std::getline(bud, header);
+  CHECK(header == "field,array,r0_mm,group,p99_only_deg,p99_all_deg,share");
+  int brows = 0;
+  std::set<std::string> groups;
+  while (std::getline(bud, line)) {
+    const auto v = split(line);
+    REQUIRE(v.size() == 7);
+    groups.insert(v[3]);
+    const double only = std::stod(v[4]), all = std::stod(v[5]), share = std::stod(v[6]);
+    CHECK(share == Approx(only / all).epsilon(1e-9));
+    CHECK(only <= all * 1.0001);
+    ++brows;
+  }
+  CHECK(brows == 3 * 5);  // 3 arrays x (static, dynamic, air gap, sensor tilt, magnet tilt)
+  CHECK(groups.count("sensor tilt") == 1);
+  CHECK(groups.count("magnet tilt") == 1);
+  std::ifstream sm(out / "summary.md");
+  std::stringstream sms;
+  sms << sm.rdbuf();
+  CHECK(sms.str().find("Share of a group = p99") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("radius study: the five-offset box (tilt tolerances 0) gives no tilt groups and the old 32 corners",
+          "[radius][study]") {
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_old_box_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const Run r = run_radius(tiny() + " --set radius.tol_tilt_x_deg=0 --set radius.tol_tilt_y_deg=0"
+                                    " --set radius.tol_magnet_tilt_deg=0", out);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream sm(out / "summary.md");
+  std::stringstream sms;
+  sms << sm.rdbuf();
+  CHECK(sms.str().find("over its 32 corners") != std::string::npos);
+  CHECK(sms.str().find("sensor tilt |tilt_x|") == std::string::npos);
+  std::ifstream bud(out / "radius_budget.csv");
+  std::string line;
+  std::getline(bud, line);
+  while (std::getline(bud, line)) CHECK(line.find("tilt") == std::string::npos);
   fs::remove_all(out);
 }
 

@@ -119,3 +119,47 @@ TEST_CASE("tolerance box rejects bad half-widths", "[tolerance][bad-input]") {
   CHECK_THROWS_AS(b.validate(), InputError);
   CHECK_THROWS_AS(monte_carlo_samples(ToleranceBox{}, 0, 1), InputError);
 }
+
+TEST_CASE("tilts in the box: the five offsets draw as before; corners, groups", "[tolerance][tilt]") {
+  ToleranceBox old_box;  // five offsets only (tilt half-widths 0 by default)
+  ToleranceBox tilted = old_box;
+  tilted.tilt_x_deg = 0.5;
+  tilted.tilt_y_deg = 0.25;
+  tilted.magnet_tilt_deg = 0.5;
+  CHECK_FALSE(old_box.has_tilts());
+  CHECK(old_box.corners().size() == 32);
+  CHECK(tilted.corners().size() == 512);
+  double max_tx = 0, max_g = 0;
+  for (std::uint64_t i = 0; i < 2000; ++i) {
+    const Mount a = old_box.sample(5, i), b = tilted.sample(5, i);
+    // Common random numbers: the offsets of sample i do not depend on the tilts being in the box.
+    CHECK(a.sx_mm == b.sx_mm);
+    CHECK(a.dy_mm == b.dy_mm);
+    CHECK(a.dz_mm == b.dz_mm);
+    CHECK_FALSE(a.tilted());
+    max_tx = std::max(max_tx, std::abs(b.tilt_x_deg));
+    max_g = std::max(max_g, b.magnet_tilt_deg);
+    CHECK(std::abs(b.tilt_y_deg) <= 0.25);
+    // Lean components within the box.
+    CHECK(std::abs(b.magnet_tilt_deg * std::cos(b.magnet_tilt_azimuth_deg * M_PI / 180)) <= 0.5 + 1e-12);
+    CHECK(std::abs(b.magnet_tilt_deg * std::sin(b.magnet_tilt_azimuth_deg * M_PI / 180)) <= 0.5 + 1e-12);
+  }
+  CHECK(max_tx > 0.49);
+  CHECK(max_g > 0.6);  // corners of the lean box reach sqrt(2) * 0.5 = 0.707 deg
+  // Groups: only that group's half-widths survive.
+  const ToleranceBox st = tilted.only("sensor tilt");
+  CHECK(st.tilt_x_deg == 0.5);
+  CHECK(st.magnet_tilt_deg == 0);
+  CHECK(st.max_inplane_mm() == 0);
+  CHECK(st.dz_mm == 0);
+  const ToleranceBox dyn = tilted.only("dynamic");
+  CHECK(dyn.dx_mm == old_box.dx_mm);
+  CHECK_FALSE(dyn.has_tilts());
+  CHECK(dyn.sample(5, 3).dx_mm == old_box.sample(5, 3).dx_mm);
+  CHECK_THROWS_AS(tilted.only("gravity"), InputError);
+  tilted.magnet_tilt_deg = -1;
+  CHECK_THROWS_AS(tilted.validate("radius.tol_"), InputError);
+  // Corner text names the tilt signs.
+  CHECK(corner_text(ToleranceBox{0.1, 0.1, 0.1, 0.1, 0.2, 0.5, 0.5, 0.5}.corners().back()) ==
+        "sx- sy- dx- dy- dz- tx- ty- gx- gy-");
+}

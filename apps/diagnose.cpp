@@ -1,0 +1,168 @@
+// diagnose: from measured angle-error curves back to their causes (interfaces.md, "Measured error curves
+// and diagnose"). Reads one or more measured curves, fits the chosen model parameters (mounting offsets,
+// tilts, signal-chain errors) plus a free zero offset per curve by nonlinear least squares (Ceres), and
+// reports values with 1-sigma uncertainties, correlations, what the data cannot separate, and the residual.
+//
+//   diagnose --measured FILE.csv [--measured FILE2.csv]... --field F --array A --r0 MM
+//            [--free sx,sy,...] [--curve-set N:key=value | N:key+=value]... [--fixed-zero]
+//            [--error-sign +1|-1] [--max-gap DEG] [--starts K] [--seed S] [--cond-limit C]
+//            [--interp nearest|linear|cubic] [--config F] [--set k=v]... --out DIR
+//
+// Writes DIR/fit.json, fit.csv, summary.md, fit.png, harmonics.png, config.toml (src/report/diagnosis_report.hpp),
+// all or nothing (AtomicDir). Example:
+//   diagnose --measured curve.csv --field analytic --array two --r0 2.4 --out output/diagnose
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "analysis/sweep.hpp"
+#include "analysis/diagnosis_fit.hpp"
+#include "analysis/measured_curve.hpp"
+#include "core/atomic_output.hpp"
+#include "core/cli.hpp"
+#include "core/errors.hpp"
+#include "core/omp_wait.hpp"
+#include "fem_field_scheme.hpp"
+#include "fields/field_factory.hpp"
+#include "report/diagnosis_report.hpp"
+#include "report/study_output.hpp"
+
+namespace {
+
+using magenc::InputError;
+
+struct Flags {
+  std::vector<std::string> measured;     // --measured (repeatable)
+  std::string field = "analytic";        // --field
+  std::optional<std::string> array, r0;  // config shorthands
+  std::string free;                      // --free list (empty: default set)
+  std::vector<std::string> curve_sets;   // --curve-set N:key=value / N:key+=value
+  bool fixed_zero = false;               // --fixed-zero
+  int error_sign = 1;                    // --error-sign
+  double max_gap_deg = 30.0;             // --max-gap
+  int starts = 6;
+  unsigned seed = 1;
+  double cond_limit = 1e4;
+  std::string interp = "cubic";
+  double fd_step = 0;                    // --fd-step (0: by field)
+};
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> v;
+  std::stringstream ss(s);
+  for (std::string x; std::getline(ss, x, ',');)
+    if (!x.empty()) v.push_back(x);
+  return v;
+}
+
+std::string help_footer() {
+  std::ostringstream os;
+  os << "\nFit parameters (--free names; --curve-set keys):\n";
+  for (const auto& p : magenc::fit_parameters())
+    os << "  " << p.name << "  (" << p.key << ", " << (p.unit.empty() ? "-" : p.unit) << ", bounds [" << p.lower
+       << ", " << p.upper << "], typical " << p.scale << "): " << p.what << "\n";
+  os << "  magnet_tilt = magnet_tilt_x,magnet_tilt_y (fit.json also gives magnet_tilt_deg and its azimuth).\n"
+        "  Not fitted: magnet.magnetization_elevation_deg (a property of the field; for `two` it acts like\n"
+        "  offset_cos = offset_sin, for diff4/ring:N it has no effect).\n"
+        "  plus a free zero offset (DC) between the two encoders per curve, unless --fixed-zero.\n"
+        "Measured curve CSV (header row): theta_deg,error_deg | theta_deg,phi_deg | theta_deg,u_cos,u_sin;\n"
+        "  >= 64 rows, one full turn or more (folded mod 360), largest gap <= --max-gap deg; '#' comments.\n"
+        "  error_deg = sensor - reference; --error-sign -1 when the file has reference - sensor.\n"
+        "Several curves: one joint fit, shared parameters, one zero offset each. Per-curve known values:\n"
+        "  --curve-set 2:mount.dz_mm+=0.5   curve 2 was measured with the air gap 0.5 mm larger (shift)\n"
+        "  --curve-set 2:mount.sx_mm=0.2    curve 2 has sx = 0.2 mm exactly (known, not fitted there)\n";
+  return os.str();
+}
+
+int run(int argc, char** argv) {
+  const auto t0 = std::chrono::steady_clock::now();
+  magenc::register_fem_field_scheme();  // fem:DIR (field_solver)
+  // 1. Options.
+  CLI::App app{"diagnose: fit mounting and signal-chain errors to measured angle-error curves (interfaces.md)"};
+  magenc::CommonOptions common;
+  Flags f;
+  const auto schema = magenc::common_keys();
+  magenc::add_common_options(app, common, schema);
+  app.footer(app.get_footer() + help_footer());
+  app.add_option("--measured", f.measured, "measured curve CSV (repeatable: joint fit)")->required();
+  app.add_option("--field", f.field, "field source, as for error_spectrum: analytic, linear, grid:FILE.vti, fem:DIR (default analytic)");
+  app.add_option("--array", f.array, "probe array: two, diff4, ring:N (sensor.array)");
+  app.add_option("--r0", f.r0, "probe radius r0 in mm (sensor.r0_mm)");
+  app.add_option("--free", f.free, "comma-separated parameters to fit (default: what the curves can identify)");
+  app.add_option("--curve-set", f.curve_sets, "per-curve known value: N:key=value or N:key+=value (repeatable)");
+  app.add_flag("--fixed-zero", f.fixed_zero, "no free zero offset between the encoders (default: free DC)");
+  app.add_option("--error-sign", f.error_sign, "+1: error_deg = sensor - reference (default); -1: the opposite");
+  app.add_option("--max-gap", f.max_gap_deg, "largest allowed gap between samples in deg (default 30)");
+  app.add_option("--starts", f.starts, "start points of the fit (default 6; 1 = configured values only)");
+  app.add_option("--seed", f.seed, "seed of the random starts (default 1)");
+  app.add_option("--cond-limit", f.cond_limit, "condition number above which directions count as not identifiable (default 1e4)");
+  app.add_option("--fd-step", f.fd_step, "central-difference step in typical sizes (default 1e-4 exact field, 1e-2 fem:/grid:)");
+  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
+      ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
+  magenc::parse_cli(app, argc, argv);
+  if (!(f.max_gap_deg > 0 && f.max_gap_deg <= 180))
+    throw InputError("--max-gap " + magenc::num(f.max_gap_deg) + " is out of range: allowed (0, 180] deg");
+
+  // 2. Configuration and curves (all read and checked before any output exists).
+  magenc::Config cfg = magenc::load_config(schema, common);
+  if (f.array) cfg.set("sensor.array=" + *f.array);
+  if (f.r0) cfg.set("sensor.r0_mm=" + *f.r0);
+  magenc::CurveReadOptions ro;
+  ro.error_sign = f.error_sign;
+  ro.max_gap_deg = f.max_gap_deg;
+  magenc::ModelState base{magenc::Mount::from_config(cfg),
+                          magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"), f.array ? "--array" : "sensor.array")};
+  std::vector<magenc::CurveInput> curves;
+  for (const auto& path : f.measured) curves.push_back({magenc::read_measured_curve(path, ro), base, {}});
+  for (const auto& cs : f.curve_sets) {
+    const auto [c, o] = magenc::parse_curve_set(cs, static_cast<int>(curves.size()));
+    curves[c].overrides.push_back(o);
+  }
+  magenc::DiagnosisOptions opts;
+  opts.free = split_commas(f.free);
+  for (const auto& n : magenc::expand_free_names(opts.free)) magenc::fit_parameter(n);  // unknown: one-line error
+  opts.free_zero = !f.fixed_zero;
+  opts.starts = f.starts;
+  opts.seed = f.seed;
+  opts.cond_limit = f.cond_limit;
+  magenc::FieldOptions fo;
+  fo.interp = magenc::parse_interp(f.interp, "--interp");
+  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, fo);
+
+  // 3. Fit. On a discretised field (fem:, grid:, table:) the Jacobian uses a larger step (1e-2 typical sizes,
+  // see DiagnosisOptions::fd_step), and the default free set is chosen on the exact field of the same magnet.
+  magenc::FieldSourcePtr exact;
+  if (field->name() != "analytic" && field->name() != "linear") {
+    exact = magenc::make_field_source("analytic", cfg);
+    opts.identifiability_field = exact.get();
+    opts.fd_step = f.fd_step > 0 ? f.fd_step : 1e-2;
+  } else if (f.fd_step > 0) {
+    opts.fd_step = f.fd_step;
+  }
+  const magenc::DiagnosisResult res = magenc::diagnose_curves(*field, curves, opts);
+
+  // 4. Outputs, all or nothing.
+  magenc::DiagnosisRunInfo info;
+  for (int i = 0; i < argc; ++i) info.command_line += (i ? " " : "") + std::string(argv[i]);
+  info.field_spec = f.field;
+  info.config_json = cfg.to_json();
+  info.config_toml = cfg.to_toml();
+  info.curve_sets = f.curve_sets;
+  info.options = opts;
+  info.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  magenc::AtomicDir out(common.out.empty() ? std::string("output/diagnose") : common.out);
+  magenc::write_diagnosis_outputs(out.path(), curves, res, info);
+  out.commit();
+  std::cout << "diagnose: residual RMS " << res.residual_rms_deg << " deg; results in " << out.final_path().string()
+            << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  magenc::prefer_passive_omp_wait(argc, argv);  // many small parallel regions (core/omp_wait.hpp)
+  return magenc::run_main("diagnose", [&] { return run(argc, argv); });
+}

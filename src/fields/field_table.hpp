@@ -1,0 +1,82 @@
+// Field tables from other tools (interfaces.md, "Field tables from other
+// tools"): a text table of B on a regular grid, as exported by COMSOL, Ansys
+// Maxwell, FEMM or a magnet maker, read into the GridData of grid_field.hpp so
+// that GridField (and its nearest/linear/cubic interpolation) serves it.
+//
+// Format
+//   - Lines starting (after blanks) with '#' or '%' are comments; blank lines
+//     are ignored; a UTF-8 byte-order mark is skipped.
+//   - The first other line is the header. Its separator decides the file's:
+//     ',' if it has a comma, else tab if it has a tab, else runs of blanks.
+//     Cells may be wrapped in double quotes; blanks around cells are trimmed.
+//   - Columns (any order, each at most once):
+//       x_mm | x_m,  y_mm | y_m,  [z_mm | z_m]          coordinates, magnet frame
+//       Bz_T | Bz_mT, [Bx_T | Bx_mT, By_T | By_mT]     field (Bx and By together)
+//     All coordinates in one unit, all field columns in one unit.
+//   - Every data row has one finite number per column (strtod syntax).
+//   - Rows in any order; the points must fill a regular grid exactly once.
+//
+// Regular grid (per axis): the distinct coordinate values, merged when they
+// differ by <= 1e-9 of the axis scale (printing noise), are the levels; the
+// spacing h is the median gap between neighbouring levels; every level must
+// lie within kLatticeTol (1e-3) of a cell of level_0 + i*h. The lattice
+// indices of the rows then must cover the box of indices exactly once.
+// Errors (InputError, one line "table FILE line N: ...") name the first
+// offending row: an unreadable cell, a non-finite value, a coordinate off the
+// lattice, a point that repeats an earlier one, a point separated from the
+// rest of the grid by empty grid lines (an extra point); or, when the rows
+// are consistent but incomplete, the first missing point (x, y, z).
+//
+// Geometry: coordinates are in the magnet frame of physics.md (origin at the
+// magnet's centre). A table without a z column is the plane z = plane_z_mm
+// (the configured z_s; it serves dz = 0 only). A table with a z column and
+// one z level is the plane at that z; with several levels it is a 3-D box.
+#pragma once
+#include <filesystem>
+#include <istream>
+#include <memory>
+#include <string>
+
+#include "core/config.hpp"
+#include "fields/grid_field.hpp"
+
+namespace magenc {
+
+// Limits on what a table may declare (file size, nodes).
+struct FieldTableLimits {
+  std::uintmax_t max_bytes = std::uintmax_t(1) << 30;  // 1 GiB of text
+  std::size_t max_nodes = std::size_t(1) << 24;        // 16.8 M grid nodes (~0.8 GB as doubles)
+};
+
+// Tolerance, in cells, for coordinates off the regular lattice.
+constexpr double kLatticeTol = 1e-3;
+
+// Parses a table's text; `source` names it in messages ("table FILE").
+// plane_z_mm: height of a table without a z column (magnet frame, mm).
+GridData parse_field_table(const std::string& text, const std::string& source, double plane_z_mm,
+                           const FieldTableLimits& limits = {});
+
+// Reads and parses a table file (InputError when missing, unreadable, larger
+// than limits.max_bytes, or malformed).
+GridData read_field_table(const std::filesystem::path& file, double plane_z_mm,
+                          const FieldTableLimits& limits = {});
+
+// A GridField named "table" serving the file, z of a 2-D table = the
+// configured sensing plane (sensing_plane_z_mm(cfg)). A table that is a single
+// plane at a height other than z_s is refused (it could serve no probe).
+std::shared_ptr<GridField> table_field_from_file(const std::filesystem::path& file, const Config& cfg, Interp mode);
+
+// Writing tables (for tests, examples and users who want a reference table).
+struct FieldTableFormat {
+  char separator = ',';          // ',', '\t' or ' '
+  bool metres = false;           // coordinates in m (x_m) instead of mm
+  bool millitesla = false;       // field in mT (Bz_mT) instead of T
+  bool with_z = true;            // z column (always for 3-D grids)
+  bool with_B = true;            // Bx, By columns (when the grid has them)
+  std::string comment;           // written as '# ' lines before the header (may be empty)
+};
+// The grid's nodes as a table, one row per node in node order (i fastest),
+// values with 17 significant digits.
+std::string field_table_text(const GridData& grid, const FieldTableFormat& format = {});
+
+}  // namespace magenc

@@ -1,0 +1,53 @@
+// Study error_sources: the error sources of an encoder's tolerance sheet beyond
+// the five offsets (physics.md, "Beyond the five offsets"): sensor tilt about
+// x and y, magnet tilt, magnetization elevation, channel offsets, gain
+// mismatch and phase error, each swept alone from 0 on the exact field for
+// several probe arrays (default two, diff4, ring:8), with cubic fits, one
+// coefficient figure per source, and which source makes which harmonic per
+// array (harmonics.csv, harmonics_heatmap.png, summary.md). The sweeps live in
+// src/analysis/error_sources.*, the outputs in src/report/error_sources_report.*.
+//   error_sources [--config studies/error_sources.toml] [--set sweep.points=21] [--out DIR]
+#include "analysis/error_sources.hpp"
+#include "report/error_sources_report.hpp"
+#include "report/study_output.hpp"
+
+using namespace magenc;
+
+namespace {
+
+const char* kStudy = "error_sources";
+
+std::vector<KeySpec> study_keys() {
+  std::vector<KeySpec> k = {
+      string_key("study.arrays", "two,diff4,ring:8", {}, "comma-separated probe arrays (two, diff4, ring:N)"),
+      string_key("study.field", "analytic", {}, "field source (analytic; others cannot follow the magnetization elevation)"),
+      string_key("study.sources",
+                 "tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnetization_elevation_deg,offset_cos_mT,offset_sin_mT,"
+                 "gain_mismatch,phase_error_deg",
+                 {}, "comma-separated error sources, each swept alone from 0"),
+      string_key("sweep.coefs", "a0_deg,c1_deg,c2_deg,c3_deg,c4_deg", {}, "comma-separated spectra columns fitted with a cubic"),
+      real_key("summary.floor_deg", 1e-4, 0, 1e3, "deg", "harmonics below this amplitude are not listed as dominant"),
+      real_key("summary.relative", 0.01, 0, 1, "", "harmonics below this fraction of the largest are not listed"),
+  };
+  return merge_schemas(k, error_source_sweep_keys());
+}
+
+void run(const Config& cfg, StudyOutput& out) {
+  // 1. Probe setups, one per array (sensor.array is not used: study.arrays lists them).
+  std::vector<ProbeSetup> setups;
+  for (const auto& a : split_list(cfg.str("study.arrays"), "study.arrays"))
+    setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
+  // 2. Every source alone on every array, cubic fits.
+  const ErrorSourcesRun result = run_error_sources(cfg, setups, kStudy);
+  // 3. Tables, plots, summary.
+  write_error_sources_report(result, cfg, out);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return run_study(kStudy,
+                   "error_sources: angle-error spectra of tilts, magnetization elevation and signal-chain errors, "
+                   "each alone, for several probe arrays",
+                   study_keys(), argc, argv, run);
+}

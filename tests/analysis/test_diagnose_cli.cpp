@@ -1,0 +1,96 @@
+// diagnose executable end to end and the diagnosis study's tiny-config smoke test: bad input gives a
+// one-line error, exit 2 and no output directory; a good run writes fit.json (contract keys), fit.csv,
+// summary.md and the PNGs.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../studies/study_test_util.hpp"
+
+using namespace magenc::test;
+
+namespace {
+
+// A synthetic curve written by the test helper magenc_make_curve (same build).
+fs::path make_curve(const std::string& name, const std::string& args) {
+  const fs::path p = fs::temp_directory_path() / ("magenc_test_" + name + "_" + std::to_string(::getpid()) + ".csv");
+  const std::string cmd = std::string(MAGENC_TEST_DIR) + "/magenc_make_curve '" + p.string() + "' " + args;
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[analysis][diagnose][cli]") {
+  const fs::path curve = make_curve("cli_good", "--set sx=0.04 --set dx=0.03 --zero 0.1 --points 180 --turns 2");
+  const fs::path out = temp_out("diagnose_good");
+  const StudyRun r = run_study_exe("diagnose", out, "--measured '" + curve.string() +
+                                                       "' --field analytic --array two --r0 2.4 --free sx,sy,dx,dy --starts 2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"fit.json", "fit.csv", "summary.md", "fit.png", "harmonics.png", "config.toml"})
+    CHECK(fs::exists(out / f));
+  const auto j = nlohmann::json::parse(slurp(out / "fit.json"));
+  CHECK(j["parameters"]["sx_mm"]["free"] == true);
+  CHECK(j["parameters"]["sx_mm"]["value"].get<double>() == Approx(0.04).margin(0.005));
+  CHECK(j["parameters"]["dx_mm"]["value"].get<double>() == Approx(0.03).margin(0.001));
+  CHECK(j["parameters"]["dz_mm"]["free"] == false);
+  CHECK(j["parameters"]["zero_offset_deg"]["value"].get<double>() == Approx(0.1).margin(0.05));
+  CHECK(j["residual_rms_deg"].get<double>() < 0.03);
+  CHECK(j["not_identifiable"].is_array());
+  CHECK(j["run"]["seed"].is_null() == false);
+  const auto rows = read_csv(out / "fit.csv");
+  CHECK(rows.size() == 360);  // two turns of 180, folded, all kept
+  CHECK(rows.front().count("residual_deg") == 1);
+  CHECK_FALSE(leftovers(out));
+  fs::remove_all(out);
+  fs::remove(curve);
+}
+
+TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[analysis][diagnose][cli]") {
+  const fs::path bad = fs::temp_directory_path() / ("magenc_test_bad_" + std::to_string(::getpid()) + ".csv");
+  {
+    std::ofstream f(bad);
+    f << "theta_deg,error_deg\n";
+    for (int i = 0; i < 80; ++i) f << i * 4.5 << "," << (i == 40 ? "nan" : "0.1") << "\n";
+  }
+  const fs::path out = temp_out("diagnose_bad");
+  StudyRun r = run_study_exe("diagnose", out, "--measured '" + bad.string() + "'");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("row 42") && Catch::Contains("not finite"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out));
+  const fs::path good = make_curve("cli_free", "--points 90");
+  r = run_study_exe("diagnose", out, "--measured '" + good.string() + "' --free sx,foo");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("'foo' is unknown"));
+  r = run_study_exe("diagnose", out, "--measured '" + good.string() + "' --curve-set 2:dz+=0.1");
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("curve 2 does not exist"));
+  CHECK_FALSE(fs::exists(out));
+  fs::remove(bad);
+  fs::remove(good);
+}
+
+TEST_CASE("diagnosis study: tiny config runs and its round trip covers the truth", "[analysis][diagnose][study]") {
+  const fs::path out = temp_out("diagnosis_study");
+  const StudyRun r = run_study_exe("diagnosis", out,
+                                   "--set study.arrays=two --set roundtrip.cases=6 --set roundtrip.points=120 "
+                                   "--set roundtrip.all_free_cases=1 --set roundtrip.starts=2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* f : {"summary.md", "coverage.csv", "anomalies.csv", "example_fit.png", "config.toml", "run.json"})
+    CHECK(fs::exists(out / f));
+  const auto rows = read_csv(out / "coverage.csv");
+  REQUIRE(rows.size() >= 3);
+  int fitted = 0, within = 0;
+  for (const auto& row : rows) {
+    fitted += static_cast<int>(num(row, "cases_fitted"));
+    within += static_cast<int>(num(row, "within_2sigma"));
+  }
+  CHECK(fitted >= 6 * 3);
+  CHECK(within >= 0.7 * fitted);  // 2-sigma coverage ~95 % expected; 70 % leaves room for 6 cases' scatter
+  CHECK_THAT(slurp(out / "summary.md"), Catch::Contains("anomalies"));
+  fs::remove_all(out);
+}
