@@ -4,7 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include "analysis/sweep.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
+#include "fields/field_factory.hpp"
 #include "probe/spectrum.hpp"
 
 namespace magenc {
@@ -225,6 +228,116 @@ std::vector<ExperimentSpec> anomaly_experiments() {
                 {"sx, sy free", {"sx", "sy"}, {}},
                 {"gain, phase free", {"gain", "phase"}, {}}}});
   return e;
+}
+
+namespace {
+
+// A comma list that may be empty (empty or blank text: the default).
+std::vector<std::string> optional_list(const std::string& text, const std::string& what) {
+  if (trim(text).empty()) return {};
+  return split_list(text, what);
+}
+
+}  // namespace
+
+DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null) {
+  // 1. Inputs.
+  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  struct Src {
+    std::string label;
+    FieldSourcePtr field;
+    int cases;
+  };
+  std::vector<Src> sources{{"exact", make_field_source("analytic", cfg), static_cast<int>(cfg.integer("roundtrip.cases"))}};
+  if (fem_or_null)
+    sources.push_back({"fem:" + cfg.str("fem_field.dir"), fem_or_null, static_cast<int>(cfg.integer("roundtrip.fem_cases"))});
+  RoundTripOptions rt;
+  rt.seed = static_cast<unsigned>(cfg.integer("roundtrip.seed"));
+  rt.synth.points = static_cast<int>(cfg.integer("roundtrip.points"));
+  rt.synth.noise_deg = cfg.real("roundtrip.noise_deg");
+  rt.synth.quant_positions = static_cast<int>(cfg.integer("roundtrip.quant_positions"));
+  rt.free = expand_free_names(optional_list(cfg.str("roundtrip.free"), "roundtrip.free"));
+  for (const auto& n : rt.free) fit_parameter(n);
+  rt.range_scale = cfg.real("roundtrip.range_scale");
+  rt.max_zero_deg = cfg.real("roundtrip.max_zero_deg");
+  rt.starts = static_cast<int>(cfg.integer("roundtrip.starts"));
+  const auto randomized = expand_free_names(optional_list(cfg.str("roundtrip.randomized"), "roundtrip.randomized"));
+  for (const auto& n : randomized) fit_parameter(n);
+
+  DiagnosisStudyResult res;
+  res.synth = rt.synth;
+  res.seed = rt.seed;
+  res.range_scale = rt.range_scale;
+  res.max_zero_deg = rt.max_zero_deg;
+
+  // 2. Round trips.
+  bool example_done = false;
+  for (const auto& src : sources)
+    for (const auto& a : arrays) {
+      const ModelState base{Mount::from_config(cfg), probe_setup_from_config(cfg, a, "study.arrays")};
+      RoundTripOptions o = rt;
+      o.cases = src.cases;
+      o.fd_step = src.label == "exact" ? 1e-4 : 1e-2;
+      std::string note;
+      if (o.free.empty()) {  // the default free set of this array, then randomize it (or the given list)
+        std::mt19937 r0(o.seed);
+        SyntheticOptions s0 = o.synth;
+        s0.noise_deg = 0;
+        s0.quant_positions = 0;
+        // Chosen on the exact field (the physics; FE artefacts must not make confounded parameters look
+        // separable), then fitted on this source.
+        const std::vector<CurveInput> nominal{synthetic_curve(*sources.front().field, base, table_values(base, {}), s0, r0)};
+        o.free = default_free_set(*sources.front().field, nominal, DiagnosisOptions{}, &note);
+      }
+      o.randomized = randomized.empty() ? o.free : randomized;
+      RoundTripResult r = run_round_trip(*src.field, base, o);
+      r.field = src.label;
+      if (!note.empty()) r.default_free_note = note;
+      res.trips.push_back(r);
+      // Every parameter free on a few cases: what one curve cannot identify.
+      // (exact field only: thirteen free parameters on an FE field take minutes per fit)
+      const int nall = src.label == "exact" ? static_cast<int>(cfg.integer("roundtrip.all_free_cases")) : 0;
+      if (nall > 0) {
+        RoundTripOptions oa = o;
+        oa.cases = nall;
+        oa.free.clear();
+        for (const auto& p : fit_parameters()) oa.free.push_back(p.name);
+        const RoundTripResult ra = run_round_trip(*src.field, base, oa);
+        std::vector<std::string> flagged;
+        for (const auto& p : ra.params)
+          flagged.push_back("`" + p.json_name + "` " + std::to_string(p.not_identifiable) + "/" + std::to_string(ra.cases - ra.failed));
+        res.all_free.push_back({src.label + " `" + a + "`", flagged});
+      }
+      // One example fit (the report plots it).
+      if (!example_done) {
+        std::mt19937 rng(o.seed);
+        std::vector<std::pair<std::string, double>> set;
+        std::uniform_real_distribution<double> uni(-1.0, 1.0);
+        for (const auto& n : o.randomized) set.push_back({n, uni(rng) * o.range_scale * fit_parameter(n).scale});
+        SyntheticOptions so = o.synth;
+        so.zero_deg = 0.2;
+        res.example_curves = {synthetic_curve(*src.field, base, table_values(base, set), so, rng)};
+        DiagnosisOptions d;
+        d.free = o.free;
+        d.starts = o.starts;
+        d.fd_step = o.fd_step;
+        res.example_fit = diagnose_curves(*src.field, res.example_curves, d);
+        example_done = true;
+      }
+    }
+
+  // 3. Anomalies (constructed curves on the exact field).
+  if (cfg.flag("anomalies.enabled"))
+    for (const auto& a : arrays) {
+      const ModelState base{Mount::from_config(cfg), probe_setup_from_config(cfg, a, "study.arrays")};
+      for (const auto& spec : anomaly_experiments()) {
+        SyntheticOptions so = rt.synth;
+        so.zero_deg = spec.zero_deg;
+        res.anomalies.push_back({a, run_experiment(*sources.front().field, base, spec.title, spec.target_label,
+                                                   spec.truth, spec.candidates, so, rt.seed)});
+      }
+    }
+  return res;
 }
 
 }  // namespace magenc

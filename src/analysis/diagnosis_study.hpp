@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "analysis/diagnosis_fit.hpp"
+#include "core/config.hpp"
+#include "fields/field_source.hpp"
 
 namespace magenc {
 
@@ -104,5 +106,23 @@ std::vector<ExperimentSpec> anomaly_experiments();
 
 // Table values at the base point with some entries set by short name.
 std::vector<double> table_values(const ModelState& base, const std::vector<std::pair<std::string, double>>& set);
+
+// The whole diagnosis study (studies/diagnosis.cpp): round trips per field and array, the all-free
+// identifiability check, one example fit, the anomaly experiments. Reads the keys of studies/diagnosis.cpp
+// (study.arrays, roundtrip.*, anomalies.enabled, fem_field.dir). The exact field is made here; the FE field
+// (fem:DIR, served by field_solver/) is opened by the study and passed in, or null for the exact field only.
+struct DiagnosisStudyResult {
+  SyntheticOptions synth;               // noise, quantization, points of the round trips
+  unsigned seed = 1;
+  double range_scale = 2.0, max_zero_deg = 0.5;
+  std::vector<RoundTripResult> trips;   // per field source, then per array
+  // "<field> `<array>`" -> "`name` k/n" per parameter: cases reported not identifiable with every parameter free
+  std::vector<std::pair<std::string, std::vector<std::string>>> all_free;
+  std::vector<std::pair<std::string, Experiment>> anomalies;  // array -> experiment
+  // One example fit (first field, first array), plotted by the report.
+  std::vector<CurveInput> example_curves;
+  DiagnosisResult example_fit;
+};
+DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null);
 
 }  // namespace magenc
