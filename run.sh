@@ -21,7 +21,7 @@ scripts/build.sh
 BIN=build/bin
 mkdir -p output
 step() { echo; echo "== $*"; local t0=$SECONDS; "$@"; echo "   ($((SECONDS - t0)) s)"; }
-step "$BIN/solve_field" --out output/field
+step "$BIN/solve_field" --set output.mesh_vtu=true --out output/field   # mesh.vtu: fem sources, ParaView
 step "$BIN/linear_model" --out output/linear_model
 step "$BIN/exact_field" --out output/exact_field
 step "$BIN/real_field" --out output/real_field

@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   magenc::parse_cli(app, argc, argv);
   o.sets.insert(o.sets.end(), bare_sets.begin(), bare_sets.end());
   const std::string out_dir = o.out;
+  // With --out, mesh.vtu too (fem:DIR reads it), unless output.mesh_vtu=false is given.
+  if (!out_dir.empty()) o.sets.insert(o.sets.begin(), "output.mesh_vtu=true");
   auto cfg = magenc::load_config(schema, o);
   auto s = magenc::fem::fem_settings_from_config(cfg);
   std::optional<magenc::AtomicDir> out;  // opened before the solve: a bad --out fails at once

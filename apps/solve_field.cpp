@@ -1,6 +1,8 @@
 // solve_field: magnetostatic FEM of the configured magnet (interfaces.md).
 //   solve_field [--config F.toml] [--set key=value]... [--out DIR]
 // Writes DIR/mesh.vtu, plane.vti, box.vti, solve.json (all or nothing).
+// Distributed: mpirun -n N solve_field ... (fem.solver = petsc-gamg, the
+// default when built with PETSc) solves the linear systems across N ranks.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
@@ -8,16 +10,27 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "fem_config.hpp"
+#include "linear_solver.hpp"
 #include "field_outputs.hpp"
 #include "magnetostatic_solver.hpp"
 
 int main(int argc, char** argv) {
   return magenc::run_main("solve_field", [&] {
     const auto schema = magenc::fem::solve_field_schema();
-    CLI::App app{"Magnetostatic FEM of a diametrically magnetized cylindrical magnet: writes mesh.vtu, plane.vti, box.vti, solve.json"};
+    CLI::App app{"Magnetostatic FEM of a diametrically magnetized cylindrical magnet: writes plane.vti, box.vti, solve.json (and mesh.vtu with output.mesh_vtu)"};
     magenc::CommonOptions opts;
     magenc::add_common_options(app, opts, schema);
+    // Every rank parses the command line, so --help and flag errors end all
+    // ranks alike (before MPI starts).
     magenc::parse_cli(app, argc, argv);
+    // Under mpirun (fem.solver = petsc-*): ranks > 0 only take part in the
+    // linear solves of rank 0, which reads the configuration, meshes,
+    // assembles and writes (linear_solver.hpp). Without mpirun: one rank.
+    magenc::fem::MpiSession mpi;
+    if (mpi.rank() > 0) {
+      mpi.serve();
+      return 0;
+    }
     const magenc::Config cfg = magenc::load_config(schema, opts);
     const auto settings = magenc::fem::fem_settings_from_config(cfg);
     // 1. Output directory first, so that a bad --out fails before the solve.

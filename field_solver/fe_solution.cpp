@@ -9,24 +9,46 @@
 
 #include "element.hpp"
 #include "core/errors.hpp"
+#include "core/units.hpp"
 
 namespace magenc::fem {
 
 Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
+  Eigen::Vector3d grad = Eigen::Vector3d::Zero();
   if (grad_recovered.cols() > 0 && cell_uses_recovery[static_cast<size_t>(c)]) {
     double N[10];
     basis_values(order, L, N);
-    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
     for (int i = 0; i < dofs_per_cell(order); ++i) grad += N[i] * grad_recovered.col(cell_dofs(i, c));
-    return -mu_r[c] * grad + br_T.col(c);
+  } else {
+    const TetGeometry g = tet_geometry(points_mm, cell_dofs.col(c).head<4>());
+    Eigen::Matrix<double, 3, 10> G;
+    basis_gradients(order, g, L, G);
+    const int nd = dofs_per_cell(order);
+    for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
   }
-  const TetGeometry g = tet_geometry(points_mm, cell_dofs.col(c).head<4>());
-  Eigen::Matrix<double, 3, 10> G;
-  basis_gradients(order, g, L, G);
-  Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-  const int nd = dofs_per_cell(order);
-  for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
-  return -mu_r[c] * grad + br_T.col(c);
+  if (!source) return -mu_r[c] * grad + br_T.col(c);
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) x += L[k] * points_mm.col(cell_dofs(k, c));
+  return reduced_B(*source, mu_r[c], x, grad);
+}
+
+Eigen::Vector3d source_remanence_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {
+  if (!source.inside_or_on_magnet(x_mm)) return Eigen::Vector3d::Zero();
+  const Magnet& m = source.magnet();
+  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
+  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
+  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
+  return m.br_T * Eigen::Vector3d(ce * std::cos(a), ce * std::sin(a), se);
+}
+
+Eigen::Vector3d source_H_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {
+  return source.B_T(x_mm) - source_remanence_T(source, x_mm);
+}
+
+Eigen::Vector3d reduced_B(const AnalyticField& source, double mu_r, const Eigen::Vector3d& x_mm,
+                          const Eigen::Vector3d& grad_phi) {
+  const Eigen::Vector3d br = source_remanence_T(source, x_mm);
+  return mu_r * (source.B_T(x_mm) - br - grad_phi) + br;
 }
 
 void FeSolution::recover_gradient() {

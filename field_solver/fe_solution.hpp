@@ -2,8 +2,11 @@
 // point: dof nodes, cells, per-cell material; plus fast point location.
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <vector>
+
+#include "fields/analytic_field.hpp"
 
 namespace magenc::fem {
 
@@ -15,6 +18,12 @@ struct FeSolution {
   Eigen::VectorXi region;        // n_cells region ids (mesh.hpp)
   Eigen::VectorXd mu_r;          // n_cells relative permeability
   Eigen::Matrix3Xd br_T;         // 3 x n_cells remanence vector Br = mu0*M0 (T), 0 outside magnets
+  // Reduced potential (fem.potential = reduced): psi_Tmm is the reaction
+  // potential phi and the magnet's free-space field is added analytically:
+  //   B = mu_r (H_s - grad phi) + Br_s,  H_s = B_exact - Br_s,
+  // Br_s = the source's remanence inside its (true, round) cylinder, 0
+  // outside; br_T is then not used for B. Null: total potential.
+  std::shared_ptr<const AnalyticField> source;
   // Gradient recovery (optional): grad psi averaged at every dof node over the
   // cells around it, then interpolated with the same Lagrange basis. Used only
   // in cells whose dofs all lie inside one material (same mu_r and Br), so the
@@ -31,6 +40,14 @@ struct FeSolution {
   // psi (T*mm) in cell c at barycentric point L.
   double psi_in_cell(int c, const Eigen::Vector4d& L) const;
 };
+
+// Reduced potential helpers: the source's remanence at x (Br inside its round
+// cylinder, else 0), its free-space H (scaled, T) = B_exact - Br_s, and
+// B = mu_r (H_s - grad phi) + Br_s.
+Eigen::Vector3d source_remanence_T(const AnalyticField& source, const Eigen::Vector3d& x_mm);
+Eigen::Vector3d source_H_T(const AnalyticField& source, const Eigen::Vector3d& x_mm);
+Eigen::Vector3d reduced_B(const AnalyticField& source, double mu_r, const Eigen::Vector3d& x_mm,
+                          const Eigen::Vector3d& grad_phi);
 
 // Point location in a tetrahedral mesh: a uniform bucket grid of cell
 // centroids gives a nearby start cell, then a visibility walk across faces

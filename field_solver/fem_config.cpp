@@ -42,7 +42,14 @@ std::vector<KeySpec> fem_keys() {
       real_key("mesh.min_dihedral_deg", 15.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
-      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner"),
+      string_key("fem.solver", "auto", {"auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"},
+                 "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
+                 "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-gamg when built with "
+                 "PETSc, else eigen-pcg"),
+      string_key("fem.potential", "total", {"total", "reduced"},
+                 "total: psi of the whole field; reduced: the magnet's exact free-space field (analytic) plus an FE "
+                 "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft)"),
+      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner of fem.solver = eigen-pcg"),
       real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
@@ -51,6 +58,10 @@ std::vector<KeySpec> fem_keys() {
                "solution (same result, 1/4 of the unknowns); false: solve the whole mirrored mesh"),
       bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
+      bool_key("output.mesh_vtu", false,
+               "also write mesh.vtu (the whole FE solution: needed by --field fem:DIR, fem_field sources 'fem', "
+               "harmonic_provenance's fem_dirs and ParaView's magnet_field.pvsm; ~0.5 GB for the default mesh)"),
+      bool_key("output.compress", false, "zlib-compress the VTK files (smaller, several times slower to write)"),
       real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
       real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to"),
       real_key("grid.plane_step_mm", 0.05, 0, 100, "mm", "plane grid spacing", true),
@@ -164,6 +175,15 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   SolverOptions& o = s.solver;
   o.order = static_cast<int>(cfg.integer("fem.order"));
   o.robin = cfg.str("fem.boundary") == "robin";
+  o.solver = cfg.str("fem.solver");
+  o.potential = cfg.str("fem.potential");
+  if (o.potential == "reduced" && d.shaft.enabled)
+    throw InputError("fem.potential = reduced with shaft.enabled = true is not supported: in the shaft (mu_r = " +
+                     std::to_string(d.shaft.mu_r) +
+                     ") H ~ 0 while the source field is not, and the reaction potential cancels it (a total/reduced "
+                     "split is not implemented); use fem.potential = total");
+  s.write_mesh_vtu = cfg.flag("output.mesh_vtu");
+  s.compress = cfg.flag("output.compress");
   o.preconditioner = cfg.str("fem.preconditioner");
   o.tolerance = cfg.real("fem.tolerance");
   o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));

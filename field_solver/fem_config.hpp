@@ -21,6 +21,8 @@ struct FemSettings {
   GridSpec plane;  // sensing-plane grid (dims.z == 1, at z_s)
   GridSpec box;    // 3-D box around the plane
   double plane_z_mm = 0;  // z_s
+  bool write_mesh_vtu = false;  // output.mesh_vtu: write mesh.vtu (fem:DIR and ParaView need it)
+  bool compress = false;        // output.compress: zlib-compressed VTK blocks
 };
 
 // Reads and validates; InputError names the key (degenerate geometry,

@@ -8,6 +8,7 @@
 
 #include "core/errors.hpp"
 #include "magenc_version.hpp"
+#include "linear_solver.hpp"
 #include "vtk_io.hpp"
 
 namespace magenc::fem {
@@ -26,9 +27,9 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   const Eigen::Matrix3Xd B_box = solver.evaluator().B_T(s.box.points());
   if (!B_plane.allFinite() || !B_box.allFinite()) throw ComputeError("B on the grids contains NaN");
   // 2. VTK files.
-  write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell());
-  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true);
-  write_grid_vti(dir / "box.vti", s.box, B_box, false);
+  if (s.write_mesh_vtu) write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell(), s.compress);
+  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true, s.compress);
+  write_grid_vti(dir / "box.vti", s.box, B_box, false, s.compress);
   const double t_out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // 3. solve.json.
   const SolveStats& st = solver.stats();
@@ -43,7 +44,12 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["order"] = st.order;
   j["iterations"] = st.iterations;
   j["residual"] = st.residual;
-  j["preconditioner"] = solver.options().preconditioner;
+  j["solver"] = solver.options().solver;
+  j["potential"] = solver.options().potential;  // resolved backend (linear_solver.hpp)
+  j["preconditioner"] = solver.options().solver == "eigen-pcg" ? solver.options().preconditioner
+                        : solver.options().solver == "petsc-hypre" ? std::string("boomeramg") : std::string("gamg");
+  j["mpi_ranks"] = mpi_world_size();
+  j["rank_peak_rss_mib"] = mpi_rank_peak_rss_mib();  // per MPI rank, after the last linear solve
   j["tolerance"] = solver.options().tolerance;
   j["t_mesh_s"] = st.t_mesh_s;
   j["t_setup_s"] = st.t_setup_s;
@@ -51,6 +57,8 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["t_solve_s"] = st.t_solve_s;
   j["t_post_s"] = st.t_post_s;
   j["t_output_s"] = t_out;
+  j["mesh_vtu"] = s.write_mesh_vtu;
+  j["compress"] = s.compress;
   j["t_total_s"] = st.t_total_s + t_out;
   j["threads"] = st.threads;
   j["peak_rss_mib"] = peak_rss_mib();

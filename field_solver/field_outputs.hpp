@@ -1,4 +1,5 @@
-// The four outputs of a solve (interfaces.md): mesh.vtu, plane.vti, box.vti, solve.json.
+// The outputs of a solve (interfaces.md): plane.vti, box.vti, solve.json and,
+// when asked (output.mesh_vtu), mesh.vtu.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -11,7 +12,8 @@ namespace magenc::fem {
 // Peak resident set size of this process so far (MiB, getrusage).
 double peak_rss_mib();
 
-// Evaluates the grids and writes all four files into dir (an AtomicDir's
+// Evaluates the grids and writes plane.vti, box.vti, solve.json and, with
+// output.mesh_vtu, mesh.vtu into dir (an AtomicDir's
 // temporary directory). config_json: the configuration in use (echoed).
 void write_field_outputs(const std::filesystem::path& dir, const FemSettings& settings, const MagnetostaticSolver& solver,
                          const std::string& config_json);

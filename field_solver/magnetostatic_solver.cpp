@@ -10,6 +10,8 @@
 #include <iostream>
 
 #include "core/errors.hpp"
+#include "linear_solver.hpp"
+#include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
 #include "core/units.hpp"
 
@@ -154,6 +156,9 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
   if (options_.order != 1 && options_.order != 2)
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
+  options_.solver = resolve_linear_solver(options_.solver);
+  if (options_.potential != "total" && options_.potential != "reduced")
+    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed total, reduced");
 }
 
 void MagnetostaticSolver::run() {
@@ -217,7 +222,16 @@ void MagnetostaticSolver::assemble_system() {
       if (std::abs(br_T[c]) < 1e-12 * domain_.magnet.br_T) continue;
       Eigen::Vector3d br = Eigen::Vector3d::Zero();
       br[c] = br_T[c];
-      quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
+      if (options_.potential == "reduced") {
+        // The source field of this component alone: |Br_c| along +-x_c.
+        Magnet m = domain_.magnet;
+        m.br_T = std::abs(br_T[c]);
+        m.magnetization_deg = c == 0 ? (br_T[c] < 0 ? 180.0 : 0.0) : c == 1 ? (br_T[c] < 0 ? 270.0 : 90.0) : 0.0;
+        m.magnetization_elevation_deg = c == 2 ? (br_T[c] < 0 ? -90.0 : 90.0) : 0.0;
+        quad_loads_.emplace_back(c, assemble_reaction_rhs(quad_, *quad_space_, cell_mu_r(domain_, quad_), AnalyticField(m)));
+      } else {
+        quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
+      }
     }
     if (!options_.robin) {
       const std::vector<int> outer = boundary_dofs(quad_, *quad_space_);
@@ -227,7 +241,8 @@ void MagnetostaticSolver::assemble_system() {
     return;
   }
   K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
-  f_ = assemble_rhs(mesh_, *space_, br_cell_);
+  f_ = options_.potential == "reduced" ? assemble_reaction_rhs(mesh_, *space_, mu_r_cell_, AnalyticField(domain_.magnet))
+                                       : assemble_rhs(mesh_, *space_, br_cell_);
   if (!options_.robin) apply_zero_dirichlet(K_, f_, boundary_dofs(mesh_, *space_));
   stats_.nonzeros = K_.nonZeros();
 }
@@ -237,7 +252,15 @@ void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
     SolveStats st;
-    solve_pcg(K, f, options_, x, st);
+    if (f.squaredNorm() == 0.0) {
+      x = Eigen::VectorXd::Zero(f.size());  // reduced potential, mu_r = 1 everywhere: no reaction
+    } else if (options_.solver != "eigen-pcg") {
+      const LinearSolveResult r = petsc_solve(K, f, options_.solver, options_.tolerance, options_.max_iterations, x);
+      st.iterations = r.iterations;
+      st.residual = r.residual;
+    } else {
+      solve_pcg(K, f, options_, x, st);
+    }
     stats_.iterations += st.iterations;
     stats_.residual = std::max(stats_.residual, st.residual);
     ++stats_.solves;
@@ -290,6 +313,7 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
+  if (options_.potential == "reduced") s.source = std::make_shared<AnalyticField>(domain_.magnet);
   if (options_.recovery) s.recover_gradient();
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
   B_cell_ = evaluator_->B_cell_centroids();

@@ -29,7 +29,9 @@ namespace magenc::fem {
 struct SolverOptions {
   int order = 2;                          // Lagrange order, 1 or 2
   bool robin = true;                      // dipole Robin condition; false: psi = 0 on the sphere
-  std::string preconditioner = "jacobi";  // "jacobi" (parallel) or "ichol" (serial)
+  std::string solver = "auto";            // linear_solver.hpp: "auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"
+  std::string potential = "total";        // "total" or "reduced" (reduced_potential.hpp)
+  std::string preconditioner = "jacobi";  // eigen-pcg: "jacobi" (parallel) or "ichol" (serial)
   double tolerance = 1e-10;               // CG stop: |f - K psi| / |f| below this
   int max_iterations = 20000;             // CG iteration cap (ComputeError when reached)
   int threads = 0;                        // OpenMP threads (0: omp_get_max_threads)

@@ -16,6 +16,7 @@
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkXMLWriter.h>
 
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
@@ -33,9 +34,18 @@ vtkSmartPointer<vtkDoubleArray> vector_array(const char* name, const Eigen::Matr
   return a;
 }
 
+// Appended raw binary (no base64 encoding); zlib blocks only when asked.
+void set_format(vtkXMLWriter* w, bool compress) {
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();
+  if (compress) w->SetCompressorTypeToZLib();
+  else w->SetCompressorTypeToNone();
+}
+
 }  // namespace
 
-void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell) {
+void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell,
+                        bool compress) {
   vtkNew<vtkUnstructuredGrid> grid;
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
@@ -73,15 +83,24 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   rec->SetName("gradient_recovery");
   rec->InsertNextValue(sol.grad_recovered.cols() > 0 ? 1 : 0);
   grid->GetFieldData()->AddArray(rec);
+  if (sol.source) {  // reduced potential: psi is phi; the source magnet rebuilds H_s on reading
+    const Magnet& m = sol.source->magnet();
+    vtkNew<vtkDoubleArray> src;
+    // radius_mm, height_mm, br_T, magnetization_deg, magnetization_elevation_deg
+    src->SetName("reduced_potential_source");
+    for (double v : {m.radius_mm, m.height_mm, m.br_T, m.magnetization_deg, m.magnetization_elevation_deg})
+      src->InsertNextValue(v);
+    grid->GetFieldData()->AddArray(src);
+  }
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
-  w->SetDataModeToAppended();
-  w->SetCompressorTypeToZLib();
+  set_format(w, compress);
   if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
 }
 
-void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz) {
+void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz,
+                    bool compress) {
   vtkNew<vtkImageData> img;
   img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   img->SetOrigin(g.origin_mm[0], g.origin_mm[1], g.origin_mm[2]);
@@ -97,13 +116,13 @@ void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const 
   vtkNew<vtkXMLImageDataWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(img);
-  w->SetDataModeToAppended();
-  w->SetCompressorTypeToZLib();
+  set_format(w, compress);
   if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
 }
 
 FeSolution read_solution_vtu(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() + " does not exist");
+  if (!std::filesystem::is_regular_file(path)) throw InputError("FE mesh file " + path.string() +
+                     " does not exist (solve_field writes it only when asked: --set output.mesh_vtu=true)");
   const VtkMessageCapture vtk_messages;  // VTK's multi-line messages become the one-line error below
   vtkNew<vtkXMLUnstructuredGridReader> r;
   r->SetFileName(path.c_str());
@@ -165,6 +184,21 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
   }
   if (!s.psi_Tmm.allFinite()) throw InputError(path.string() + ": psi contains NaN");
   auto* rec = vtkIntArray::SafeDownCast(grid->GetFieldData()->GetArray("gradient_recovery"));
+  if (auto* src = vtkDoubleArray::SafeDownCast(grid->GetFieldData()->GetArray("reduced_potential_source"))) {
+    if (src->GetNumberOfTuples() != 5) throw InputError(path.string() + ": reduced_potential_source must have 5 values");
+    Magnet m;
+    m.radius_mm = src->GetValue(0);
+    m.height_mm = src->GetValue(1);
+    m.br_T = src->GetValue(2);
+    m.magnetization_deg = src->GetValue(3);
+    m.magnetization_elevation_deg = src->GetValue(4);
+    m.mu_r = 1.0;
+    try {
+      s.source = std::make_shared<AnalyticField>(m);
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ": reduced_potential_source: " + e.what());
+    }
+  }
   if (rec && rec->GetNumberOfTuples() > 0 && rec->GetValue(0) == 1) s.recover_gradient();
   return s;
 }

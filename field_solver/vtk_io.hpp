@@ -10,11 +10,15 @@ namespace magenc::fem {
 
 // mesh.vtu: VTK_TETRA (P1) or VTK_QUADRATIC_TETRA (P2, psi at edge nodes kept);
 // point data `psi` (T*mm); cell data `B` (T, 3), `region` (int), `mu_r`, `Br` (T, 3).
-void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell_T);
+// Files are VTK XML with raw binary appended data (no base64); compress:
+// zlib-compressed blocks (smaller, several times slower to write).
+void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell_T,
+                        bool compress = false);
 
 // Image data (grid.dims.z() == 1: plane) with point arrays `B` (T, 3) and,
 // when with_bz, `Bz` (T).
-void write_grid_vti(const std::filesystem::path& path, const GridSpec& grid, const Eigen::Matrix3Xd& B_T, bool with_bz);
+void write_grid_vti(const std::filesystem::path& path, const GridSpec& grid, const Eigen::Matrix3Xd& B_T, bool with_bz,
+                    bool compress = false);
 
 // Reads a mesh.vtu written by write_solution_vtu back into a solution.
 // Throws InputError naming the file and what is missing.

@@ -17,6 +17,8 @@ PKGS=(
   libceres-dev             # Ceres Solver: nonlinear least squares (diagnose)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh; ASan/UBSan runtimes)
   llvm-14                  # llvm-symbolizer: readable sanitizer stack traces
+  libpetsc-real-dev        # PETSc 3.18 (pulls OpenMPI): fem.solver = petsc-gamg / petsc-hypre, mpirun solves
+  openmpi-bin              # mpirun (the 2-rank solve_field test)
 )
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on

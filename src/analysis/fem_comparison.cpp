@@ -106,7 +106,9 @@ std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
     } else {
       throw InputError("fem_field.sources: '" + l + "' is not a FEM source: allowed grid, fem");
     }
-    if (!fs::exists(dir / file)) throw InputError("fem_field.dir '" + dir.string() + "' has no " + file + hint);
+    if (!fs::exists(dir / file))
+      throw InputError("fem_field.dir '" + dir.string() + "' has no " + file +
+                       (l == "fem" ? ": run solve_field --set output.mesh_vtu=true --out " + dir.string() : hint));
     if (std::any_of(out.begin(), out.end(), [&](const FemSource& s) { return s.label == l; }))
       throw InputError("fem_field.sources: '" + l + "' listed twice");
     out.push_back({l, spec, nullptr});

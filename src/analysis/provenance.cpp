@@ -80,7 +80,7 @@ ProvenanceOptions ProvenanceOptions::from_config(const Config& cfg) {
     for (const char* f : {"mesh.vtu", "plane.vti", "solve.json"})
       if (!std::filesystem::exists(std::filesystem::path(dir) / f))
         throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f +
-                         ": run solve_field first (solve_field --out " + dir + ")");
+                         ": run solve_field first (solve_field --set output.mesh_vtu=true --out " + dir + ")");
   }
   o.grid_interp = cfg.str("provenance.fem_grid_interp");
   return o;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "fem_field.hpp"
@@ -56,13 +57,13 @@ TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json, and FemF
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const fs::path out = scratch("ok_p" + std::to_string(order));
-  const Result r = solve_field("--set fem.order=" + std::to_string(order), out);
+  const Result r = solve_field("--set output.mesh_vtu=true --set fem.order=" + std::to_string(order), out);
   INFO(r.err);
   REQUIRE(r.code == 0);
   for (const char* f : {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}) CHECK(fs::is_regular_file(out / f));
   nlohmann::json j;
   std::ifstream(out / "solve.json") >> j;
-  for (const char* k : {"elements", "dofs", "order", "iterations", "residual", "t_mesh_s", "t_assemble_s", "t_solve_s",
+  for (const char* k : {"elements", "dofs", "order", "iterations", "residual", "solver", "mpi_ranks", "t_mesh_s", "t_assemble_s", "t_solve_s",
                         "t_total_s", "threads", "peak_rss_mib", "magnet", "domain", "git_revision"})
     CHECK(j.contains(k));
   CHECK(j["order"] == order);
@@ -84,6 +85,55 @@ TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json, and FemF
   }
   CHECK_THROWS_AS(field.B_T(magenc::Vec3(0, 0, 1000)), magenc::InputError);
   CHECK_THROWS_AS(magenc::FemField(out / "nope"), magenc::InputError);
+}
+
+namespace {
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+std::vector<double> bz_of(const fs::path& vti) {
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName(vti.c_str());
+  reader->Update();
+  auto* bz = vtkDoubleArray::SafeDownCast(reader->GetOutput()->GetPointData()->GetArray("Bz"));
+  std::vector<double> v;
+  if (bz)
+    for (vtkIdType i = 0; i < bz->GetNumberOfTuples(); ++i) v.push_back(bz->GetValue(i));
+  return v;
+}
+}  // namespace
+
+TEST_CASE("solve_field output format: raw appended VTK, mesh.vtu and zlib only when asked", "[fem][cli]") {
+  // Default: plane.vti, box.vti, solve.json; raw binary appended data, no compressor, no mesh.vtu.
+  const fs::path plain = scratch("fmt_plain"), packed = scratch("fmt_zlib");
+  fs::remove_all(plain);
+  fs::remove_all(packed);
+  const Result a = solve_field("", plain);
+  INFO(a.err);
+  REQUIRE(a.code == 0);
+  CHECK_FALSE(fs::exists(plain / "mesh.vtu"));
+  const std::string vti = slurp(plain / "plane.vti");
+  CHECK(vti.find("encoding=\"raw\"") != std::string::npos);
+  CHECK(vti.find("compressor=") == std::string::npos);
+  // output.compress + output.mesh_vtu: zlib blocks in every file, mesh.vtu present; same values.
+  const Result b = solve_field("--set output.compress=true --set output.mesh_vtu=true", packed);
+  INFO(b.err);
+  REQUIRE(b.code == 0);
+  REQUIRE(fs::is_regular_file(packed / "mesh.vtu"));
+  for (const char* f : {"mesh.vtu", "plane.vti", "box.vti"})
+    CHECK(slurp(packed / f).find("vtkZLibDataCompressor") != std::string::npos);
+  const auto za = bz_of(plain / "plane.vti"), zb = bz_of(packed / "plane.vti");
+  REQUIRE(za.size() > 100);
+  CHECK(za == zb);  // the same solve (deterministic), written two ways
+  nlohmann::json j;
+  std::ifstream(packed / "solve.json") >> j;
+  CHECK(j.at("mesh_vtu") == true);
+  CHECK(j.at("compress") == true);
+  // fem:DIR without mesh.vtu: one-line reason naming the key that writes it.
+  CHECK_THROWS_WITH(magenc::FemField(plain), Catch::Contains("output.mesh_vtu"));
 }
 
 TEST_CASE("solve_field rejects bad input with a one-line reason and no output", "[fem][cli]") {
@@ -138,7 +188,8 @@ TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or dow
     const Result r = solve_field(args, out);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    for (const char* f : {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}) CHECK(fs::is_regular_file(out / f));
+    for (const char* f : {"plane.vti", "box.vti", "solve.json"}) CHECK(fs::is_regular_file(out / f));
+    CHECK_FALSE(fs::exists(out / "mesh.vtu"));  // only with output.mesh_vtu
     std::ifstream in(out / "solve.json");
     return nlohmann::json::parse(in).at("elements").get<long>();
   };

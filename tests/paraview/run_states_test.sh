@@ -36,7 +36,7 @@ if [ "$synthetic" = 1 ]; then
 else
   [ -x "$solve" ] || { echo "run_states_test.sh: solve_field not found: $solve" >&2; exit 2; }
   echo "== small solve: $solve"
-  "$solve" --set mesh.segments=32 --set mesh.h_magnet_mm=1.0 --set mesh.h_zone_mm=0.8 --set mesh.core_radius_mm=0 \
+  "$solve" --set output.mesh_vtu=true --set mesh.segments=32 --set mesh.h_magnet_mm=1.0 --set mesh.h_zone_mm=0.8 --set mesh.core_radius_mm=0 \
            --set mesh.h_air_mm=15 --set mesh.outer_radius_mm=40 --set mesh.sphere_subdivisions=2 \
            --set fem.order=1 --set fem.tolerance=1e-8 --set fem.progress_every=0 \
            --set grid.plane_step_mm=0.1 --set grid.box_step_mm=0.2 --out "$work/output/field"

@@ -245,9 +245,12 @@ TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", 
   Matrix m;
   const fs::path es = kBin / "error_spectrum", sf = kBin / "solve_field";
   ScratchDir s("magenc_matrix_inputs");
-  // A real coarse solve to corrupt (solve_field's own outputs: appended, zlib-compressed .vti).
+  // A real coarse solve to corrupt: solve_field's own outputs, written zlib-compressed (output.compress) so
+  // that corrupted bytes are detectable (the default raw binary data has no checksum: a flipped byte there is
+  // just another field value), with mesh.vtu (output.mesh_vtu) for the fem:DIR cases.
   {
-    const ProcResult r = run(sf, {"--config", std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml", "--out", "field"},
+    const ProcResult r = run(sf, {"--config", std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml", "--set",
+                                  "output.compress=true", "--set", "output.mesh_vtu=true", "--out", "field"},
                              s.dir);
     INFO(r.err);
     REQUIRE(r.exit_code == 0);

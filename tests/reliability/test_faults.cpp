@@ -92,7 +92,8 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
     std::vector<std::string> files;  // what a complete output has
   };
   const std::vector<Job> jobs = {
-      {"solve_field", {"--config", kCoarse, "--out", "out/field"}, {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}},
+      {"solve_field", {"--config", kCoarse, "--set", "output.mesh_vtu=true", "--out", "out/field"},
+       {"mesh.vtu", "plane.vti", "box.vti", "solve.json"}},
       {"linear_model", {"--set", "sensor.steps=720", "--out", "out/linear_model"}, {"summary.md", "config.toml"}},
   };
   int kills = 0, checked = 0;
@@ -137,7 +138,9 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
 TEST_CASE("faults: a second run into the same output while one is running is refused and neither is corrupted",
           "[reliability][faults]") {
   ScratchDir s("magenc_lock");
-  const std::vector<std::string> args = {"--config", kCoarse, "--set", "fem.order=2", "--out", "field"};
+  // A run long enough (about 1 s) for the second one to start while the first holds the lock.
+  const std::vector<std::string> args = {"--config", kCoarse, "--set", "fem.order=2", "--set", "mesh.h_zone_mm=0.25",
+                                         "--set", "fem.solver=eigen-pcg", "--set", "output.mesh_vtu=true", "--out", "field"};
   Child first(kBin / "solve_field", args, s.dir, {}, s.dir.parent_path());
   // Wait until the first run holds the lock (it takes it before meshing).
   for (int i = 0; i < 500 && !fs::exists(s.dir / "field.lock"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -166,10 +169,21 @@ TEST_CASE("faults: a second run into the same output while one is running is ref
 
 TEST_CASE("faults: a CG solve that cannot converge stops with a clear error and its residual history",
           "[reliability][faults][fem]") {
-  SECTION("solve_field with fem.max_iterations = 3: exit 3, one line, no output") {
-    ScratchDir s("magenc_cg");
+  SECTION("solve_field with fem.max_iterations = 3 (PETSc GAMG, the default backend): exit 3, one line, no output") {
+    ScratchDir s("magenc_cg_petsc");
     const ProcResult r =
         run(kBin / "solve_field", {"--config", kCoarse, "--set", "fem.max_iterations=3", "--out", "field"}, s.dir);
+    INFO(r.err);
+    CHECK(r.exit_code == 3);
+    CHECK(count_lines(r.err) == 1);
+    CHECK_THAT(r.err, Catch::Contains("CG did not converge") && Catch::Contains("fem.max_iterations = 3") &&
+                          Catch::Contains("relative residual"));
+    CHECK(s.entries_except({}).empty());
+  }
+  SECTION("solve_field with fem.max_iterations = 3 (Eigen PCG): exit 3, one line with the residual history") {
+    ScratchDir s("magenc_cg");
+    const ProcResult r = run(kBin / "solve_field", {"--config", kCoarse, "--set", "fem.solver=eigen-pcg", "--set",
+                                                    "fem.max_iterations=3", "--out", "field"}, s.dir);
     INFO(r.err);
     CHECK(r.exit_code == 3);
     CHECK(count_lines(r.err) == 1);

@@ -30,7 +30,7 @@ constexpr double kCoarseTolDeg = 0.15;
 fs::path solve_coarse_config(const std::string& name, const std::string& extra) {
   const fs::path d = temp_out(name);
   const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
-                          "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 " + extra + " --out '" +
+                          "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set output.mesh_vtu=true " + extra + " --out '" +
                           d.string() + "' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
   return d;
