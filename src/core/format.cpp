@@ -1,5 +1,7 @@
 #include "core/format.hpp"
 
+#include <ctime>
+
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -28,6 +30,15 @@ std::string fmt_auto(double v, int digits, double zero_below) {
 std::string fmt_sig(double v, int significant) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return buf;
+}
+
+std::string utc_timestamp_iso() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
 }
 

@@ -35,20 +35,9 @@ nlohmann::json harmonics_json(const Eigen::VectorXd& h) {
   return j;
 }
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  std::ostringstream os;
-  os << std::put_time(&tm, "%Y-%m-%dT%H:%M:%SZ");
-  return os.str();
-}
-
 std::string sig(double v, int digits = 4) {
   if (!std::isfinite(v)) return v > 0 ? "inf" : "nan";
-  std::ostringstream os;
-  os << std::setprecision(digits) << v;
-  return os.str();
+  return fmt_sig(v, digits);
 }
 
 }  // namespace
@@ -144,7 +133,7 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
               {"version", kVersion},
               {"git_revision", kGitRevision},
               {"ceres_version", CERES_VERSION_STRING},
-              {"date_utc", utc_now()},
+              {"date_utc", utc_timestamp_iso()},
               {"command_line", info.command_line},
               {"field", info.field_spec},
               {"curve_sets", info.curve_sets},

@@ -1,4 +1,5 @@
 #include "report/study_output.hpp"
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -30,17 +31,6 @@ void StudyOutput::write_text(const std::string& file, const std::string& text) c
   if (!f) throw ComputeError("writing " + (final_dir() / file).string() + " failed");
 }
 
-namespace {
-std::string utc_now_iso() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  std::ostringstream os;
-  os << std::put_time(&tm, "%Y-%m-%dT%H:%M:%SZ");
-  return os.str();
-}
-}  // namespace
-
 void StudyOutput::write_run_info(const Config& cfg, const std::string& command_line, double wall_s) const {
   write_text("config.toml", "# Configuration used by " + study_ + " (all keys, defaults included).\n" +
                                 "# Re-run with: " + study_ + " --config config.toml\n\n" + cfg.to_toml());
@@ -48,7 +38,7 @@ void StudyOutput::write_run_info(const Config& cfg, const std::string& command_l
   j["study"] = study_;
   j["version"] = kVersion;
   j["git_revision"] = kGitRevision;
-  j["date_utc"] = utc_now_iso();
+  j["date_utc"] = utc_timestamp_iso();
   j["command_line"] = command_line;
   j["wall_time_s"] = wall_s;
   j["threads"] = omp_get_max_threads();
