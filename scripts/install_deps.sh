@@ -19,6 +19,7 @@ PKGS=(
   llvm-14                  # llvm-symbolizer: readable sanitizer stack traces
   libpetsc-real-dev        # PETSc 3.18 (pulls OpenMPI): fem.solver = petsc-gamg / petsc-hypre, mpirun solves
   openmpi-bin              # mpirun (the 2-rank solve_field test)
+  python3                  # tests/layering/check_includes.py (the include-layering test)
 )
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
