@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <map>
+#include <unordered_map>
 #include <set>
 #include <string>
 
@@ -291,15 +294,37 @@ void snap_quadrant_mesh(TetMesh& quad) {
 }
 
 std::vector<int> mirror_dof_map(const Eigen::Matrix3Xd& full, const Eigen::Matrix3Xd& quad) {
-  std::map<std::array<double, 3>, int> index;
-  for (Eigen::Index i = 0; i < quad.cols(); ++i) index.emplace(std::array<double, 3>{quad(0, i), quad(1, i), quad(2, i)}, i);
+  // Exact coordinate match through a hash of the bit patterns (x + 0.0 maps
+  // -0.0 to +0.0, so points on a plane find their image too); a std::map of
+  // the 619k quadrant dofs of the default mesh took 1.7 s, this ~0.2 s.
+  using Key = std::array<double, 3>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      uint64_t h = 0x9e3779b97f4a7c15ULL;
+      for (double d : k) {
+        uint64_t b;
+        std::memcpy(&b, &d, sizeof b);
+        h ^= b + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+      }
+      return static_cast<size_t>(h);
+    }
+  };
+  auto key = [](double x, double y, double z) { return Key{x + 0.0, y + 0.0, z + 0.0}; };
+  std::unordered_map<Key, int, KeyHash> index;
+  index.reserve(static_cast<size_t>(quad.cols()));
+  for (Eigen::Index i = 0; i < quad.cols(); ++i) index.emplace(key(quad(0, i), quad(1, i), quad(2, i)), static_cast<int>(i));
   std::vector<int> map(static_cast<size_t>(full.cols()));
+  bool missing = false;
+#pragma omp parallel for schedule(static) reduction(|| : missing)
   for (Eigen::Index i = 0; i < full.cols(); ++i) {
-    // std::abs maps -0.0 to +0.0, so points on a plane find their image too.
-    auto it = index.find({std::abs(full(0, i)), std::abs(full(1, i)), full(2, i)});
-    if (it == index.end()) throw ComputeError("symmetric mesh: a dof has no mirror image in the quadrant");
+    auto it = index.find(key(std::abs(full(0, i)), std::abs(full(1, i)), full(2, i)));
+    if (it == index.end()) {
+      missing = true;
+      continue;
+    }
     map[static_cast<size_t>(i)] = it->second;
   }
+  if (missing) throw ComputeError("symmetric mesh: a dof has no mirror image in the quadrant");
   return map;
 }
 
