@@ -4,6 +4,11 @@
 // Usage: fem_vs_exact [--config F] [--set k=v]... [--out DIR] [mesh.h_zone_mm=0.3 fem.order=2 ...]
 // With --out=DIR it also writes solve_field's outputs (mesh.vtu, plane.vti,
 // box.vti, solve.json) to DIR, so one solve feeds error_spectrum --field fem:DIR.
+// --plane-half-mm H --plane-step-mm S: the error grid is -H..H in x and y
+// with step S (default 5 and 0.1: 101 x 101; scripts/bench_getdp.sh uses 4 and
+// 0.1: 81 x 81). --other-bz FILE: also the error of another solver's Bz at the
+// points of FILE (whitespace-separated rows "x y z ... Bz", mm and T, e.g.
+// GetDP's SimpleTable; '#' comments), against the same exact field.
 // Bad input (unknown key, value out of range): one line, exit 2 (run_main).
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +20,8 @@
 #include "core/errors.hpp"
 #include "core/atomic_output.hpp"
 #include "field_outputs.hpp"
+#include <fstream>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +35,11 @@ int main(int argc, char** argv) {
   CLI::App app{"fem_vs_exact: solve, then the Bz error on the plane against the exact field"};
   magenc::add_common_options(app, o, schema);
   std::vector<std::string> bare_sets;
+  double half_mm = 5.0, step_mm = 0.1;
+  std::string other_bz;
+  app.add_option("--plane-half-mm", half_mm, "error grid: x and y from -H to H (mm)")->check(CLI::Range(0.01, 50.0));
+  app.add_option("--plane-step-mm", step_mm, "error grid step (mm)")->check(CLI::Range(0.001, 10.0));
+  app.add_option("--other-bz", other_bz, "table of another solver's Bz (rows x y z ... Bz, mm and T) to compare too");
   app.add_option("assignments", bare_sets, "section.key=value overrides (same as --set)");
   magenc::parse_cli(app, argc, argv);
   o.sets.insert(o.sets.end(), bare_sets.begin(), bare_sets.end());
@@ -35,6 +47,32 @@ int main(int argc, char** argv) {
   // With --out, mesh.vtu too (fem:DIR reads it), unless output.mesh_vtu=false is given.
   if (!out_dir.empty()) o.sets.insert(o.sets.begin(), "output.mesh_vtu=true");
   auto cfg = magenc::load_config(schema, o);
+  // The other solver's table is read before the solve: a bad file fails at once.
+  Eigen::Matrix3Xd other_p;
+  Eigen::VectorXd other_bz_T;
+  if (!other_bz.empty()) {
+    std::ifstream in(other_bz);
+    if (!in) throw magenc::InputError("--other-bz " + other_bz + ": cannot open the file");
+    std::vector<double> xs, bz;
+    std::string line;
+    long row = 0;
+    while (std::getline(in, line)) {
+      ++row;
+      if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
+      std::istringstream ls(line);
+      std::vector<double> v;
+      double d;
+      while (ls >> d) v.push_back(d);
+      if (!ls.eof() || v.size() < 4 || !std::isfinite(v.back()))
+        throw magenc::InputError("--other-bz " + other_bz + " row " + std::to_string(row) +
+                                 ": expected finite numbers x y z ... Bz (at least 4 columns)");
+      xs.insert(xs.end(), v.begin(), v.begin() + 3);
+      bz.push_back(v.back());
+    }
+    if (bz.empty()) throw magenc::InputError("--other-bz " + other_bz + ": no rows (allowed: at least 1)");
+    other_p = Eigen::Map<Eigen::Matrix3Xd>(xs.data(), 3, static_cast<Eigen::Index>(bz.size()));
+    other_bz_T = Eigen::Map<Eigen::VectorXd>(bz.data(), static_cast<Eigen::Index>(bz.size()));
+  }
   auto s = magenc::fem::fem_settings_from_config(cfg);
   std::optional<magenc::AtomicDir> out;  // opened before the solve: a bad --out fails at once
   if (!out_dir.empty()) out.emplace(out_dir);
@@ -45,7 +83,8 @@ int main(int argc, char** argv) {
     out->commit();
   }
   magenc::AnalyticField exact(s.domain.magnet);
-  auto g = magenc::fem::GridSpec::from_range({-5, -5, s.plane_z_mm}, {5, 5, s.plane_z_mm}, {0.1, 0.1, 1});
+  auto g = magenc::fem::GridSpec::from_range({-half_mm, -half_mm, s.plane_z_mm}, {half_mm, half_mm, s.plane_z_mm},
+                                              {step_mm, step_mm, 1});
   auto e = magenc::fem::bz_error_on_grid(solver.evaluator(), exact, g);
   auto& st = solver.stats();
   {
@@ -66,6 +105,20 @@ int main(int argc, char** argv) {
   std::printf("P%d el=%ld dofs=%ld it=%ld mesh=%.2f asm=%.2f solve=%.2f post=%.2f | peak=%.5f max_rel=%.3e rms_rel=%.3e\n",
     st.order, st.elements, st.dofs, st.iterations, st.t_mesh_s, st.t_assemble_s, st.t_solve_s, st.t_post_s, e.peak_T, e.max_rel(), e.rms_rel());
   std::printf("t_total=%.2f peak_rss_mib=%.0f\n", st.t_total_s, magenc::fem::peak_rss_mib());
+  std::printf("grid %ldx%ld: magenc peak=%.5f T rms_rel=%.4e max_rel=%.4e\n", long(g.dims[0]), long(g.dims[1]), e.peak_T,
+              e.rms_rel(), e.max_rel());
+  if (other_bz_T.size() > 0) {
+    const Eigen::VectorXd ex = exact.Bz_T(other_p);
+    double peak = 0, mx = 0, ss = 0;
+    for (Eigen::Index i = 0; i < ex.size(); ++i) {
+      const double d = other_bz_T[i] - ex[i];
+      peak = std::max(peak, std::abs(ex[i]));
+      mx = std::max(mx, std::abs(d));
+      ss += d * d;
+    }
+    std::printf("other (%s, %ld points): peak=%.5f T rms_rel=%.4e max_rel=%.4e\n", other_bz.c_str(), long(ex.size()), peak,
+                std::sqrt(ss / double(ex.size())) / peak, mx / peak);
+  }
   return 0;
   });
 }
