@@ -44,13 +44,15 @@ std::vector<KeySpec> fem_keys() {
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.solver", "auto", {"auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"},
                  "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
-                 "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-gamg when built with "
+                 "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-hypre when built with "
                  "PETSc, else eigen-pcg"),
       string_key("fem.potential", "total", {"total", "reduced"},
                  "total: psi of the whole field; reduced: the magnet's exact free-space field (analytic) plus an FE "
                  "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft)"),
       string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner of fem.solver = eigen-pcg"),
-      real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
+      real_key("fem.tolerance", 1e-6, 0, 1, "",
+               "CG relative residual tolerance |f - K x| / |f| (1e-6: on the default mesh the algebraic error of B is "
+               "> 100x below the discretization error, RMS Bz error unchanged from 1e-10 to 4 digits)", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
       bool_key("fem.quadrant_solve", true,

@@ -5,8 +5,9 @@
 //               (fem.preconditioner); shared memory (OpenMP), no extra deps.
 //   petsc-gamg  PETSc CG preconditioned with GAMG (smoothed aggregation
 //               algebraic multigrid); iteration count ~independent of h.
-//   petsc-hypre PETSc CG preconditioned with hypre BoomerAMG.
-//   auto        petsc-gamg when this build has PETSc, else eigen-pcg.
+//   petsc-hypre PETSc CG preconditioned with hypre BoomerAMG (HMIS, ext+i,
+//               one aggressive level; PETSC_OPTIONS overrides).
+//   auto        petsc-hypre when this build has PETSc, else eigen-pcg.
 //
 // What is distributed (PETSc backends under mpirun): rank 0 meshes, assembles
 // and post-processes; for each linear solve it sends each rank a contiguous

@@ -1,7 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages magenc needs, only those that are missing.
 # Runs as root on a fresh machine (as ./run.sh and ./test.sh do); idempotent.
+# --with-getdp: also getdp and gmsh, used only by scripts/bench_getdp.sh (the
+# GetDP comparison benchmark; not needed by ./run.sh or ./test.sh).
 set -euo pipefail
+with_getdp=0
+for a in "$@"; do
+  case "$a" in
+    --with-getdp) with_getdp=1 ;;
+    *) echo "install_deps.sh: unknown argument $a (allowed --with-getdp)" >&2; exit 2 ;;
+  esac
+done
 PKGS=(
   build-essential cmake pkg-config
   libeigen3-dev            # linear algebra, sparse solvers
@@ -21,6 +30,7 @@ PKGS=(
   openmpi-bin              # mpirun (the 2-rank solve_field test)
   python3                  # tests/layering/check_includes.py (the include-layering test)
 )
+[ "$with_getdp" = 1 ] && PKGS+=(getdp gmsh)   # GetDP 3.2, gmsh 4.8 (scripts/bench_getdp.sh)
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
 # Debian 12 conflicts with python3-vtk9 and so would remove libvtk9-dev.

@@ -42,7 +42,7 @@ Solved solve(const std::string& backend, const std::vector<std::string>& sets) {
 }  // namespace
 
 TEST_CASE("fem.solver: auto resolves to a backend this build has, and bad names are refused", "[fem][solver]") {
-  CHECK(resolve_linear_solver("auto") == (petsc_available() ? "petsc-gamg" : "eigen-pcg"));
+  CHECK(resolve_linear_solver("auto") == (petsc_available() ? "petsc-hypre" : "eigen-pcg"));
   CHECK(resolve_linear_solver("eigen-pcg") == "eigen-pcg");
   CHECK_THROWS(coarse_settings({"fem.solver=amg"}));
 }
