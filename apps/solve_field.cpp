@@ -1,7 +1,7 @@
 // solve_field: magnetostatic FEM of the configured magnet (interfaces.md).
 //   solve_field [--config F.toml] [--set key=value]... [--out DIR]
 // Writes DIR/mesh.vtu, plane.vti, box.vti, solve.json (all or nothing).
-// Distributed: mpirun -n N solve_field ... (fem.solver = petsc-gamg, the
+// Distributed: mpirun -n N solve_field ... (fem.solver = petsc-hypre, the
 // default when built with PETSc) solves the linear systems across N ranks.
 #include <CLI/CLI.hpp>
 #include <cstdio>

@@ -51,7 +51,7 @@ work=$(cd "$work" && pwd)
 pin=(); command -v taskset >/dev/null && pin=(taskset -c 0)
 export OMP_NUM_THREADS=1
 tv() { /usr/bin/time -f "%e %U %S %M" -o "$1" "${@:2}"; }  # wall user sys maxrss_kb
-fmt_time() { awk '{printf "%.1f %.1f %.0f", $1, $2 + $3, $4 / 1024}' "$1"; }
+fmt_time() { awk '{printf "%.1f %.1f %.0f\n", $1, $2 + $3, $4 / 1024}' "$1"; }
 
 rows=()
 getdp_ok=0
@@ -75,7 +75,7 @@ if command -v getdp >/dev/null && command -v gmsh >/dev/null; then
   # Its accuracy through the same exact field (a tiny magenc solve carries the comparison).
   "$fve" --plane-half-mm 4 --plane-step-mm 0.1 --other-bz "$gd/bz.txt" --config meshes/coarse.toml magnet.mu_r=1 \
       > "$gd/accuracy.txt"
-  read -r grms gmax < <(awk '/^other/ {for (i = 1; i <= NF; ++i) {split($i, kv, "="); if (kv[1] == "rms_rel") r = kv[2]; if (kv[1] == "max_rel") m = kv[2]} printf "%.4f %.3f", 100 * r, 100 * m}' "$gd/accuracy.txt")
+  read -r grms gmax < <(awk '/^other/ {for (i = 1; i <= NF; ++i) {split($i, kv, "="); if (kv[1] == "rms_rel") r = kv[2]; if (kv[1] == "max_rel") m = kv[2]} printf "%.4f %.3f\n", 100 * r, 100 * m}' "$gd/accuracy.txt")
   rows+=("GetDP 3.2 (gmsh + getdp)|h $getdp_h mm, $gdofs DOFs (P2, whole domain)|$getdp_wall|$getdp_cpu|$getdp_mem|$grms|$gmax")
 else
   echo "bench_getdp.sh: getdp or gmsh not installed (scripts/install_deps.sh --with-getdp): magenc only" >&2
@@ -88,12 +88,12 @@ for h in ${magenc_h//,/ }; do
       fem.progress_every=0 mesh.h_zone_mm="$h" mesh.h_core_mm="$h" mesh.h_magnet_mm="$h" > "$out"
   read -r w c m < <(fmt_time "$work/t_magenc_h$h.txt")
   read -r dofs solved < <(awk '/^P2 el=/ {for (i = 1; i <= NF; ++i) {split($i, kv, "="); if (kv[1] == "dofs") d = kv[2]}} END {print d}' "$out")
-  read -r mrms mmax < <(awk '/^grid / {for (i = 1; i <= NF; ++i) {split($i, kv, "="); if (kv[1] == "rms_rel") r = kv[2]; if (kv[1] == "max_rel") x = kv[2]} printf "%.4f %.3f", 100 * r, 100 * x}' "$out")
+  read -r mrms mmax < <(awk '/^grid / {for (i = 1; i <= NF; ++i) {split($i, kv, "="); if (kv[1] == "rms_rel") r = kv[2]; if (kv[1] == "max_rel") x = kv[2]} printf "%.4f %.3f\n", 100 * r, 100 * x}' "$out")
   rows+=("magenc $(git describe --always --dirty 2>/dev/null || echo '?')|h $h mm, $dofs DOFs (P2, quadrant solved)|$w|$c|$m|$mrms|$mmax")
 done
 
 echo
-echo "Bz on the 81 x 81 grid -4..4 mm of the sensing plane vs the exact field, mu_r = 1, one core ($(nproc) on this machine, load $(cut -d' ' -f1 /proc/loadavg))"
+echo "Bz on the 81 x 81 grid -4..4 mm of the sensing plane vs the exact field, mu_r = 1, one core ($(nproc --all) on this machine, load $(cut -d' ' -f1 /proc/loadavg))"
 printf '%-28s | %-42s | %8s | %8s | %8s | %10s | %10s\n' solver mesh "wall s" "CPU s" "RSS MiB" "RMS % pk" "max % pk"
 for r in "${rows[@]}"; do
   IFS='|' read -r a b c d e f g <<< "$r"
