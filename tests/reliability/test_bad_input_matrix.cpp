@@ -335,6 +335,15 @@ TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", 
     m.check("probe inside the magnet", kBin / study,
             {"--set", "mount.dz_mm=-3", "--set", "sensor.r0_mm=1.0", "--set", "sensor.steps=256", "--out", "study"}, s,
             inputs, {"magnet"});
+  // fem_vs_exact --other-bz (another solver's Bz table, scripts/bench_getdp.sh): read before the solve.
+  for (const auto& [cls, file] : std::vector<std::pair<std::string, std::string>>{
+           {"other-bz missing", "nosuch_bz.txt"},
+           {"other-bz not numbers", add("bz_text.txt", "-4 -4 4.55 -0.0138\n-4 -3.9 4.55 abc\n")},
+           {"other-bz too few columns", add("bz_cols.txt", "-4 -4 4.55\n")},
+           {"other-bz empty", add("bz_empty.txt", "")}})
+    m.check(cls, kBin / "fem_vs_exact",
+            {"--other-bz", file, "--config", std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml", "--out", "fve"}, s,
+            inputs, {"--other-bz"});
   // Absurd sizes: refused up front with an estimate (seconds, not the minutes or the memory they'd take).
   for (const auto& set : {"mesh.h_core_mm=0.011", "mesh.h_zone_mm=0.011", "mesh.h_air_mm=0.011",
                           "grid.plane_step_mm=0.000001", "grid.box_step_mm=0.0001"}) {
