@@ -23,6 +23,7 @@
 #include "fe_solution.hpp"
 #include "fe_space.hpp"
 #include "geometry.hpp"
+#include "quadrant_solve.hpp"
 
 namespace magenc::fem {
 
@@ -77,7 +78,8 @@ void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOpti
 class MagnetostaticSolver {
  public:
   MagnetostaticSolver(DomainSpec domain, SolverOptions options);
-  // make_mesh -> setup_system -> assemble_system -> solve -> compute_cell_fields.
+  // make_mesh -> setup_system -> assemble_system -> solve -> compute_cell_fields, each timed
+  // into stats() (t_mesh_s, t_setup_s, t_assemble_s, t_solve_s, t_post_s; t_total_s for all).
   void run();
 
   const DomainSpec& domain() const { return domain_; }
@@ -97,14 +99,15 @@ class MagnetostaticSolver {
   void assemble_system();
   void solve();
   void compute_cell_fields();
+  PotentialLoad potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
+                               const Eigen::Vector3d& br_T, const Magnet& source) const;
 
   DomainSpec domain_;
   SolverOptions options_;
   TetMesh mesh_;                           // tets, region ids, outer boundary faces (mm)
-  TetMesh quad_;                           // mesh.symmetric: the quadrant mesh_ mirrors (outer faces only)
-  bool quadrant_solve_ = false;            // solve on quad_ and mirror (mesh.symmetric and options.quadrant)
-  std::unique_ptr<FeSpace> quad_space_;    // dofs on quad_ (quadrant solve)
-  std::vector<std::pair<int, Eigen::VectorXd>> quad_loads_;  // (magnetization component, load on quad_)
+  TetMesh quad_;                           // mesh.symmetric: the quadrant mesh_ mirrors, until setup_system
+  bool quadrant_solve_ = false;            // solve on the quadrant and mirror (mesh.symmetric and options.quadrant)
+  std::unique_ptr<QuadrantSolve> quadrant_;  // the quadrant's system (quadrant solve)
   std::unique_ptr<FeSpace> space_;         // P1/P2 dofs on mesh_
   Eigen::VectorXd mu_r_cell_;              // relative permeability per cell
   Eigen::Matrix3Xd br_cell_;               // remanence Br per cell (T), 0 outside the magnet
