@@ -184,8 +184,9 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
-  if (options_.potential != "total" && options_.potential != "reduced")
-    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed total, reduced");
+  if (options_.potential == "auto") options_.potential = domain_.shaft.enabled ? "split" : "reduced";
+  if (options_.potential != "total" && options_.potential != "reduced" && options_.potential != "split")
+    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed auto, total, reduced, split");
 }
 
 void MagnetostaticSolver::run() {
@@ -220,6 +221,12 @@ void MagnetostaticSolver::setup_system() {
   stats_.threads = options_.threads;
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
   br_cell_ = cell_br(mesh_, remanence_T(domain_.magnet));
+  cell_total_.clear();
+  if (options_.potential == "split") {
+    cell_total_ = total_potential_cells(mesh_);
+    if (std::none_of(cell_total_.begin(), cell_total_.end(), [](char c) { return c != 0; }))
+      cell_total_.clear();  // no permeable part: the split is the reduced potential
+  }
   stats_.solved_dofs = stats_.dofs;
   if (quadrant_solve_) {
     quadrant_ = std::make_unique<QuadrantSolve>(std::move(quad_), options_.order);
@@ -237,24 +244,36 @@ void MagnetostaticSolver::assemble_system() {
     const Eigen::VectorXd mu = cell_mu_r(domain_, quadrant_->mesh());
     quadrant_->assemble(mu, br_T, domain_.magnet.br_T, options_.robin, options_.threads,
                         [&](const TetMesh& m, const FeSpace& sp, const Eigen::Vector3d& br) {
-                          return potential_load(m, sp, mu, br, component_magnet(domain_.magnet, br));
+                          const int odd_axis = std::abs(br[0]) > 0 ? 0 : std::abs(br[1]) > 0 ? 1 : -1;
+                          return potential_load(m, sp, mu, br, component_magnet(domain_.magnet, br), odd_axis);
                         });
     stats_.nonzeros = quadrant_->nonzeros();
     return;
   }
   K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
-  f_ = potential_load(mesh_, *space_, mu_r_cell_, br_T, domain_.magnet).f;
+  PotentialLoad load = potential_load(mesh_, *space_, mu_r_cell_, br_T, domain_.magnet, -1);
+  f_ = std::move(load.f);
+  interface_phi_s_ = std::move(load.interface_phi_s);
   if (!options_.robin) apply_zero_dirichlet(K_, f_, boundary_dofs(mesh_, *space_));
   stats_.nonzeros = K_.nonZeros();
 }
 
 // The load of the configured potential for remanence br_T (total potential) or,
-// equivalently, the source magnet `source` (reduced: its exact field).
+// equivalently, the source magnet `source` (reduced and split: its exact field;
+// split: odd_axis 0 or 1 when the potential is odd across x_odd_axis = 0, else -1).
 PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
-                                                  const Eigen::Vector3d& br_T, const Magnet& source) const {
+                                                  const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const {
   PotentialLoad l;
-  l.f = options_.potential == "reduced" ? assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source))
-                                        : assemble_rhs(mesh, space, cell_br(mesh, br_T));
+  if (options_.potential == "total") {
+    l.f = assemble_rhs(mesh, space, cell_br(mesh, br_T));
+  } else if (options_.potential == "reduced" || cell_total_.empty()) {
+    l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
+  } else {
+    const AnalyticField field(source);
+    const std::vector<char> total = total_potential_cells(mesh);
+    l.interface_phi_s = interface_source_potential(mesh, space, total, field, odd_axis);
+    l.f = assemble_split_rhs(mesh, space, mu_r, total, field, l.interface_phi_s);
+  }
   return l;
 }
 
@@ -280,7 +299,7 @@ void MagnetostaticSolver::solve() {
   stats_.residual = 0;
   stats_.solves = 0;
   if (quadrant_solve_) {
-    psi_ = quadrant_->solve_and_mirror(space_->dof_points(), cg, nullptr);
+    psi_ = quadrant_->solve_and_mirror(space_->dof_points(), cg, &interface_phi_s_);
     quadrant_.reset();
   } else {
     cg(K_, f_, psi_);
@@ -299,7 +318,11 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
-  if (options_.potential == "reduced") s.source = std::make_shared<AnalyticField>(domain_.magnet);
+  if (options_.potential != "total") s.source = std::make_shared<AnalyticField>(domain_.magnet);
+  if (!cell_total_.empty()) {
+    s.cell_total = cell_total_;
+    s.interface_phi_s_Tmm = interface_phi_s_;
+  }
   if (options_.recovery) s.recover_gradient();
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
   B_cell_ = evaluator_->B_cell_centroids();
