@@ -46,7 +46,7 @@ std::vector<KeySpec> fem_keys() {
                  "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
                  "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-gamg when built with "
                  "PETSc, else eigen-pcg"),
-      string_key("fem.potential", "total", {"auto", "total", "reduced", "split"},
+      string_key("fem.potential", "auto", {"auto", "total", "reduced", "split"},
                  "total: psi of the whole field; reduced: the magnet's exact free-space field (analytic) plus an FE "
                  "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft); split: "
                  "total potential in the shaft, reduced elsewhere; auto: split with a shaft, else reduced"),
