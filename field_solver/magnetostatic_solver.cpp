@@ -271,7 +271,7 @@ PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeS
   } else {
     const AnalyticField field(source);
     const std::vector<char> total = total_potential_cells(mesh);
-    l.interface_phi_s = interface_source_potential(mesh, space, total, field, odd_axis);
+    l.interface_phi_s = interface_source_potential(space, total, field, odd_axis);
     l.f = assemble_split_rhs(mesh, space, mu_r, total, field, l.interface_phi_s);
   }
   return l;

@@ -95,9 +95,8 @@ std::vector<char> total_potential_cells(const TetMesh& mesh) {
   return total;
 }
 
-Eigen::VectorXd interface_source_potential(const TetMesh& mesh, const FeSpace& space, const std::vector<char>& total,
+Eigen::VectorXd interface_source_potential(const FeSpace& space, const std::vector<char>& total,
                                            const AnalyticField& source, int odd_axis) {
-  (void)mesh;
   const std::vector<char> on_g = interface_dofs(space, total);
   const Eigen::Matrix3Xd& p = space.dof_points();
   const Eigen::MatrixXi& cd = space.cell_dofs();

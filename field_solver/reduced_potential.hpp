@@ -60,7 +60,7 @@ std::vector<char> total_potential_cells(const TetMesh& mesh);
 // phi_s (T*mm) at the interface dofs (dofs of both a total and a reduced cell), 0 elsewhere; up to
 // a constant, or 0 on the plane x_odd_axis = 0 when the potential is odd across it (0 or 1; -1: none).
 // ComputeError when the interface is not connected through the total cells.
-Eigen::VectorXd interface_source_potential(const TetMesh& mesh, const FeSpace& space, const std::vector<char>& total,
+Eigen::VectorXd interface_source_potential(const FeSpace& space, const std::vector<char>& total,
                                            const AnalyticField& source, int odd_axis);
 
 // The load of the split potential: f_R + f_T + K_R g (see above); g = interface_phi_s.
