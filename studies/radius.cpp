@@ -6,7 +6,8 @@
 // worst case over the tolerance box corners, a seeded Monte Carlo over the box
 // (mean, 95th, 99th percentile of the peak-to-peak error), the sensor-noise
 // contribution, the recommended r0 and the error budget there (each group of
-// the tolerance box alone: offsets, air gap, sensor tilt, magnet tilt). The physics and the fast surrogate
+// the tolerance box alone: offsets, air gap, sensor tilt, magnet tilt, and when
+// enabled the signal chain and the magnetization elevation). The physics and the fast surrogate
 // live in src/analysis/radius_scan.*, the outputs in src/report/radius_report.*.
 //   radius [--config studies/radius.toml] [--set radius.samples=20000] [--out DIR]
 #include <chrono>
@@ -30,6 +31,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const auto specs = radius_field_specs(cfg, notes);
   std::vector<std::pair<std::string, FieldSourcePtr>> fields;
   for (const auto& s : specs) fields.emplace_back(s, make_field_source(s, cfg));
+  for (const auto& [spec, field] : fields) check_field_serves_box(*field, spec, opt);  // e.g. an elevation axis
 
   // 2. The scan, one field after another.
   RadiusScanResult result;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include <Eigen/Dense>
@@ -13,6 +14,7 @@
 #include "probe/signal_chain.hpp"
 #include "core/errors.hpp"
 #include "analysis/fem_comparison.hpp"
+#include "fields/analytic_field.hpp"
 #include "fields/magnet.hpp"
 #include "core/units.hpp"
 
@@ -148,9 +150,14 @@ void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, doubl
 // ---------------------------------------------------------------------------
 // FastPipeline
 
-FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm)
-    : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm) {
+FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm,
+                           const CircleFieldModel* axial, double elevation_deg)
+    : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm), axial_(axial), elevation_deg_(elevation_deg) {
   const int N = model.nodes();
+  if (axial_ && (axial_->nodes() != N || axial_->terms() != model.terms() || axial_->r0_mm() != model.r0_mm() ||
+                 axial_->plane_z_mm() != model.plane_z_mm() || axial_->reach_xy_mm() != model.reach_xy_mm() ||
+                 axial_->reach_z_mm() != model.reach_z_mm() || axial_->full_vector() != model.full_vector()))
+    throw InputError("FastPipeline: the axial-magnetization model must share the field model's nodes, stencil and order");
   for (const auto& a : arrays_) {
     std::vector<int> slots;
     for (std::size_t k = 0; k < a.size(); ++k) {
@@ -179,7 +186,8 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
   }
 }
 
-void FastPipeline::eps_tilted(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
+void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                              std::vector<Eigen::VectorXd>& eps_deg) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
@@ -193,7 +201,9 @@ void FastPipeline::eps_tilted(const Mount& mt, std::vector<Eigen::VectorXd>& eps
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
     fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
   std::vector<double> u(T), Bn(angle_index_.size());
-  double B[3];
+  double B[3], Ba[3];
+  const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
+  const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   for (int m = 0; m < N; ++m) {
     const double theta = 2.0 * kPi * m / N;
     const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, theta);
@@ -204,6 +214,11 @@ void FastPipeline::eps_tilted(const Mount& mt, std::vector<Eigen::VectorXd>& eps
       const Eigen::Vector3d q = K.point_to_magnet(fixed[i], theta);
       model_.monomials(q.x() - r0 * cos_theta_[std::size_t(j)], q.y() - r0 * sin_theta_[std::size_t(j)], q.z() - zs, u.data());
       model_.B_T(j, u.data(), B);
+      if (axial_) {
+        // cos(al) * diametric + sin(al) * axial (B is linear in M).
+        axial_->B_T(j, u.data(), Ba);
+        for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
+      }
       Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
     }
     const double theta_deg = 360.0 * m / N;
@@ -215,18 +230,34 @@ void FastPipeline::eps_tilted(const Mount& mt, std::vector<Eigen::VectorXd>& eps
         C += arr.w_cos[k] * Bk;
         S += arr.w_sin[k] * Bk;
       }
+      chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
       eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
     }
   }
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
-  if (mt.tilted()) return eps_tilted(mt, eps_deg);
+  eps_mount(mt, SignalChain::Applied{}, elevation_deg_, eps_deg);
+}
+
+void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  c.chain.validate();
+  eps_mount(c.mount, c.chain.applied(), elevation_deg_ + c.elevation_deg, eps_deg);
+}
+
+void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                             std::vector<Eigen::VectorXd>& eps_deg) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg);
   const int N = model_.nodes();
   const int T = model_.terms();
   eps_deg.resize(arrays_.size());
   for (auto& e : eps_deg) e.resize(N);
   std::vector<double> u(T), B(angle_index_.size());
+  const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
+  const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   for (int m = 0; m < N; ++m) {
     const double c = cos_theta_[m], s = sin_theta_[m];
     // Displacement of every probe from its nominal node: Rot(-theta) s - d, dz.
@@ -236,7 +267,7 @@ void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) c
     for (std::size_t i = 0; i < angle_index_.size(); ++i) {
       int j = angle_index_[i] - m;
       if (j < 0) j += N;
-      B[i] = model_.bz_T(j, u.data());
+      B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
     }
     const double theta_deg = 360.0 * m / N;
     for (std::size_t a = 0; a < arrays_.size(); ++a) {
@@ -247,6 +278,7 @@ void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) c
         C += arr.w_cos[k] * Bk;
         S += arr.w_sin[k] * Bk;
       }
+      chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
       eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
     }
   }
@@ -255,6 +287,12 @@ void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) c
 void FastPipeline::pp(const Mount& m, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(m, e);
+  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+}
+
+void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
+  std::vector<Eigen::VectorXd> e;
+  eps(c, e);
   for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
 }
 
@@ -280,6 +318,12 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       real_key("radius.tol_tilt_y_deg", 0.5, 0, 10, "deg", "tolerance box: |sensor tilt about y| <= this"),
       real_key("radius.tol_magnet_tilt_deg", 0.5, 0, 10, "deg",
                "tolerance box: each magnet lean component (toward x, toward y) within +-this"),
+      real_key("radius.tol_offset_cos_mT", 0, 0, 100, "mT", "tolerance box: |cos channel offset| <= this (0 = signal chain off)"),
+      real_key("radius.tol_offset_sin_mT", 0, 0, 100, "mT", "tolerance box: |sin channel offset| <= this"),
+      real_key("radius.tol_gain_mismatch", 0, 0, 0.5, "", "tolerance box: |gain mismatch| <= this (0.01 = 1 %)"),
+      real_key("radius.tol_phase_error_deg", 0, 0, 45, "deg", "tolerance box: |channel phase error| <= this"),
+      real_key("radius.tol_magnetization_elevation_deg", 0, 0, 45, "deg",
+               "tolerance box: |magnetization elevation - magnet.magnetization_elevation_deg| <= this (analytic field only)"),
       real_key("radius.case_offset_mm", 0.1, 0, 10, "mm", "spectra cases: this much of each of sx, sy, dx, dy"),
       real_key("radius.case_dz_mm", 0.2, 0, 10, "mm", "spectra cases: dz = +-this (with the residual dx)"),
       real_key("radius.case_residual_dx_mm", 0.05, 0, 10, "mm", "spectra cases: residual dx of the dz cases"),
@@ -318,6 +362,12 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.box.tilt_x_deg = cfg.real("radius.tol_tilt_x_deg");
   o.box.tilt_y_deg = cfg.real("radius.tol_tilt_y_deg");
   o.box.magnet_tilt_deg = cfg.real("radius.tol_magnet_tilt_deg");
+  o.box.offset_cos_mT = cfg.real("radius.tol_offset_cos_mT");
+  o.box.offset_sin_mT = cfg.real("radius.tol_offset_sin_mT");
+  o.box.gain_mismatch = cfg.real("radius.tol_gain_mismatch");
+  o.box.phase_error_deg = cfg.real("radius.tol_phase_error_deg");
+  o.box.magnetization_elevation_deg = cfg.real("radius.tol_magnetization_elevation_deg");
+  o.elevation_deg = cfg.real("magnet.magnetization_elevation_deg");
   o.magnet_height_mm = cfg.real("magnet.height_mm");
   o.case_offset_mm = cfg.real("radius.case_offset_mm");
   o.case_dz_mm = cfg.real("radius.case_dz_mm");
@@ -328,11 +378,12 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.validate_radii = static_cast<int>(cfg.integer("radius.validate_radii"));
   o.validate_samples = static_cast<int>(cfg.integer("radius.validate_samples"));
   o.band_rel = cfg.real("radius.band_rel");
-  // The surrogate pipeline models the five offsets and ideal channels only: refuse a signal chain
-  // rather than ignore it (tilts are not read here: the study's mounts come from its tolerance box).
+  // The study's mounts and signal chains come from its tolerance box (mount.* keys are not read
+  // here): refuse a configured chain rather than ignore it.
   if (!SignalChain::from_config(cfg).ideal())
-    throw InputError("sensor.offset_cos_mT/offset_sin_mT/gain_mismatch/phase_error_deg: the radius study's "
-                     "pipeline has no signal chain: allowed 0 (use error_spectrum for signal-chain errors)");
+    throw InputError("sensor.offset_cos_mT/offset_sin_mT/gain_mismatch/phase_error_deg: the radius study takes the "
+                     "signal chain from its tolerance box: allowed 0 (set radius.tol_offset_cos_mT, tol_offset_sin_mT, "
+                     "tol_gain_mismatch, tol_phase_error_deg)");
   o.validate();
   return o;
 }
@@ -441,14 +492,66 @@ std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0
 // ---------------------------------------------------------------------------
 // The scan
 
+void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt) {
+  if (!opt.box.has_elevation()) return;
+  const double tol = opt.box.magnetization_elevation_deg;
+  if (!dynamic_cast<const AnalyticField*>(&field))
+    throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + ": field '" + spec +
+                     "' has one fixed magnetization (only the analytic field can vary its elevation): allowed 0");
+  if (!(std::abs(opt.elevation_deg) + tol <= 90.0))
+    throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + " is out of range with "
+                     "magnet.magnetization_elevation_deg = " + num(opt.elevation_deg) + ": allowed <= " +
+                     num(90.0 - std::abs(opt.elevation_deg)));
+}
+
+namespace {
+// The field models of one radius: the field itself, or (elevation in the box) its diametric and
+// axial parts, and the pipeline over them.
+struct RadiusModels {
+  std::unique_ptr<AnalyticField> diametric_field, axial_field;
+  std::unique_ptr<CircleFieldModel> model, axial;
+  std::unique_ptr<FastPipeline> fast;
+  double amplitude_T = 0;  // Bz amplitude of the configured field on the circle
+  double fit_residual_T = 0;
+
+  RadiusModels(const FieldSource& field, const RadiusScanOptions& opt, double r0, const std::vector<ProbeArray>& arrays) {
+    const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
+    const bool tilts = opt.box.has_tilts();
+    if (!opt.box.has_elevation()) {
+      model = std::make_unique<CircleFieldModel>(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
+                                                 opt.surrogate_order, tilts);
+      fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm);
+      amplitude_T = model->amplitude_T();
+      fit_residual_T = model->fit_residual_T();
+      return;
+    }
+    // B(al) = cos(al) B_diametric + sin(al) B_axial (check_field_serves_box: the exact field).
+    const Magnet& mag = dynamic_cast<const AnalyticField&>(field).magnet();
+    Magnet md = mag, ma = mag;
+    md.magnetization_elevation_deg = 0;
+    ma.magnetization_elevation_deg = 90;
+    diametric_field = std::make_unique<AnalyticField>(md);
+    axial_field = std::make_unique<AnalyticField>(ma);
+    model = std::make_unique<CircleFieldModel>(*diametric_field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
+                                               opt.surrogate_order, tilts);
+    axial = std::make_unique<CircleFieldModel>(*axial_field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
+                                               opt.surrogate_order, tilts);
+    fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm, axial.get(), opt.elevation_deg);
+    // The axial part is symmetric about the axis: no first angular harmonic.
+    amplitude_T = std::cos(deg_to_rad(opt.elevation_deg)) * model->amplitude_T();
+    fit_residual_T = std::max(model->fit_residual_T(), axial->fit_residual_T());
+  }
+};
+}  // namespace
+
 void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
                      RadiusScanResult& out) {
   opt.validate();
+  check_field_serves_box(field, spec, opt);
   const std::size_t A = opt.arrays.size();
   const auto cases = spectra_cases(opt);
-  const bool tilts = opt.box.has_tilts();
-  const std::vector<Mount> corners = opt.box.corners();
-  const std::vector<Mount> samples = monte_carlo_samples(opt.box, opt.samples, opt.seed);
+  const std::vector<ToleranceCase> corners = opt.box.case_corners();
+  const std::vector<ToleranceCase> samples = monte_carlo_cases(opt.box, opt.samples, opt.seed);
 
   // Validation radii: spread evenly over the scan (indices round(i*(n-1)/(k-1))).
   std::vector<std::size_t> vidx;
@@ -469,10 +572,9 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     // 1. Local field models on the probe circle.
     auto t0 = std::chrono::steady_clock::now();
     // The displacements the local models must serve: the box (tilts included) and the spectra cases.
-    const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
-    const CircleFieldModel model(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z, opt.surrogate_order, tilts);
-    const FastPipeline fast(model, opt.arrays, opt.magnet_height_mm);
-    info.max_fit_residual_T = std::max(info.max_fit_residual_T, model.fit_residual_T());
+    const RadiusModels models(field, opt, r0, opt.arrays);
+    const FastPipeline& fast = *models.fast;
+    info.max_fit_residual_T = std::max(info.max_fit_residual_T, models.fit_residual_T);
     info.t_models_s += seconds_since(t0);
 
     // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.
@@ -493,7 +595,7 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     }
     std::vector<double> ideal_pp(A);
     fast.pp(Mount{}, ideal_pp.data());
-    auto pp_of = [&](std::size_t, const Mount& m, double* o) { fast.pp(m, o); };
+    auto pp_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp(c, o); };
     const Eigen::MatrixXd corner_pp = evaluate_cases(corners, static_cast<int>(A), pp_of);
     const Eigen::MatrixXd mc_pp = evaluate_cases(samples, static_cast<int>(A), pp_of);
     for (std::size_t a = 0; a < A; ++a) {
@@ -501,13 +603,13 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
       row.field = field.name();
       row.array = opt.arrays[a].name;
       row.r0_mm = r0;
-      row.bz_amplitude_T = model.amplitude_T();
+      row.bz_amplitude_T = models.amplitude_T;
       row.ideal_pp_deg = ideal_pp[a];
       const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
       row.worst_pp_deg = w.value;
       row.worst_corner = corner_text(corners[w.row]);
       row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
-      row.noise = angle_noise(opt.arrays[a], model.amplitude_T(), opt.noise);
+      row.noise = angle_noise(opt.arrays[a], models.amplitude_T, opt.noise);
       row.total_p99_pp_deg = row.mc.p99 + row.noise.pp_deg;
       row.total_worst_pp_deg = row.worst_pp_deg + row.noise.pp_deg;
       rows[a].push_back(row);
@@ -517,16 +619,26 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     // 3. Validation against the direct pipeline at a few radii.
     if (std::find(vidx.begin(), vidx.end(), ir) == vidx.end()) continue;
     t0 = std::chrono::steady_clock::now();
-    std::vector<std::pair<std::string, Mount>> vcases = cases;
+    std::vector<std::pair<std::string, ToleranceCase>> vcases;
+    for (const auto& [label, mount] : cases) vcases.emplace_back(label, ToleranceCase{mount, SignalChain{}, 0.0});
     for (std::size_t a = 0; a < A; ++a) {
       const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
       vcases.emplace_back("worst corner " + opt.arrays[a].name, corners[w.row]);
     }
     for (int i = 0; i < opt.validate_samples && i < static_cast<int>(samples.size()); ++i)
       vcases.emplace_back("mc sample " + std::to_string(i), samples[static_cast<std::size_t>(i)]);
-    for (const auto& [label, mount] : vcases) {
+    for (const auto& [label, vc] : vcases) {
+      const Mount& mount = vc.mount;
       std::vector<Eigen::VectorXd> eps;
-      fast.eps(mount, eps);
+      fast.eps(vc, eps);
+      // The direct pipeline on the case's own field (elevation) and signal chain.
+      std::unique_ptr<AnalyticField> elevated;
+      if (vc.elevation_deg != 0) {
+        Magnet mag = dynamic_cast<const AnalyticField&>(field).magnet();
+        mag.magnetization_elevation_deg = opt.elevation_deg + vc.elevation_deg;
+        elevated = std::make_unique<AnalyticField>(mag);
+      }
+      const FieldSource& case_field = elevated ? *elevated : field;
       for (std::size_t a = 0; a < A; ++a) {
         ProbeSetup setup;
         setup.array = opt.arrays[a];
@@ -534,9 +646,10 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
         setup.plane_z_mm = opt.plane_z_mm;
         setup.steps = opt.direct_steps;
         setup.magnet_height_mm = opt.magnet_height_mm;
-        const Spectrum direct = error_spectrum(field, setup, mount);
+        setup.chain = vc.chain;
+        const Spectrum direct = error_spectrum(case_field, setup, mount);
         setup.steps = opt.fast_steps;
-        const Spectrum coarse = error_spectrum(field, setup, mount);
+        const Spectrum coarse = error_spectrum(case_field, setup, mount);
         const Spectrum sur = spectrum_of(eps[a]);
         ValidationRow v;
         v.field = field.name();
@@ -572,17 +685,15 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
   // 5. Error budget at each array's recommended r0: the same MC samples with one group of the box at a time.
   for (std::size_t a = 0; a < A; ++a) {
     const Recommendation& rec = out.recommendations[out.recommendations.size() - A + a];
-    const auto [reach_xy, reach_z] = model_reach_mm(opt, rec.r0_best_mm);
-    const CircleFieldModel model(field, rec.r0_best_mm, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
-                                 opt.surrogate_order, tilts);
-    const FastPipeline fast(model, {opt.arrays[a]}, opt.magnet_height_mm);
-    auto pp_of = [&](std::size_t, const Mount& m, double* o) { fast.pp(m, o); };
+    const RadiusModels models(field, opt, rec.r0_best_mm, {opt.arrays[a]});
+    const FastPipeline& fast = *models.fast;
+    auto pp_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp(c, o); };
     const Eigen::MatrixXd all = evaluate_cases(samples, 1, pp_of);
     const double p99_all = sample_stats(all.col(0)).p99;
     for (const auto& group : ToleranceBox::groups()) {
       const ToleranceBox only = opt.box.only(group);
-      if (only.max_inplane_mm() == 0 && only.dz_mm == 0 && !only.has_tilts()) continue;  // group not in the box
-      const Eigen::MatrixXd pp = evaluate_cases(monte_carlo_samples(only, opt.samples, opt.seed), 1, pp_of);
+      if (only.empty()) continue;  // group not in the box
+      const Eigen::MatrixXd pp = evaluate_cases(monte_carlo_cases(only, opt.samples, opt.seed), 1, pp_of);
       BudgetRow b;
       b.field = field.name();
       b.array = opt.arrays[a].name;

@@ -100,16 +100,31 @@ class FastPipeline {
   // Throws InputError when a probe angle is not a multiple of 360/N degrees
   // (then choose radius.fast_steps as a multiple of the array's N).
   // magnet_height_mm: L, the pivot height of a magnet tilt (tilted mounts only).
-  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = 4.0);
+  // Magnetization elevation: without `axial`, `model` is the field itself and
+  // every case's elevation deviation must be 0 (InputError otherwise). With
+  // `axial`, `model` is the field of the diametric magnetization alone
+  // (elevation 0) and `axial` that of the axial magnetization alone (|M| = M0
+  // along z; same nodes, stencil and order): the field of a case is
+  // cos(al) model + sin(al) axial, al = elevation_deg + the case's deviation
+  // (exact: B is linear in M).
+  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = 4.0,
+               const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
-  // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m.
+  // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
+  // (ideal signal chain, the nominal elevation).
   // A tilted mount (sensor or magnet tilt) needs a full_vector model
   // (InputError otherwise): each probe's position and normal then come from
   // MountKinematics and it reads n.B of the model at its own displacement.
   void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
+  // The same for a whole tolerance case: the case's signal chain is applied to
+  // the channels before atan2 (SignalChain::Applied, as in angle_error.hpp), and
+  // its elevation deviation needs the axial model. An ideal chain and a zero
+  // deviation give exactly eps(c.mount).
+  void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const;
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
+  void pp(const ToleranceCase& c, double* pp_deg) const;
 
  private:
   const CircleFieldModel& model_;
@@ -118,7 +133,12 @@ class FastPipeline {
   std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
   std::vector<double> cos_theta_, sin_theta_;   // theta grid
   double magnet_height_mm_ = 4.0;               // L (magnet-tilt pivot)
-  void eps_tilted(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
+  const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
+  double elevation_deg_ = 0;                    // nominal elevation (with axial_)
+  void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
+                 std::vector<Eigen::VectorXd>& eps_deg) const;
+  void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
+                  std::vector<Eigen::VectorXd>& eps_deg) const;
 };
 
 // Settings of the scan ([radius] keys; [noise] for the noise model).
@@ -129,8 +149,9 @@ struct RadiusScanOptions {
   int direct_steps = 3600;              // theta samples of the direct pipeline (validation)
   int fast_steps = 360;                 // theta samples N of the surrogate pipeline
   int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
-  ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg)
+  ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg; chain, elevation)
   double magnet_height_mm = 4.0;        // L (magnet-tilt pivot and reach)
+  double elevation_deg = 0;             // the magnet's configured elevation (centre of the box's elevation axis)
   double case_offset_mm = 0.1;          // spectra cases: this much of each of sx, sy, dx, dy
   double case_dz_mm = 0.2;              // spectra cases: dz = +-this ...
   double case_residual_dx_mm = 0.05;    // ... with this residual dx
@@ -156,7 +177,7 @@ struct RadiusRow {
   double bz_amplitude_T = 0;       // amplitude of Bz on the probe circle (ideal mount)
   double ideal_pp_deg = 0;         // pp with an ideal mount (0 for an exact field: any value is a field artefact)
   double worst_pp_deg = 0;         // largest pp over the tolerance box corners
-  std::string worst_corner;        // which corner, e.g. "sx+ sy- dx+ dy+ dz-"
+  std::string worst_corner;        // which corner, e.g. "sx+ sy- dx+ dy+ dz-" (corner_text of the case)
   SampleStats mc;                  // pp over the Monte Carlo samples (deg)
   AngleNoise noise;                // sensor noise contribution
   double total_p99_pp_deg = 0;     // mc.p99 + noise.pp_deg (linear sum, conservative)
@@ -204,7 +225,7 @@ struct FieldScanInfo {
 struct BudgetRow {
   std::string field, array;
   double r0_mm = 0;                // the recommended r0 of (field, array)
-  std::string group;               // static, dynamic, air gap, sensor tilt, magnet tilt
+  std::string group;               // static, dynamic, air gap, sensor tilt, magnet tilt, signal chain, magnetization elevation
   double p99_only_deg = 0;         // p99 of pp with only this group active (deg)
   double p99_all_deg = 0;          // p99 of pp with the whole box (deg), same samples
   double share = 0;                // p99_only / p99_all
@@ -218,6 +239,14 @@ struct RadiusScanResult {
   std::vector<FieldScanInfo> fields;
   std::vector<BudgetRow> budget;               // per (field, array): one row per non-empty group
 };
+
+// InputError (one line) when the field cannot serve the box: an elevation
+// axis (radius.tol_magnetization_elevation_deg > 0) needs a field whose
+// magnetization can change, i.e. the exact field (`analytic`); a FEM solve,
+// a grid, a table or the linear model has one fixed magnetization (or none).
+// Also |elevation| + its half-width must stay <= 90 deg. run_radius_scan
+// calls it first; the study calls it for every field before any work.
+void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt);
 
 // The scan for one field; results appended to `out`. `spec` is recorded.
 void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,

@@ -35,10 +35,25 @@ void ToleranceBox::validate(const std::string& prefix) const {
   for (const auto& [name, v] : tilts)
     if (!(std::isfinite(v) && v >= 0 && v <= 10))
       throw InputError(prefix + name + " = " + num(v) + " is out of range: allowed [0, 10] deg");
+  struct Item {
+    const char* name;
+    double v, hi;
+    const char* unit;
+  };
+  const Item more[] = {{"offset_cos_mT", offset_cos_mT, 100, " mT"},
+                       {"offset_sin_mT", offset_sin_mT, 100, " mT"},
+                       {"gain_mismatch", gain_mismatch, 0.5, ""},
+                       {"phase_error_deg", phase_error_deg, 45, " deg"},
+                       {"magnetization_elevation_deg", magnetization_elevation_deg, 45, " deg"}};
+  for (const auto& it : more)
+    if (!(std::isfinite(it.v) && it.v >= 0 && it.v <= it.hi))
+      throw InputError(prefix + it.name + " = " + num(it.v) + " is out of range: allowed [0, " + num(it.hi) + "]" + it.unit);
 }
 
 namespace {
-// Mount from the nine box coordinates (sx, sy, dx, dy, dz, tilt_x, tilt_y, lean x, lean y).
+constexpr int kAxes = 14;  // sx, sy, dx, dy, dz, tilt_x, tilt_y, lean x, lean y, oc, os, g, delta, elevation
+
+// Mount from the first nine box coordinates (sx, sy, dx, dy, dz, tilt_x, tilt_y, lean x, lean y).
 Mount mount_of(const double* v) {
   Mount m;
   m.sx_mm = v[0];
@@ -52,50 +67,73 @@ Mount mount_of(const double* v) {
   m.magnet_tilt_azimuth_deg = m.magnet_tilt_deg > 0 ? std::atan2(v[8], v[7]) * 180.0 / M_PI : 0.0;
   return m;
 }
+
+// The whole case from the fourteen box coordinates.
+ToleranceCase case_of(const double* v) {
+  ToleranceCase c;
+  c.mount = mount_of(v);
+  c.chain.offset_cos_mT = v[9];
+  c.chain.offset_sin_mT = v[10];
+  c.chain.gain_mismatch = v[11];
+  c.chain.phase_error_deg = v[12];
+  c.elevation_deg = v[13];
+  return c;
+}
 }  // namespace
 
-std::vector<Mount> ToleranceBox::corners() const {
-  const double half[9] = {sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg, magnet_tilt_deg, magnet_tilt_deg};
-  std::vector<Mount> out;
-  for (int c = 0; c < 512; ++c) {
-    double v[9];
+std::vector<ToleranceCase> ToleranceBox::case_corners() const {
+  const double half[kAxes] = {sx_mm,         sy_mm,         dx_mm,         dy_mm,           dz_mm,
+                              tilt_x_deg,    tilt_y_deg,    magnet_tilt_deg, magnet_tilt_deg, offset_cos_mT,
+                              offset_sin_mT, gain_mismatch, phase_error_deg, magnetization_elevation_deg};
+  std::vector<ToleranceCase> out;
+  for (int c = 0; c < (1 << kAxes); ++c) {
+    double v[kAxes];
     bool duplicate = false;
-    for (int b = 0; b < 9; ++b) {
+    for (int b = 0; b < kAxes && !duplicate; ++b) {
       const bool minus = (c >> b) & 1;
       if (minus && half[b] == 0) duplicate = true;  // same as the '+' corner
       v[b] = minus ? -half[b] : half[b];
     }
     if (duplicate) continue;
-    out.push_back(mount_of(v));
+    out.push_back(case_of(v));
   }
   return out;
 }
 
-Mount ToleranceBox::sample(std::uint64_t seed, std::uint64_t index) const {
-  // One independent stream per sample: state from (seed, index), then five draws for the offsets
-  // and four for the tilts (drawn only when the box has tilts, so a five-offset box is unchanged).
+std::vector<Mount> ToleranceBox::corners() const {
+  ToleranceBox mounting = *this;
+  mounting.offset_cos_mT = mounting.offset_sin_mT = mounting.gain_mismatch = mounting.phase_error_deg = 0;
+  mounting.magnetization_elevation_deg = 0;
+  std::vector<Mount> out;
+  for (const auto& c : mounting.case_corners()) out.push_back(c.mount);
+  return out;
+}
+
+ToleranceCase ToleranceBox::case_sample(std::uint64_t seed, std::uint64_t index) const {
+  // One independent stream per sample: state from (seed, index), then the draws at fixed places (five
+  // offsets, four tilt components, four chain components, the elevation), up to the last group the box
+  // has: a box without tilts, chain and elevation draws five numbers, exactly as before those existed.
   std::uint64_t state = splitmix64(splitmix64(seed) ^ (index * 0xD1B54A32D192ED03ull + 0x632BE59BD9B4E019ull));
   auto next = [&] {
     state = splitmix64(state);
     return 2.0 * unit_uniform(state) - 1.0;  // [-1, 1)
   };
-  double v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  v[0] = sx_mm * next();
-  v[1] = sy_mm * next();
-  v[2] = dx_mm * next();
-  v[3] = dy_mm * next();
-  v[4] = dz_mm * next();
-  if (has_tilts()) {
-    v[5] = tilt_x_deg * next();
-    v[6] = tilt_y_deg * next();
-    v[7] = magnet_tilt_deg * next();
-    v[8] = magnet_tilt_deg * next();
+  const int draws = has_elevation() ? 14 : has_chain() ? 13 : has_tilts() ? 9 : 5;
+  const double half[kAxes] = {sx_mm,         sy_mm,         dx_mm,         dy_mm,           dz_mm,
+                              tilt_x_deg,    tilt_y_deg,    magnet_tilt_deg, magnet_tilt_deg, offset_cos_mT,
+                              offset_sin_mT, gain_mismatch, phase_error_deg, magnetization_elevation_deg};
+  double v[kAxes] = {};
+  for (int b = 0; b < draws; ++b) {
+    const double u = next();
+    v[b] = half[b] * u;
   }
-  return mount_of(v);
+  return case_of(v);
 }
 
 const std::vector<std::string>& ToleranceBox::groups() {
-  static const std::vector<std::string> g = {"static", "dynamic", "air gap", "sensor tilt", "magnet tilt"};
+  static const std::vector<std::string> g = {"static",      "dynamic",      "air gap",
+                                             "sensor tilt", "magnet tilt",  "signal chain",
+                                             "magnetization elevation"};
   return g;
 }
 
@@ -107,13 +145,21 @@ ToleranceBox ToleranceBox::only(const std::string& group) const {
   else if (group == "air gap") b.dz_mm = dz_mm;
   else if (group == "sensor tilt") b.tilt_x_deg = tilt_x_deg, b.tilt_y_deg = tilt_y_deg;
   else if (group == "magnet tilt") b.magnet_tilt_deg = magnet_tilt_deg;
-  else throw InputError("tolerance group '" + group + "': allowed static, dynamic, air gap, sensor tilt, magnet tilt");
+  else if (group == "signal chain")
+    b.offset_cos_mT = offset_cos_mT, b.offset_sin_mT = offset_sin_mT, b.gain_mismatch = gain_mismatch,
+    b.phase_error_deg = phase_error_deg;
+  else if (group == "magnetization elevation") b.magnetization_elevation_deg = magnetization_elevation_deg;
+  else
+    throw InputError("tolerance group '" + group +
+                     "': allowed static, dynamic, air gap, sensor tilt, magnet tilt, signal chain, magnetization elevation");
   return b;
 }
 
 double ToleranceBox::max_inplane_mm() const { return std::hypot(sx_mm, sy_mm) + std::hypot(dx_mm, dy_mm); }
 
-Eigen::MatrixXd evaluate_cases(const std::vector<Mount>& cases, int n_out, const CaseFunction& f) {
+namespace {
+template <class Case, class F>
+Eigen::MatrixXd evaluate_cases_impl(const std::vector<Case>& cases, int n_out, const F& f) {
   if (n_out < 1) throw InputError("evaluate_cases: n_out must be >= 1");
   // Row-major scratch so that each case writes a contiguous block.
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out(
@@ -133,11 +179,27 @@ Eigen::MatrixXd evaluate_cases(const std::vector<Mount>& cases, int n_out, const
   if (err) std::rethrow_exception(err);
   return Eigen::MatrixXd(out);
 }
+}  // namespace
+
+Eigen::MatrixXd evaluate_cases(const std::vector<Mount>& cases, int n_out, const CaseFunction& f) {
+  return evaluate_cases_impl(cases, n_out, f);
+}
+
+Eigen::MatrixXd evaluate_cases(const std::vector<ToleranceCase>& cases, int n_out, const ToleranceCaseFunction& f) {
+  return evaluate_cases_impl(cases, n_out, f);
+}
 
 std::vector<Mount> monte_carlo_samples(const ToleranceBox& box, long n, std::uint64_t seed) {
   if (n < 1) throw InputError("Monte Carlo sample count = " + std::to_string(n) + " is out of range: allowed >= 1");
   std::vector<Mount> s(static_cast<std::size_t>(n));
   for (long i = 0; i < n; ++i) s[static_cast<std::size_t>(i)] = box.sample(seed, static_cast<std::uint64_t>(i));
+  return s;
+}
+
+std::vector<ToleranceCase> monte_carlo_cases(const ToleranceBox& box, long n, std::uint64_t seed) {
+  if (n < 1) throw InputError("Monte Carlo sample count = " + std::to_string(n) + " is out of range: allowed >= 1");
+  std::vector<ToleranceCase> s(static_cast<std::size_t>(n));
+  for (long i = 0; i < n; ++i) s[static_cast<std::size_t>(i)] = box.case_sample(seed, static_cast<std::uint64_t>(i));
   return s;
 }
 
@@ -187,6 +249,16 @@ std::string corner_text(const Mount& m) {
     auto sgn_lean = [&](double v) { return std::abs(v) < 1e-12 * m.magnet_tilt_deg ? "0" : sgn(v); };
     t += std::string(" gx") + sgn_lean(gx) + " gy" + sgn_lean(gy);
   }
+  return t;
+}
+
+std::string corner_text(const ToleranceCase& c) {
+  auto sgn = [](double v) { return v > 0 ? "+" : (v < 0 ? "-" : "0"); };
+  std::string t = corner_text(c.mount);
+  if (!c.chain.ideal())
+    t += std::string(" oc") + sgn(c.chain.offset_cos_mT) + " os" + sgn(c.chain.offset_sin_mT) + " g" +
+         sgn(c.chain.gain_mismatch) + " ph" + sgn(c.chain.phase_error_deg);
+  if (c.elevation_deg != 0) t += std::string(" el") + sgn(c.elevation_deg);
   return t;
 }
 

@@ -13,6 +13,18 @@
 // half-widths default to 0 here (the five-offset box); the radius study's
 // configuration sets them (radius.tol_tilt_*).
 //
+// Two more groups, off (0) by default here and in the radius study:
+//  * the signal chain of physics.md (channel offsets |oc|, |os| <=
+//    tol.offset_cos_mT, tol.offset_sin_mT; gain mismatch |g| <=
+//    tol.gain_mismatch; phase error |delta| <= tol.phase_error_deg), applied to
+//    the array's channels before atan2 (probe/signal_chain.hpp);
+//  * the magnetization elevation: |al - al0| <= tol.magnetization_elevation_deg
+//    about the magnet's configured elevation al0 (a property of the field, so a
+//    ToleranceCase carries the deviation; only fields that can change their
+//    magnetization serve it, see radius_scan.hpp).
+// A ToleranceCase is one point of the whole box: the Mount plus the chain and
+// the elevation deviation; sample()/corners() give the Mount part alone.
+//
 // Reproducibility: sample i is a pure function of (seed, i) (a counter-based
 // generator: SplitMix64 of seed and index), so a run gives bit-identical
 // samples and results for any OpenMP thread count and scheduling, and the
@@ -27,8 +39,16 @@
 #include <Eigen/Core>
 
 #include "probe/mounting.hpp"
+#include "probe/signal_chain.hpp"
 
 namespace magenc {
+
+// One point of a tolerance box: a mount, a signal chain and an elevation deviation.
+struct ToleranceCase {
+  Mount mount;
+  SignalChain chain;          // ideal unless the box has a signal chain
+  double elevation_deg = 0;   // magnetization elevation minus the magnet's configured one, deg
+};
 
 struct ToleranceBox {
   double sx_mm = 0.1;  // half-width of static eccentricity x (sensor off axis), mm
@@ -39,24 +59,46 @@ struct ToleranceBox {
   double tilt_x_deg = 0;      // half-width of the sensor tilt about x, deg
   double tilt_y_deg = 0;      // half-width of the sensor tilt about y, deg
   double magnet_tilt_deg = 0; // half-width of each magnet lean component (toward x, toward y), deg
+  double offset_cos_mT = 0;   // half-width of the cos channel offset oc, mT
+  double offset_sin_mT = 0;   // half-width of the sin channel offset os, mT
+  double gain_mismatch = 0;   // half-width of the gain mismatch g (1 = 100 %)
+  double phase_error_deg = 0; // half-width of the phase error delta, deg
+  double magnetization_elevation_deg = 0;  // half-width of the elevation deviation, deg
 
   // Throws InputError naming `prefix`+"sx_mm" etc. for a negative or
-  // non-finite half-width (allowed [0, 10] mm; tilts [0, 10] deg).
+  // non-finite half-width (allowed [0, 10] mm; tilts [0, 10] deg; channel
+  // offsets [0, 100] mT; gain mismatch [0, 0.5]; phase error [0, 45] deg;
+  // elevation [0, 45] deg).
   void validate(const std::string& prefix = "tolerance.") const;
-  // The box corners (every offset and tilt component at +-half-width), up to
-  // 2^9 = 512 of them, fewer when half-widths are 0 (duplicates dropped; with
-  // no tilts the 32 five-offset corners as before). Order: bit b of the
+  // The box corners (every component at +-half-width), up to 2^14 of them,
+  // fewer when half-widths are 0 (duplicates dropped; with no tilts, chain or
+  // elevation the 32 five-offset corners as before). Order: bit b of the
   // corner index selects the sign of b (sx, sy, dx, dy, dz, tilt_x, tilt_y,
-  // lean x, lean y), + first.
+  // lean x, lean y, oc, os, g, delta, elevation), + first; so the corners of a
+  // box without chain and elevation are those of the nine mounting axes.
+  std::vector<ToleranceCase> case_corners() const;
+  // The Mount part of the corners of the nine mounting axes (chain and elevation ignored).
   std::vector<Mount> corners() const;
-  // Monte Carlo sample `index` (uniform in the box) for `seed`. The five
-  // offsets are the first five draws of the sample's stream, the tilts the
-  // next four, so a box without tilts gives exactly the five-offset samples.
-  Mount sample(std::uint64_t seed, std::uint64_t index) const;
+  // Monte Carlo sample `index` (uniform in the box) for `seed`. The stream's
+  // draws have fixed places: the five offsets first, then the four tilt
+  // components, then the four chain components, then the elevation; the
+  // stream stops after the last group the box has (so a box without tilts,
+  // chain and elevation gives exactly the five-offset samples, and a box
+  // without chain and elevation exactly the samples it gave before those
+  // axes existed). A group's values do not depend on which other groups are
+  // in the box (common random numbers for the budget).
+  ToleranceCase case_sample(std::uint64_t seed, std::uint64_t index) const;
+  // The Mount part of case_sample().
+  Mount sample(std::uint64_t seed, std::uint64_t index) const { return case_sample(seed, index).mount; }
   bool has_tilts() const { return tilt_x_deg > 0 || tilt_y_deg > 0 || magnet_tilt_deg > 0; }
+  bool has_chain() const { return offset_cos_mT > 0 || offset_sin_mT > 0 || gain_mismatch > 0 || phase_error_deg > 0; }
+  bool has_elevation() const { return magnetization_elevation_deg > 0; }
+  // Every half-width is 0.
+  bool empty() const { return max_inplane_mm() == 0 && dz_mm == 0 && !has_tilts() && !has_chain() && !has_elevation(); }
   // The same box with only the named group's half-widths kept (the others 0):
   // "static" (sx, sy), "dynamic" (dx, dy), "air gap" (dz), "sensor tilt"
-  // (tilt_x, tilt_y), "magnet tilt". InputError for another name.
+  // (tilt_x, tilt_y), "magnet tilt", "signal chain" (oc, os, g, delta),
+  // "magnetization elevation". InputError for another name.
   ToleranceBox only(const std::string& group) const;
   static const std::vector<std::string>& groups();
   // Largest in-plane displacement of a probe from its nominal path over the
@@ -72,9 +114,12 @@ std::uint64_t splitmix64(std::uint64_t x);
 // The first exception thrown by f is rethrown.
 using CaseFunction = std::function<void(std::size_t i, const Mount& m, double* out)>;
 Eigen::MatrixXd evaluate_cases(const std::vector<Mount>& cases, int n_out, const CaseFunction& f);
+using ToleranceCaseFunction = std::function<void(std::size_t i, const ToleranceCase& c, double* out)>;
+Eigen::MatrixXd evaluate_cases(const std::vector<ToleranceCase>& cases, int n_out, const ToleranceCaseFunction& f);
 
 // Samples 0..n-1 of the box for `seed` (n >= 1, else InputError).
 std::vector<Mount> monte_carlo_samples(const ToleranceBox& box, long n, std::uint64_t seed);
+std::vector<ToleranceCase> monte_carlo_cases(const ToleranceBox& box, long n, std::uint64_t seed);
 
 // Percentile p in [0, 100] of values by linear interpolation between order
 // statistics (the "type 7" definition: position p/100*(n-1) in sorted order).
@@ -100,5 +145,8 @@ WorstCase worst_case(const Eigen::MatrixXd& values, int col);
 // Compact sign text of a corner, e.g. "sx+ sy- dx+ dy+ dz-" (0 half-widths show "0");
 // tilted corners append "tx+ ty-" and the magnet lean "gx+ gy-".
 std::string corner_text(const Mount& m);
+// The same for a whole case: a non-ideal chain appends "oc+ os- g+ ph-", an
+// elevation deviation "el+" / "el-".
+std::string corner_text(const ToleranceCase& c);
 
 }  // namespace magenc

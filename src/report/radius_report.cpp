@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "io/plot.hpp"
 #include "report/study_output.hpp"
 #include "core/units.hpp"
@@ -18,12 +19,9 @@ namespace {
 // A neighbour's total in summary.md: "edge" where the best r0 ends the scanned range.
 std::string neighbour(double v) { return std::isfinite(v) ? fmt(v, 3) : std::string("edge"); }
 
-std::string g(double v) {
-  if (!std::isfinite(v)) return "nan";
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
+// A number in the CSV tables and plot commands: 10 significant digits (core/format fmt_sig), "nan" for
+// any non-finite value (the scan's edges).
+std::string num10(double v) { return std::isfinite(v) ? fmt_sig(v, 10) : std::string("nan"); }
 
 std::vector<const RadiusRow*> rows_of(const RadiusScanResult& r, const std::string& field, const std::string& array) {
   std::vector<const RadiusRow*> out;
@@ -66,11 +64,11 @@ std::string radius_csv(const RadiusScanResult& r) {
   os << "field,array,r0_mm,bz_amplitude_T,ideal_pp_deg,worst_pp_deg,worst_corner,mc_mean_pp_deg,mc_p95_pp_deg,mc_p99_pp_deg,"
         "mc_max_pp_deg,mc_samples,noise_sigma_deg,noise_pp_deg,adc_clipped,total_p99_pp_deg,total_worst_pp_deg\n";
   for (const auto& x : r.rows)
-    os << x.field << "," << x.array << "," << g(x.r0_mm) << "," << g(x.bz_amplitude_T) << "," << g(x.ideal_pp_deg)
-       << "," << g(x.worst_pp_deg)
-       << "," << x.worst_corner << "," << g(x.mc.mean) << "," << g(x.mc.p95) << "," << g(x.mc.p99) << ","
-       << g(x.mc.max) << "," << x.mc.n << "," << g(x.noise.sigma_deg) << "," << g(x.noise.pp_deg) << ","
-       << (x.noise.adc_clipped ? 1 : 0) << "," << g(x.total_p99_pp_deg) << "," << g(x.total_worst_pp_deg) << "\n";
+    os << x.field << "," << x.array << "," << num10(x.r0_mm) << "," << num10(x.bz_amplitude_T) << "," << num10(x.ideal_pp_deg)
+       << "," << num10(x.worst_pp_deg)
+       << "," << x.worst_corner << "," << num10(x.mc.mean) << "," << num10(x.mc.p95) << "," << num10(x.mc.p99) << ","
+       << num10(x.mc.max) << "," << x.mc.n << "," << num10(x.noise.sigma_deg) << "," << num10(x.noise.pp_deg) << ","
+       << (x.noise.adc_clipped ? 1 : 0) << "," << num10(x.total_p99_pp_deg) << "," << num10(x.total_worst_pp_deg) << "\n";
   return os.str();
 }
 
@@ -82,10 +80,10 @@ std::string recommendation_csv(const RadiusScanResult& r) {
     double peak = std::numeric_limits<double>::quiet_NaN();
     for (const auto& f : r.fields)
       if (f.field == x.field) peak = f.r_bz_peak_mm;
-    os << x.field << "," << x.array << "," << g(x.r0_best_mm) << "," << g(x.total_p99_best_deg) << ","
-       << g(x.mc_p99_best_deg) << "," << g(x.noise_pp_best_deg) << "," << g(x.total_p99_left_deg) << ","
-       << g(x.total_p99_right_deg) << "," << g(x.band_lo_mm) << "," << g(x.band_hi_mm) << ","
-       << g(x.r0_best_mount_only_mm) << "," << g(peak) << "," << (x.at_scan_edge ? 1 : 0) << "\n";
+    os << x.field << "," << x.array << "," << num10(x.r0_best_mm) << "," << num10(x.total_p99_best_deg) << ","
+       << num10(x.mc_p99_best_deg) << "," << num10(x.noise_pp_best_deg) << "," << num10(x.total_p99_left_deg) << ","
+       << num10(x.total_p99_right_deg) << "," << num10(x.band_lo_mm) << "," << num10(x.band_hi_mm) << ","
+       << num10(x.r0_best_mount_only_mm) << "," << num10(peak) << "," << (x.at_scan_edge ? 1 : 0) << "\n";
   }
   return os.str();
 }
@@ -95,10 +93,10 @@ std::string validation_csv(const RadiusScanResult& r) {
   os << "field,array,r0_mm,case,sx_mm,sy_mm,dx_mm,dy_mm,dz_mm,pp_direct_deg,pp_direct_coarse_deg,pp_surrogate_deg,"
         "pp_diff_deg,max_coef_diff_deg\n";
   for (const auto& v : r.validation)
-    os << v.field << "," << v.array << "," << g(v.r0_mm) << "," << v.label << "," << g(v.mount.sx_mm) << ","
-       << g(v.mount.sy_mm) << "," << g(v.mount.dx_mm) << "," << g(v.mount.dy_mm) << "," << g(v.mount.dz_mm) << ","
-       << g(v.pp_direct_deg) << "," << g(v.pp_direct_coarse_deg) << "," << g(v.pp_surrogate_deg) << ","
-       << g(v.pp_surrogate_deg - v.pp_direct_deg) << "," << g(v.max_coef_diff_deg) << "\n";
+    os << v.field << "," << v.array << "," << num10(v.r0_mm) << "," << v.label << "," << num10(v.mount.sx_mm) << ","
+       << num10(v.mount.sy_mm) << "," << num10(v.mount.dx_mm) << "," << num10(v.mount.dy_mm) << "," << num10(v.mount.dz_mm) << ","
+       << num10(v.pp_direct_deg) << "," << num10(v.pp_direct_coarse_deg) << "," << num10(v.pp_surrogate_deg) << ","
+       << num10(v.pp_surrogate_deg - v.pp_direct_deg) << "," << num10(v.max_coef_diff_deg) << "\n";
   return os.str();
 }
 
@@ -240,7 +238,7 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
     for (const auto& f : r.fields)
       p.series.push_back({"peak " + plot_literal(f.field) + ": r = " + fmt(f.r_bz_peak_mm, 3) + " mm",
                           {f.r_bz_peak_mm, f.r_bz_peak_mm}, {0.0, ymax * 1.05}, "lines", "dt 2 lw 1.5"});
-    p.commands.push_back("set yrange [0:" + g(ymax * 1.1) + "]");
+    p.commands.push_back("set yrange [0:" + num10(ymax * 1.1) + "]");
     spec.panels.push_back(p);
     write_plot(dir, "bz_profile", spec);
   }
@@ -248,10 +246,10 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
 
 std::string budget_csv(const RadiusScanResult& r) {
   std::ostringstream os;
-  os << std::setprecision(10) << "field,array,r0_mm,group,p99_only_deg,p99_all_deg,share\n";
+  os << "field,array,r0_mm,group,p99_only_deg,p99_all_deg,share\n";
   for (const auto& b : r.budget)
-    os << b.field << "," << b.array << "," << b.r0_mm << "," << b.group << "," << b.p99_only_deg << "," << b.p99_all_deg
-       << "," << b.share << "\n";
+    os << b.field << "," << b.array << "," << num10(b.r0_mm) << "," << b.group << "," << num10(b.p99_only_deg) << ","
+       << num10(b.p99_all_deg) << "," << num10(b.share) << "\n";
   return os.str();
 }
 
@@ -284,15 +282,15 @@ void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& d
       bars.y.push_back(100.0 * bs[i]->share);
       tics += (i ? ", " : "") + std::string("'") + bs[i]->group + "' " + std::to_string(i);
       p.commands.push_back("set label '" + fmt(100.0 * bs[i]->share, 0) + "' at " + std::to_string(i) + ", " +
-                           g(100.0 * bs[i]->share) + " center offset 0,0.7 font ',9'");
+                           num10(100.0 * bs[i]->share) + " center offset 0,0.7 font ',9'");
     }
     p.series.push_back(bars);
     p.commands.push_back(tics + ") rotate by -30 font ',9'");
     p.commands.push_back("set boxwidth 0.6");
-    p.commands.push_back("set xrange [-0.6:" + g(double(bs.size()) - 0.4) + "]");
+    p.commands.push_back("set xrange [-0.6:" + num10(double(bs.size()) - 0.4) + "]");
     double top = 0;
     for (const auto* b : bs) top = std::max(top, 100.0 * b->share);
-    p.commands.push_back("set yrange [0:" + g(std::max(1.0, 1.15 * top)) + "]");
+    p.commands.push_back("set yrange [0:" + num10(std::max(1.0, 1.15 * top)) + "]");
     p.commands.push_back("unset key");
     spec.panels.push_back(p);
   }
@@ -326,7 +324,14 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
        << " deg; magnet lean components (toward x, toward y) each within +-" << fmt(opt.box.magnet_tilt_deg, 2)
        << " deg (magnet tilt up to " << fmt(std::sqrt(2.0) * opt.box.magnet_tilt_deg, 2)
        << " deg in any azimuth; pivot at the bottom-face centre, L = " << fmt(opt.magnet_height_mm, 2) << " mm)";
-  md << "; worst case over its " << opt.box.corners().size() << " corners; Monte Carlo "
+  if (opt.box.has_chain())
+    md << "; signal chain |offset_cos| <= " << fmt(opt.box.offset_cos_mT, 3) << " mT, |offset_sin| <= "
+       << fmt(opt.box.offset_sin_mT, 3) << " mT, |gain mismatch| <= " << fmt(opt.box.gain_mismatch, 4)
+       << ", |phase error| <= " << fmt(opt.box.phase_error_deg, 3) << " deg (applied to the channels before atan2)";
+  if (opt.box.has_elevation())
+    md << "; magnetization elevation " << fmt(opt.elevation_deg, 2) << " +- "
+       << fmt(opt.box.magnetization_elevation_deg, 2) << " deg";
+  md << "; worst case over its " << opt.box.case_corners().size() << " corners; Monte Carlo "
      << opt.samples << " samples per radius, uniform in the box, seed " << opt.seed
      << " (the same samples at every radius and array).\n";
   md << "- Sensor noise (assumptions): " << fmt(opt.noise.probe_noise_uT_rms, 1) << " uT rms field noise per probe, "

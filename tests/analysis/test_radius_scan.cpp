@@ -179,3 +179,274 @@ TEST_CASE("surrogate with tilts (full vector) matches the direct pipeline on til
   // A field with only Bz on a plane cannot make a full-vector model.
   CHECK_THROWS_AS(CircleFieldModel(LinearField(), r0, kPlaneZ, 360, reach_xy, reach_z, 4, true), InputError);
 }
+
+namespace {
+// A one-radius scan of the default magnet at r0 = 2.4 mm (cheap: 360 direct steps, few samples).
+RadiusScanOptions one_radius_options(const std::vector<std::string>& arrays) {
+  RadiusScanOptions opt;
+  for (const auto& a : arrays) opt.arrays.push_back(ProbeArray::parse(a));
+  opt.r0_mm = {2.4};
+  opt.plane_z_mm = kPlaneZ;
+  opt.direct_steps = 360;
+  opt.samples = 2000;
+  opt.seed = 11;
+  opt.validate_radii = 1;
+  opt.validate_samples = 2;
+  opt.box = ToleranceBox{0, 0, 0, 0, 0};
+  return opt;
+}
+const BudgetRow* budget_row(const RadiusScanResult& r, const std::string& array, const std::string& group) {
+  for (const auto& b : r.budget)
+    if (b.array == array && b.group == group) return &b;
+  return nullptr;
+}
+}  // namespace
+
+TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline", "[radius][surrogate][chain]") {
+  // physics.md "Beyond the five offsets": a channel offset oc gives a 1st harmonic of oc/amplitude rad, a gain
+  // mismatch g a 2nd harmonic of g/2 rad, a phase error delta a0 = c2 = delta/2 (small-signal forms: their
+  // relative error is of the order of the perturbation itself, ~1 % here, so 3 % is the check). The channel
+  // amplitude is A for `two` (u_c = B_0) and 2A for `diff4` (u_c = B_0 - B_180).
+  const AnalyticField field(default_magnet());
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4")};
+  const CircleFieldModel model(field, 2.4, kPlaneZ, 360, 0.3, 0.2, 4);
+  const FastPipeline fast(model, arrays);
+  const double A = model.amplitude_T();
+  const double rad = 180.0 / M_PI;
+  auto spectra = [&](const ToleranceCase& c) {
+    std::vector<Eigen::VectorXd> eps;
+    fast.eps(c, eps);
+    std::vector<Spectrum> s;
+    for (std::size_t a = 0; a < arrays.size(); ++a) {
+      s.push_back(spectrum_of(eps[a]));
+      // The surrogate against the direct pipeline with the same chain: at the nodes (ideal mount) the
+      // surrogate reads the exact field, so they agree to round-off; displaced, within the surrogate's tolerance.
+      ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360};
+      setup.chain = c.chain;
+      const Spectrum direct = error_spectrum(field, setup, c.mount);
+      const double tol = c.mount.sx_mm == 0 && c.mount.dx_mm == 0 ? 1e-9 : std::max(0.005, 0.0005 * direct.pp_deg);
+      CAPTURE(arrays[a].name, c.chain.offset_cos_mT, c.chain.gain_mismatch, c.chain.phase_error_deg, c.mount.sx_mm);
+      CHECK(std::abs(s.back().pp_deg - direct.pp_deg) <= tol);
+      CHECK(std::abs(s.back().a0_deg - direct.a0_deg) <= tol);
+      for (int n = 1; n <= kHarmonics; ++n) {
+        CHECK(std::abs(s.back().a_deg[n] - direct.a_deg[n]) <= tol);
+        CHECK(std::abs(s.back().b_deg[n] - direct.b_deg[n]) <= tol);
+      }
+    }
+    return s;
+  };
+  ToleranceCase oc;
+  oc.chain.offset_cos_mT = 0.5;
+  auto s = spectra(oc);
+  CHECK(s[0].c_deg[1] == Approx(0.5e-3 / A * rad).epsilon(0.03));
+  CHECK(s[1].c_deg[1] == Approx(0.5e-3 / (2 * A) * rad).epsilon(0.03));
+  CHECK(s[0].c_deg[1] == Approx(0.627).margin(0.002));  // physics.md reference value
+  ToleranceCase os;
+  os.chain.offset_sin_mT = -0.5;
+  s = spectra(os);
+  CHECK(s[0].c_deg[1] == Approx(0.5e-3 / A * rad).epsilon(0.03));
+  ToleranceCase gain;
+  gain.chain.gain_mismatch = 0.01;
+  s = spectra(gain);
+  for (const auto& sp : s) {
+    CHECK(sp.c_deg[2] == Approx(0.01 / 2 * rad).epsilon(0.03));
+    CHECK(sp.c_deg[1] < 1e-9);
+  }
+  CHECK(s[0].c_deg[2] == Approx(0.285).margin(0.002));
+  ToleranceCase phase;
+  phase.chain.phase_error_deg = 1.0;
+  s = spectra(phase);
+  for (const auto& sp : s) {
+    CHECK(sp.a0_deg == Approx(0.5).epsilon(0.03));
+    CHECK(sp.c_deg[2] == Approx(0.5).epsilon(0.03));
+  }
+  // A chain on a displaced mount (the surrogate's local models and the chain together).
+  ToleranceCase both = phase;
+  both.chain.offset_cos_mT = 0.3;
+  both.chain.gain_mismatch = -0.02;
+  both.mount.sx_mm = 0.1;
+  both.mount.dx_mm = -0.08;
+  both.mount.dz_mm = 0.1;
+  spectra(both);
+  // An all-zero chain is exactly the chain-off path (bit for bit), untilted and tilted.
+  ToleranceCase zero;
+  zero.mount = both.mount;
+  std::vector<Eigen::VectorXd> e_case, e_mount;
+  fast.eps(zero, e_case);
+  fast.eps(zero.mount, e_mount);
+  for (std::size_t a = 0; a < arrays.size(); ++a) CHECK((e_case[a].array() == e_mount[a].array()).all());
+  const CircleFieldModel full(field, 2.4, kPlaneZ, 360, 0.3, 0.2, 4, true);
+  const FastPipeline fast_full(full, arrays);
+  zero.mount.tilt_x_deg = 0.5;
+  zero.mount.magnet_tilt_deg = 0.3;
+  fast_full.eps(zero, e_case);
+  fast_full.eps(zero.mount, e_mount);
+  for (std::size_t a = 0; a < arrays.size(); ++a) CHECK((e_case[a].array() == e_mount[a].array()).all());
+  // A tilted mount with a chain against the direct pipeline.
+  ToleranceCase tilted_chain = zero;
+  tilted_chain.chain = both.chain;
+  fast_full.eps(tilted_chain, e_case);
+  for (std::size_t a = 0; a < arrays.size(); ++a) {
+    ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360};
+    setup.chain = tilted_chain.chain;
+    const Spectrum direct = error_spectrum(field, setup, tilted_chain.mount);
+    CHECK(spectrum_of(e_case[a]).pp_deg == Approx(direct.pp_deg).margin(std::max(0.005, 0.0005 * direct.pp_deg)));
+  }
+  // No axial model: an elevation deviation is refused.
+  ToleranceCase el;
+  el.elevation_deg = 1;
+  CHECK_THROWS_AS(fast.eps(el, e_case), InputError);
+}
+
+TEST_CASE("radius scan with the signal chain in the box: closed forms and the budget", "[radius][chain]") {
+  const AnalyticField field(default_magnet());
+  const double rad = 180.0 / M_PI;
+  // Chain-only boxes: the corners and the Monte Carlo p99 of the peak-to-peak error follow the closed forms
+  // (pp of a pure 1st harmonic c1 is 2 c1, of a pure 2nd harmonic 2 c2; the phase error's eps = delta/2 (1 - cos 2theta)
+  // has pp = delta). MC p99 of a uniform half-width h: 0.99 h.
+  auto scan = [&](const RadiusScanOptions& opt) {
+    RadiusScanResult r;
+    run_radius_scan(field, "analytic", opt, r);
+    REQUIRE(r.rows.size() == opt.arrays.size());
+    for (const auto& v : r.validation) {
+      if (v.label.rfind("worst corner", 0) != 0 && v.label.rfind("mc sample", 0) != 0) continue;  // spectra cases
+      CAPTURE(v.label, v.array);
+      CHECK(v.max_coef_diff_deg < 1e-6);  // no displacement: the surrogate reads the exact field
+    }
+    return r;
+  };
+  {
+    RadiusScanOptions opt = one_radius_options({"two", "diff4"});
+    opt.box.offset_cos_mT = 0.5;
+    const RadiusScanResult r = scan(opt);
+    const double A = r.rows[0].bz_amplitude_T;
+    CHECK(r.rows[0].worst_pp_deg == Approx(2 * 0.5e-3 / A * rad).epsilon(0.03));
+    CHECK(r.rows[1].worst_pp_deg == Approx(2 * 0.5e-3 / (2 * A) * rad).epsilon(0.03));
+    CHECK(r.rows[0].mc.p99 == Approx(0.99 * 2 * 0.5e-3 / A * rad).epsilon(0.03));
+    CHECK_THAT(r.rows[0].worst_corner, Catch::Matches("sx0 sy0 dx0 dy0 dz0 oc[+-] os0 g0 ph0"));
+    REQUIRE(r.budget.size() == 2);
+    CHECK(r.budget[0].group == "signal chain");
+    CHECK(r.budget[0].share == 1.0);
+  }
+  {
+    RadiusScanOptions opt = one_radius_options({"two"});
+    opt.box.gain_mismatch = 0.01;
+    const RadiusScanResult r = scan(opt);
+    CHECK(r.rows[0].worst_pp_deg == Approx(0.01 * rad).epsilon(0.03));
+    CHECK(r.rows[0].mc.p99 == Approx(0.99 * 0.01 * rad).epsilon(0.03));
+  }
+  {
+    RadiusScanOptions opt = one_radius_options({"two"});
+    opt.box.phase_error_deg = 1.0;
+    const RadiusScanResult r = scan(opt);
+    CHECK(r.rows[0].worst_pp_deg == Approx(1.0).epsilon(0.03));
+  }
+  // The default radius box (offsets and tilts) with and without a chain: the chain gets its own budget row,
+  // the other groups' p99 alone are the same numbers (common random numbers), the whole-box p99 and hence
+  // every share change.
+  RadiusScanOptions off = one_radius_options({"two", "ring:8"});
+  off.box = ToleranceBox{};
+  off.box.tilt_x_deg = off.box.tilt_y_deg = off.box.magnet_tilt_deg = 0.5;
+  off.validate_radii = 0;
+  RadiusScanOptions zero = off;  // an all-zero chain: exactly chain off
+  zero.box.offset_cos_mT = zero.box.offset_sin_mT = zero.box.gain_mismatch = zero.box.phase_error_deg = 0.0;
+  RadiusScanOptions on = off;
+  on.box.offset_cos_mT = on.box.offset_sin_mT = 0.5;
+  on.box.gain_mismatch = 0.01;
+  on.box.phase_error_deg = 1.0;
+  RadiusScanResult r_off, r_zero, r_on;
+  run_radius_scan(field, "analytic", off, r_off);
+  run_radius_scan(field, "analytic", zero, r_zero);
+  run_radius_scan(field, "analytic", on, r_on);
+  REQUIRE(r_off.rows.size() == r_zero.rows.size());
+  for (std::size_t i = 0; i < r_off.rows.size(); ++i) {
+    CHECK(r_off.rows[i].worst_pp_deg == r_zero.rows[i].worst_pp_deg);
+    CHECK(r_off.rows[i].worst_corner == r_zero.rows[i].worst_corner);
+    CHECK(r_off.rows[i].mc.p99 == r_zero.rows[i].mc.p99);
+    CHECK(r_off.rows[i].mc.mean == r_zero.rows[i].mc.mean);
+  }
+  REQUIRE(r_off.budget.size() == r_zero.budget.size());
+  for (std::size_t i = 0; i < r_off.budget.size(); ++i) CHECK(r_off.budget[i].share == r_zero.budget[i].share);
+  for (const std::string array : {"two", "ring:8"}) {
+    CAPTURE(array);
+    CHECK(budget_row(r_off, array, "signal chain") == nullptr);
+    const BudgetRow* chain = budget_row(r_on, array, "signal chain");
+    REQUIRE(chain != nullptr);
+    CHECK(chain->p99_only_deg > 0.3);
+    for (const std::string group : {"static", "dynamic", "air gap", "sensor tilt", "magnet tilt"}) {
+      CAPTURE(group);
+      const BudgetRow* a = budget_row(r_off, array, group);
+      const BudgetRow* b = budget_row(r_on, array, group);
+      REQUIRE(a != nullptr);
+      REQUIRE(b != nullptr);
+      CHECK(a->p99_only_deg == b->p99_only_deg);
+      CHECK(b->p99_all_deg > a->p99_all_deg);
+      CHECK(b->share < a->share);
+    }
+  }
+  for (std::size_t i = 0; i < r_off.rows.size(); ++i) CHECK(r_on.rows[i].mc.p99 > r_off.rows[i].mc.p99);
+}
+
+TEST_CASE("radius scan with the magnetization elevation in the box", "[radius][elevation]") {
+  // physics.md reference: elevation 5 deg, `two`, r0 2.4 mm: c1 = 7.70 deg; `diff4` and `ring:N` see nothing
+  // with an ideal mount (the axial part is symmetric about the axis).
+  const AnalyticField field(default_magnet());
+  Magnet md = default_magnet(), ma = default_magnet();
+  ma.magnetization_elevation_deg = 90;
+  const AnalyticField diametric(md), axial(ma);
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4")};
+  const CircleFieldModel m_d(diametric, 2.4, kPlaneZ, 360, 0.3, 0.2, 4), m_a(axial, 2.4, kPlaneZ, 360, 0.3, 0.2, 4);
+  const FastPipeline fast(m_d, arrays, 4.0, &m_a, 0.0);
+  ToleranceCase c;
+  c.elevation_deg = 5;
+  std::vector<Eigen::VectorXd> eps;
+  fast.eps(c, eps);
+  CHECK(spectrum_of(eps[0]).c_deg[1] == Approx(7.70).margin(0.01));
+  CHECK(spectrum_of(eps[1]).pp_deg < 1e-6);
+  // Nominal 2 deg + deviation 3 deg is the 5 deg magnet; displaced mounts against the direct pipeline on it.
+  Magnet m5 = default_magnet();
+  m5.magnetization_elevation_deg = 5;
+  const AnalyticField field5(m5);
+  const FastPipeline fast2(m_d, arrays, 4.0, &m_a, 2.0);
+  ToleranceCase d;
+  d.elevation_deg = 3;
+  d.mount.sx_mm = 0.1;
+  d.mount.dy_mm = -0.1;
+  d.mount.dz_mm = 0.15;
+  fast2.eps(d, eps);
+  for (std::size_t a = 0; a < arrays.size(); ++a) {
+    const Spectrum direct = error_spectrum(field5, ProbeSetup{arrays[a], 2.4, kPlaneZ, 360}, d.mount);
+    const Spectrum sur = spectrum_of(eps[a]);
+    const double tol = std::max(0.005, 0.0005 * direct.pp_deg);
+    CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);
+    for (int n = 1; n <= kHarmonics; ++n) CHECK(std::abs(sur.c_deg[n] - direct.c_deg[n]) <= tol);
+  }
+  // The scan: an elevation-only box; validation rows compare with the exact field at each case's elevation.
+  RadiusScanOptions opt = one_radius_options({"two", "diff4"});
+  opt.box.magnetization_elevation_deg = 5;
+  RadiusScanResult r;
+  run_radius_scan(field, "analytic", opt, r);
+  REQUIRE(r.rows.size() == 2);
+  CHECK(r.rows[0].worst_pp_deg > 14.0);  // c1 = 7.7 deg: pp about 2 c1
+  CHECK(r.rows[1].worst_pp_deg < 1e-6);
+  CHECK(r.rows[0].bz_amplitude_T == Approx(m_d.amplitude_T()).epsilon(1e-12));
+  bool saw_elevated = false;
+  for (const auto& v : r.validation) {
+    if (v.label.rfind("worst corner", 0) != 0 && v.label.rfind("mc sample", 0) != 0) continue;  // spectra cases
+    CAPTURE(v.label, v.array);
+    CHECK(v.max_coef_diff_deg < 1e-6);  // no displacement: cos(al) diametric + sin(al) axial at the nodes is exact
+    saw_elevated = true;
+  }
+  CHECK(saw_elevated);
+  REQUIRE(budget_row(r, "two", "magnetization elevation") != nullptr);
+  // Fields with one fixed magnetization refuse the axis (one line naming the key); so does nominal + half-width > 90.
+  CHECK_THROWS_WITH(check_field_serves_box(LinearField(), "linear", opt),
+                    Catch::Contains("radius.tol_magnetization_elevation_deg") && Catch::Contains("'linear'"));
+  RadiusScanResult r2;
+  CHECK_THROWS_AS(run_radius_scan(LinearField(), "linear", opt, r2), InputError);
+  CHECK(r2.rows.empty());
+  opt.elevation_deg = 88;
+  CHECK_THROWS_WITH(check_field_serves_box(field, "analytic", opt), Catch::Contains("allowed <= 2"));
+  opt.box.magnetization_elevation_deg = 0;
+  CHECK_NOTHROW(check_field_serves_box(LinearField(), "linear", opt));
+}

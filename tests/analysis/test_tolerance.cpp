@@ -163,3 +163,99 @@ TEST_CASE("tilts in the box: the five offsets draw as before, corners, groups", 
   CHECK(corner_text(ToleranceBox{0.1, 0.1, 0.1, 0.1, 0.2, 0.5, 0.5, 0.5}.corners().back()) ==
         "sx- sy- dx- dy- dz- tx- ty- gx- gy-");
 }
+
+TEST_CASE("signal chain and elevation in the box: off by default and drawn after the tilts", "[tolerance][chain]") {
+  ToleranceBox five;  // five offsets only
+  ToleranceBox tilted = five;
+  tilted.tilt_x_deg = tilted.tilt_y_deg = tilted.magnet_tilt_deg = 0.5;
+  CHECK_FALSE(tilted.has_chain());
+  CHECK_FALSE(tilted.has_elevation());
+  CHECK(tilted.case_corners().size() == 512);
+  CHECK(five.case_corners().size() == 32);
+  ToleranceBox chained = tilted;
+  chained.offset_cos_mT = 0.5;
+  chained.offset_sin_mT = 0.25;
+  chained.gain_mismatch = 0.01;
+  chained.phase_error_deg = 1.0;
+  ToleranceBox elevated = chained;
+  elevated.magnetization_elevation_deg = 2.0;
+  CHECK(chained.has_chain());
+  CHECK(elevated.has_elevation());
+  CHECK(chained.case_corners().size() == 512 * 16);
+  CHECK(elevated.case_corners().size() == 512 * 32);
+  // The first corners keep the order and values of the box without the new axes.
+  const auto old_c = tilted.case_corners(), new_c = elevated.case_corners();
+  for (std::size_t i = 0; i < old_c.size(); ++i) {
+    CHECK(corner_text(old_c[i]) + " oc+ os+ g+ ph+ el+" == corner_text(new_c[i]));
+    CHECK(old_c[i].mount.magnet_tilt_azimuth_deg == new_c[i].mount.magnet_tilt_azimuth_deg);
+  }
+  CHECK(corner_text(new_c.back()) == "sx- sy- dx- dy- dz- tx- ty- gx- gy- oc- os- g- ph- el-");
+  CHECK(chained.corners().size() == 512);  // the Mount corners ignore the chain and elevation axes
+  const ToleranceBox chain_only = elevated.only("signal chain");
+  const ToleranceBox elevation_only = elevated.only("magnetization elevation");
+  ToleranceBox five_chain = five;  // a chain without tilts: the tilt draws still keep their places
+  five_chain.offset_cos_mT = 0.5;
+  five_chain.offset_sin_mT = 0.25;
+  five_chain.gain_mismatch = 0.01;
+  five_chain.phase_error_deg = 1.0;
+  double max_oc = 0, max_g = 0, max_el = 0;
+  for (std::uint64_t i = 0; i < 2000; ++i) {
+    const ToleranceCase t = tilted.case_sample(5, i), c = chained.case_sample(5, i), e = elevated.case_sample(5, i);
+    // Common random numbers: the mount of sample i does not depend on the chain or elevation being in the box.
+    CHECK(t.mount.sx_mm == e.mount.sx_mm);
+    CHECK(t.mount.dz_mm == c.mount.dz_mm);
+    CHECK(t.mount.tilt_y_deg == e.mount.tilt_y_deg);
+    CHECK(t.mount.magnet_tilt_azimuth_deg == e.mount.magnet_tilt_azimuth_deg);
+    CHECK(t.chain.ideal());
+    CHECK(t.elevation_deg == 0);
+    CHECK(c.elevation_deg == 0);
+    // ... nor the chain on the elevation, nor on the other groups (budget: one group alone, same values).
+    CHECK(c.chain.offset_cos_mT == e.chain.offset_cos_mT);
+    CHECK(c.chain.phase_error_deg == e.chain.phase_error_deg);
+    const ToleranceCase co = chain_only.case_sample(5, i), eo = elevation_only.case_sample(5, i);
+    CHECK(co.chain.gain_mismatch == e.chain.gain_mismatch);
+    CHECK(co.chain.offset_sin_mT == e.chain.offset_sin_mT);
+    CHECK(eo.elevation_deg == e.elevation_deg);
+    CHECK_FALSE(co.mount.tilted());
+    CHECK(co.mount.sx_mm == 0);
+    CHECK(eo.chain.ideal());
+    const ToleranceCase fc = five_chain.case_sample(5, i);
+    CHECK(fc.mount.sy_mm == five.sample(5, i).sy_mm);
+    CHECK_FALSE(fc.mount.tilted());
+    CHECK(fc.chain.offset_cos_mT == c.chain.offset_cos_mT);
+    CHECK(std::abs(c.chain.offset_sin_mT) <= 0.25);
+    CHECK(std::abs(c.chain.gain_mismatch) <= 0.01);
+    CHECK(std::abs(c.chain.phase_error_deg) <= 1.0);
+    CHECK(std::abs(e.elevation_deg) <= 2.0);
+    max_oc = std::max(max_oc, std::abs(c.chain.offset_cos_mT));
+    max_g = std::max(max_g, std::abs(c.chain.gain_mismatch));
+    max_el = std::max(max_el, std::abs(e.elevation_deg));
+  }
+  CHECK(max_oc > 0.49);
+  CHECK(max_g > 0.0099);
+  CHECK(max_el > 1.98);
+  CHECK(chain_only.offset_cos_mT == 0.5);
+  CHECK_FALSE(chain_only.has_tilts());
+  CHECK_FALSE(chain_only.has_elevation());
+  CHECK(chain_only.dz_mm == 0);
+  CHECK(elevation_only.magnetization_elevation_deg == 2.0);
+  CHECK_FALSE(elevation_only.has_chain());
+  CHECK_FALSE(tilted.only("signal chain").has_chain());
+  CHECK(tilted.only("signal chain").empty());
+  CHECK_FALSE(chain_only.empty());
+  // Half-width ranges.
+  ToleranceBox bad = chained;
+  bad.gain_mismatch = 0.6;
+  CHECK_THROWS_WITH(bad.validate("radius.tol_"), Catch::Contains("radius.tol_gain_mismatch"));
+  bad = chained;
+  bad.offset_cos_mT = -0.1;
+  CHECK_THROWS_WITH(bad.validate("radius.tol_"), Catch::Contains("radius.tol_offset_cos_mT"));
+  bad = chained;
+  bad.magnetization_elevation_deg = std::nan("");
+  CHECK_THROWS_WITH(bad.validate("radius.tol_"), Catch::Contains("radius.tol_magnetization_elevation_deg"));
+  // evaluate_cases over whole cases.
+  const auto cases = monte_carlo_cases(elevated, 100, 3);
+  const Eigen::MatrixXd v = evaluate_cases(
+      cases, 1, [](std::size_t, const ToleranceCase& c, double* o) { o[0] = c.chain.gain_mismatch + c.elevation_deg; });
+  for (std::size_t i = 0; i < cases.size(); ++i) CHECK(v(Eigen::Index(i), 0) == cases[i].chain.gain_mismatch + cases[i].elevation_deg);
+}
