@@ -5,7 +5,7 @@
 
 using namespace magenc;
 
-TEST_CASE("defaults match physics.md", "[config]") {
+TEST_CASE("defaults match physics.md", "[core][contract]") {
   Config c(common_keys());
   CHECK(c.real("magnet.radius_mm") == 2.0);
   CHECK(c.real("magnet.height_mm") == 4.0);
@@ -17,7 +17,7 @@ TEST_CASE("defaults match physics.md", "[config]") {
   CHECK(c.integer("sensor.steps") == 3600);
 }
 
-TEST_CASE("toml and --set override in order", "[config]") {
+TEST_CASE("toml and --set override in order", "[core]") {
   Config c(common_keys());
   c.load_toml_string("[magnet]\nradius_mm = 3\n[sensor]\narray = \"diff4\"\n");
   CHECK(c.real("magnet.radius_mm") == 3.0);
@@ -31,7 +31,7 @@ TEST_CASE("toml and --set override in order", "[config]") {
   CHECK(d.str("sensor.array") == "diff4");
 }
 
-TEST_CASE("bad input is rejected with the key and range named", "[config][bad-input]") {
+TEST_CASE("bad input is rejected with the key and range named", "[core][bad-input]") {
   Config c(common_keys());
   auto msg = [&](auto&& f) {
     try {
@@ -62,7 +62,7 @@ TEST_CASE("bad input is rejected with the key and range named", "[config][bad-in
 // Issue 13: hostile TOML. A 50,000-level dotted table header overflowed the stack inside toml++
 // (reached from Config::load_toml_string); sensor.steps = 1e300 was cast to long before the range
 // check (undefined: float-cast-overflow; the message said -9223372036854775808).
-TEST_CASE("hostile TOML: deep nesting, huge input and huge integers are input errors", "[config][bad-input]") {
+TEST_CASE("hostile TOML: deep nesting, huge input and huge integers are input errors", "[core][bad-input]") {
   Config c(common_keys());
   auto msg = [&](const std::string& toml) {
     try {

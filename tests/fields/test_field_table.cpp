@@ -96,7 +96,7 @@ GridData sample_exact(const Config& cfg, bool box, bool bz_only) {
 
 }  // namespace
 
-TEST_CASE("a grid written as a table reads back to the same grid in every format", "[grid][table]") {
+TEST_CASE("a grid written as a table reads back to the same grid in every format", "[fields][contract]") {
   const Config cfg(common_keys());
   // A small exact-field box with B (3-D) and a Bz-only plane.
   const AnalyticField exact(Magnet::from_config(cfg));
@@ -162,7 +162,7 @@ TEST_CASE("a grid written as a table reads back to the same grid in every format
   CHECK(s6.spacing_mm.x() == Approx(0.0912345).epsilon(1e-5));
 }
 
-TEST_CASE("the exact field as a table reproduces the exact spectra", "[grid][table][probe]") {
+TEST_CASE("the exact field as a table reproduces the exact spectra", "[fields][cross-check]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);
@@ -246,7 +246,7 @@ TEST_CASE("the exact field as a table reproduces the exact spectra", "[grid][tab
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad tables: one line naming the problem and the first offending line", "[grid][table]") {
+TEST_CASE("bad tables: one line naming the problem and the first offending line", "[fields][bad-input]") {
   // small_table(): header on line 1, row (i, j) on line 2 + i + 4 j.
   SECTION("a good small table parses") {
     const GridData g = parse_field_table(small_table(), "t.csv", 4.55);
@@ -355,7 +355,7 @@ Run run_cmd(const std::string& cmd, const fs::path& dir) {
 }
 }  // namespace
 
-TEST_CASE("error_spectrum --field table: and table_to_vti", "[grid][table][tools]") {
+TEST_CASE("error_spectrum --field table: and table_to_vti", "[fields][cli]") {
   const Config cfg(common_keys());
   const auto dir = scratch();
   const std::string bin = MAGENC_BIN_DIR;

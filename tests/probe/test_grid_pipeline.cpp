@@ -25,7 +25,7 @@ std::filesystem::path scratch() {
 }
 }  // namespace
 
-TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[grid][probe]") {
+TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[probe][cross-check]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);
@@ -64,7 +64,7 @@ TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better interpolation removes", "[grid][probe]") {
+TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better interpolation removes", "[probe][physics]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   ProbeSetup setup;
@@ -87,7 +87,7 @@ TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better in
   CHECK(c4(0.05, "linear") < c4(0.1, "linear"));
 }
 
-TEST_CASE("error_spectrum --field grid: runs and refuses points outside the grid", "[grid][tools]") {
+TEST_CASE("error_spectrum --field grid: runs and refuses points outside the grid", "[probe][bad-input][cli]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);

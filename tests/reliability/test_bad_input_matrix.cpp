@@ -136,7 +136,7 @@ const fs::path kBin = MAGENC_BIN_DIR;
 }  // namespace
 
 TEST_CASE("bad-input matrix: every executable x every declared key x its bad values (--set and TOML)",
-          "[reliability][bad-input]") {
+          "[apps][bad-input][cli][slow]") {
   const auto exes = executables(kBin);
   REQUIRE(exes.size() >= 10);
   Matrix m;
@@ -163,7 +163,7 @@ TEST_CASE("bad-input matrix: every executable x every declared key x its bad val
   CHECK(m.failures == 0);
 }
 
-TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
   REQUIRE(exes.size() >= 10);
   Matrix m;
@@ -200,7 +200,7 @@ TEST_CASE("bad-input matrix: every executable x unusable files and output paths"
   CHECK(m.failures == 0);
 }
 
-TEST_CASE("bad-input matrix: every executable x an output path that is unusable", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: every executable x an output path that is unusable", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
   Matrix m;
   for (const auto& exe : exes) {
@@ -241,7 +241,7 @@ std::string vti(const std::string& whole = "0 2 0 2 0 0", const std::string& pie
 }
 }  // namespace
 
-TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", "[apps][bad-input][cli]") {
   Matrix m;
   const fs::path es = kBin / "error_spectrum", sf = kBin / "solve_field";
   ScratchDir s("magenc_matrix_inputs");
