@@ -30,8 +30,8 @@ const char* kStudy = "airgap";
 std::vector<KeySpec> study_keys() {
   std::vector<KeySpec> k = {study_arrays_key()};
   for (auto& s : dz_sweep_keys(" (inside the box.vti height)")) k.push_back(s);
-  k.push_back(string_key("dz_sweep.coefs", "a0_deg,c1_deg,c2_deg,c3_deg,c4_deg,pp_deg", {},
-                         "comma-separated spectra columns fitted with a cubic in dz"));
+  k.push_back(string_list_key("dz_sweep.coefs", {"a0_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg", "pp_deg"}, {},
+                         "spectra columns fitted with a cubic in dz"));
   k.push_back(real_key("residual.sx_mm", 0.05, -100, 100, "mm", "residual static eccentricity sx of the 'sx' cases"));
   k.push_back(real_key("residual.dx_mm", 0.05, -100, 100, "mm", "residual dynamic eccentricity dx of the 'dx' cases"));
   for (auto& s : fem_field_keys("box.vti")) k.push_back(s);

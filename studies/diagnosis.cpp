@@ -27,7 +27,7 @@ const char* kStudy = "diagnosis";
 
 std::vector<KeySpec> study_keys() {
   return {
-      string_key("study.arrays", "two,diff4", {}, "comma-separated probe arrays (two, diff4, ring:N)"),
+      string_list_key("study.arrays", {"two", "diff4"}, {}, "probe arrays (two, diff4, ring:N)"),
       int_key("roundtrip.cases", 100, 1, 100000, "random cases per array on the exact field"),
       int_key("roundtrip.fem_cases", 20, 0, 100000, "random cases per array on the FE field (fem_field.dir)"),
       int_key("roundtrip.seed", 1, 0, 1000000000, "seed of the random truths, noise and starts"),

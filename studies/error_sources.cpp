@@ -19,13 +19,11 @@ const char* kStudy = "error_sources";
 
 std::vector<KeySpec> study_keys() {
   std::vector<KeySpec> k = {
-      string_key("study.arrays", "two,diff4,ring:8", {}, "comma-separated probe arrays (two, diff4, ring:N)"),
+      string_list_key("study.arrays", {"two", "diff4", "ring:8"}, {}, "probe arrays (two, diff4, ring:N)"),
       string_key("study.field", "analytic", {}, "field source (analytic; others cannot follow the magnetization elevation)"),
-      string_key("study.sources",
-                 "tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnetization_elevation_deg,offset_cos_mT,offset_sin_mT,"
-                 "gain_mismatch,phase_error_deg",
-                 {}, "comma-separated error sources, each swept alone from 0"),
-      string_key("sweep.coefs", "a0_deg,c1_deg,c2_deg,c3_deg,c4_deg", {}, "comma-separated spectra columns fitted with a cubic"),
+      string_list_key("study.sources",
+                 {"tilt_x_deg", "tilt_y_deg", "magnet_tilt_deg", "magnetization_elevation_deg", "offset_cos_mT", "offset_sin_mT", "gain_mismatch", "phase_error_deg"}, {}, "error sources, each swept alone from 0"),
+      string_list_key("sweep.coefs", {"a0_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg"}, {}, "spectra columns fitted with a cubic"),
       real_key("summary.floor_deg", 1e-4, 0, 1e3, "deg", "harmonics below this amplitude are not listed as dominant"),
       real_key("summary.relative", 0.01, 0, 1, "", "harmonics below this fraction of the largest are not listed"),
   };

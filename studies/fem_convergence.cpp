@@ -23,11 +23,11 @@ namespace {
 std::vector<KeySpec> study_keys() {
   auto keys = fem_keys();
   for (auto k : std::vector<KeySpec>{
-           string_key("convergence.h_zone_list", "0.8,0.55,0.4,0.3", {}, "comma-separated zone edge lengths (mm), coarse to fine"),
+           real_list_key("convergence.h_zone_list", {0.8, 0.55, 0.4, 0.3}, 0, 1000, "mm", "zone edge lengths (mm), coarse to fine", true),
            real_key("convergence.h_magnet_factor", 2.0, 0, 100, "", "magnet edge length = factor x zone edge length", true),
-           string_key("convergence.orders", "1,2", {}, "comma-separated element orders (1, 2)"),
-           string_key("convergence.faceting_segments", "16,32,64,128", {}, "segment counts for the faceting runs (empty: skip)"),
-           string_key("convergence.truncation_radii", "15,30,60,120", {}, "outer radii (mm) for the truncation runs (empty: skip)"),
+           int_list_key("convergence.orders", {1, 2}, 1, 2, "element orders (1, 2)"),
+           int_list_key("convergence.faceting_segments", {16, 32, 64, 128}, 3, 1000000, "segment counts for the faceting runs (empty: skip)", 0),
+           real_list_key("convergence.truncation_radii", {15, 30, 60, 120}, 0, 1000, "mm", "outer radii (mm) for the truncation runs (empty: skip)", true, 0),
            real_key("convergence.potential_mu_r", 1.05, 0, 1000, "",
                     "total vs reduced potential at this magnet mu_r (P2, each h of h_zone_list) against the reduced "
                     "solve of the finest h (0 = skip)"),

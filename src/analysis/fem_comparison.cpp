@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 std::vector<KeySpec> fem_field_keys(const std::string& default_grid_file) {
   return {
       string_key("fem_field.dir", "output/field", {}, "solve_field output directory (run solve_field --out DIR first)"),
-      string_key("fem_field.sources", "grid,fem", {},
-                 "comma-separated FEM field sources: grid (grid:DIR/grid_file, interpolated), fem (fem:DIR, "
+      string_list_key("fem_field.sources", {"grid", "fem"}, {},
+                 "FEM field sources: grid (grid:DIR/grid_file, interpolated), fem (fem:DIR, "
                  "FE solution evaluated directly); the first is the one plotted"),
       string_key("fem_field.grid_file", default_grid_file, {"plane.vti", "box.vti"},
                  "grid of DIR that grid sources sample (plane.vti has no dz)"),

@@ -9,8 +9,8 @@ namespace magenc {
 
 std::vector<KeySpec> acceptance_keys() {
   return {
-      string_key("acceptance.arrays", "two,diff4", {}, "arrays the acceptance check covers"),
-      string_key("acceptance.coefs", "c1_deg,c2_deg,c3_deg,c4_deg", {},
+      string_list_key("acceptance.arrays", {"two", "diff4"}, {}, "arrays the acceptance check covers"),
+      string_list_key("acceptance.coefs", {"c1_deg", "c2_deg", "c3_deg", "c4_deg"}, {},
                  "coefficients the acceptance check covers (rule fixed: max(2 % of exact, 0.002 deg))"),
   };
 }

@@ -9,7 +9,7 @@
 namespace magenc {
 
 KeySpec study_arrays_key() {
-  return string_key("study.arrays", "two,diff4,ring:8", {}, "comma-separated probe arrays (two, diff4, ring:N)");
+  return string_list_key("study.arrays", {"two", "diff4", "ring:8"}, {}, "probe arrays (two, diff4, ring:N)");
 }
 
 std::vector<KeySpec> offset_sweep_keys(const std::string& reference_use) {
@@ -17,10 +17,10 @@ std::vector<KeySpec> offset_sweep_keys(const std::string& reference_use) {
       int_key("sweep.points", 26, 4, 100000, "values per offset sweep (>= 4 for the cubic fit)"),
       real_key("sweep.max_mm", 0.5, 0, 100, "mm", "each offset is swept over 0..max_mm", true),
       real_key("sweep.reference_mm", 0.1, 0, 100, "mm", "offset of " + reference_use, true),
-      string_key("sweep.offsets", "sx_mm,sy_mm,dx_mm,dy_mm", {},
-                 "comma-separated offsets swept one at a time from 0 (sx_mm, sy_mm, dx_mm, dy_mm, dz_mm)"),
-      string_key("sweep.coefs", "a0_deg,a1_deg,b1_deg,a2_deg,b2_deg,c1_deg,c2_deg,c3_deg,c4_deg", {},
-                 "comma-separated spectra columns fitted with a cubic"),
+      string_list_key("sweep.offsets", {"sx_mm", "sy_mm", "dx_mm", "dy_mm"}, {},
+                 "offsets swept one at a time from 0 (sx_mm, sy_mm, dx_mm, dy_mm, dz_mm)"),
+      string_list_key("sweep.coefs", {"a0_deg", "a1_deg", "b1_deg", "a2_deg", "b2_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg"}, {},
+                 "spectra columns fitted with a cubic"),
   };
 }
 

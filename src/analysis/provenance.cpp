@@ -42,15 +42,15 @@ const char* kDefaultVariants =
 
 std::vector<KeySpec> provenance_keys() {
   return {
-      string_key("provenance.spacings_mm", "0.2,0.1,0.05,0.025", {}, "comma-separated grid spacings h (mm), coarse to fine"),
-      string_key("provenance.interps", "nearest,linear,cubic", {}, "comma-separated interpolation modes"),
+      real_list_key("provenance.spacings_mm", {0.2, 0.1, 0.05, 0.025}, 0, 100, "mm", "grid spacings h (mm), coarse to fine", true),
+      string_list_key("provenance.interps", {"nearest", "linear", "cubic"}, {}, "interpolation modes"),
       real_key("provenance.half_width_mm", 3.5, 0, 100, "mm", "plane grids span [-w, w] in x and y", true),
       real_key("provenance.offset_mm", 0.1, 0, 10, "mm", "size of the sx and dx cases", true),
       string_key(kFemVariantsKey, kDefaultVariants, {},
                  "FE variants solved here with magnet.mu_r = 1: 'LABEL: config=FILE key=value ...' entries separated by "
                  "';' (config=FILE: a TOML file of solve_field keys, relative to the working directory or the magenc "
                  "source tree; key=value: a mesh.*, fem.* or grid.* key); empty: none"),
-      string_key("provenance.fem_dirs", "", {}, "comma-separated solve_field output directories to include (may be empty)"),
+      string_list_key("provenance.fem_dirs", {}, {}, "solve_field output directories to include (may be empty)", 0),
       string_key("provenance.fem_grid_interp", "cubic", {"none", "nearest", "linear", "cubic"},
                  "also evaluate each FE solution through its plane grid (plane.vti) with this interpolation; none: directly only"),
       real_key("provenance.floor_deg", 1e-4, 0, 1, "deg", "exact c_n at or above this is physical", true),

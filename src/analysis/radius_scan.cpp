@@ -305,7 +305,7 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
                  "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, table:FILE, fem:DIR)"),
       string_key("radius.fem_dir", "output/field", {},
                  "add fem:<dir> when <dir>/solve.json exists and no fem: field is listed (empty = never)"),
-      string_key("radius.arrays", "two,diff4,ring:8", {}, "probe arrays to compare, comma-separated"),
+      string_list_key("radius.arrays", {"two", "diff4", "ring:8"}, {}, "probe arrays to compare"),
       real_key("radius.r0_min_mm", 0.5, 0, 1000, "mm", "smallest probe radius scanned", true),
       real_key("radius.r0_max_mm", 3.5, 0, 1000, "mm", "largest probe radius scanned", true),
       real_key("radius.r0_step_mm", 0.05, 0, 100, "mm", "probe radius step", true),

@@ -6,10 +6,13 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <toml++/toml.h>
+#include <type_traits>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/fp_trap.hpp"
 
 namespace magenc {
@@ -19,9 +22,7 @@ KeySpec real_key(std::string key, double def, double min, double max, std::strin
   KeySpec s;
   s.key = std::move(key);
   s.type = KeySpec::Type::Real;
-  std::ostringstream os;
-  os << std::setprecision(15) << def;
-  s.default_value = os.str();
+  s.default_value = fmt_sig(def, 15);
   s.min = min;
   s.max = max;
   s.min_exclusive = min_exclusive;
@@ -62,27 +63,80 @@ KeySpec bool_key(std::string key, bool def, std::string help) {
   return s;
 }
 
-namespace {
-
-std::string fmt_num(double v) {
-  std::ostringstream os;
-  os << std::setprecision(12) << v;
-  return os.str();
+KeySpec real_list_key(std::string key, const std::vector<double>& def, double min, double max, std::string unit,
+                      std::string help, bool min_exclusive, std::size_t min_elements) {
+  KeySpec s = real_key(std::move(key), 0.0, min, max, std::move(unit), std::move(help), min_exclusive);
+  s.type = KeySpec::Type::RealList;
+  s.default_value.clear();
+  for (std::size_t i = 0; i < def.size(); ++i) s.default_value += (i ? "," : "") + fmt_sig(def[i], 15);
+  s.min_elements = min_elements;
+  return s;
 }
 
-std::string value_text(const ConfigValue& v) {
-  if (auto d = std::get_if<double>(&v)) return fmt_num(*d);
+KeySpec int_list_key(std::string key, const std::vector<long>& def, long min, long max, std::string help,
+                     std::size_t min_elements) {
+  KeySpec s = int_key(std::move(key), 0, min, max, std::move(help));
+  s.type = KeySpec::Type::IntList;
+  s.default_value.clear();
+  for (std::size_t i = 0; i < def.size(); ++i) s.default_value += (i ? "," : "") + std::to_string(def[i]);
+  s.min_elements = min_elements;
+  return s;
+}
+
+KeySpec string_list_key(std::string key, const std::vector<std::string>& def, std::vector<std::string> choices,
+                        std::string help, std::size_t min_elements) {
+  std::string text;
+  for (std::size_t i = 0; i < def.size(); ++i) text += (i ? "," : "") + def[i];
+  KeySpec s = string_key(std::move(key), text, std::move(choices), std::move(help));
+  s.type = KeySpec::Type::StringList;
+  s.min_elements = min_elements;
+  return s;
+}
+
+namespace {
+
+bool is_list(KeySpec::Type t) {
+  return t == KeySpec::Type::RealList || t == KeySpec::Type::IntList || t == KeySpec::Type::StringList;
+}
+
+// The scalar type of a list key's elements.
+KeySpec::Type element_type(KeySpec::Type t) {
+  if (t == KeySpec::Type::RealList) return KeySpec::Type::Real;
+  if (t == KeySpec::Type::IntList) return KeySpec::Type::Int;
+  if (t == KeySpec::Type::StringList) return KeySpec::Type::String;
+  return t;
+}
+
+std::string scalar_text(const ConfigScalar& v) {
+  if (auto d = std::get_if<double>(&v)) return fmt_sig(*d, 12);
   if (auto i = std::get_if<long>(&v)) return std::to_string(*i);
   if (auto s = std::get_if<std::string>(&v)) return *s;
   return std::get<bool>(v) ? "true" : "false";
 }
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
+std::string value_text(const ConfigValue& v) {
+  if (auto l = std::get_if<ConfigList>(&v)) {
+    std::string t;
+    for (std::size_t i = 0; i < l->size(); ++i) t += (i ? "," : "") + scalar_text((*l)[i]);
+    return t;
+  }
+  return std::visit([](const auto& x) -> std::string {
+    if constexpr (std::is_same_v<std::decay_t<decltype(x)>, ConfigList>) return "";
+    else return scalar_text(ConfigScalar(x));
+  }, v);
 }
+
+// A TOML node as a configuration scalar; nullopt for arrays and tables.
+std::optional<ConfigScalar> toml_scalar(const toml::node& node) {
+  if (auto d = node.as_floating_point()) return ConfigScalar(d->get());
+  if (auto i = node.as_integer()) return ConfigScalar(static_cast<long>(i->get()));
+  if (auto str = node.as_string()) return ConfigScalar(str->get());
+  if (auto b = node.as_boolean()) return ConfigScalar(b->get());
+  return std::nullopt;
+}
+
+// Bounds of TOML text before toml++ parses it (defined below).
+void check_toml_bounds(const std::string& text, const std::string& origin);
 
 // Parse textual value per spec type (for defaults and --set).
 ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
@@ -91,6 +145,53 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
                      allowed_range(s));
   };
+  if (is_list(s.type)) {
+    ConfigList elements;
+    if (!t.empty() && t.front() == '[') {
+      // A TOML array, as in a file: --set 'key=[1, 2]'.
+      check_toml_bounds(t, origin);
+      toml::table tbl;
+      try {
+        const FpTrapPause parsing_input;  // strtod of 1e999 raises FE_OVERFLOW: input, not a bug (fp_trap.hpp)
+        tbl = toml::parse("value = " + t, origin);
+      } catch (const toml::parse_error& e) {
+        throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" +
+                         std::string(e.description()) + "): allowed " + allowed_range(s));
+      }
+      const toml::array* a = tbl["value"].as_array();
+      if (!a) return fail();
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        auto e = toml_scalar(*a->get(i));
+        if (!e)
+          throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
+                           std::to_string(a->size()) + " is an array or table: allowed " + allowed_range(s));
+        elements.push_back(*e);
+      }
+      return elements;
+    }
+    // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
+    KeySpec e = s;
+    e.type = element_type(s.type);
+    std::vector<std::string> parts;
+    if (!t.empty()) {
+      std::stringstream ss(t);
+      for (std::string part; std::getline(ss, part, ',');) parts.push_back(part);
+      if (t.back() == ',') parts.push_back("");
+    }
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      try {
+        elements.push_back(std::visit([](const auto& x) -> ConfigScalar {
+          if constexpr (std::is_same_v<std::decay_t<decltype(x)>, ConfigList>) return ConfigScalar(0.0);
+          else return ConfigScalar(x);
+        }, parse_text(e, parts[i], origin)));
+      } catch (const InputError&) {
+        throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
+                         std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
+                         allowed_range(s));
+      }
+    }
+    return elements;
+  }
   switch (s.type) {
     case KeySpec::Type::Real: {
       if (t.empty()) return fail();
@@ -127,6 +228,10 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
       if (t == "true" || t == "1" || t == "yes") return true;
       if (t == "false" || t == "0" || t == "no") return false;
       return fail();
+    case KeySpec::Type::RealList:
+    case KeySpec::Type::IntList:
+    case KeySpec::Type::StringList:
+      break;  // handled above
   }
   return fail();
 }
@@ -134,11 +239,22 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
 }  // namespace
 
 std::string allowed_range(const KeySpec& s) {
+  if (is_list(s.type)) {
+    KeySpec e = s;
+    e.type = element_type(s.type);
+    std::string what;
+    if (e.type == KeySpec::Type::String)
+      what = s.choices.empty() ? "non-empty strings" : "strings, each " + allowed_range(e);
+    else
+      what = std::string(e.type == KeySpec::Type::Int ? "integers" : "numbers") + ", each " + allowed_range(e);
+    return "an array of " + std::to_string(s.min_elements) + " or more " + what +
+           " (or the same as comma-separated text)";
+  }
   switch (s.type) {
     case KeySpec::Type::Real:
     case KeySpec::Type::Int: {
-      std::string r = std::string(s.min_exclusive ? "(" : "[") + fmt_num(s.min) + ", " +
-                      fmt_num(s.max) + (s.max_exclusive ? ")" : "]");
+      std::string r = std::string(s.min_exclusive ? "(" : "[") + fmt_sig(s.min, 12) + ", " +
+                      fmt_sig(s.max, 12) + (s.max_exclusive ? ")" : "]");
       if (s.type == KeySpec::Type::Int) r = "integer in " + r;
       if (!s.unit.empty()) r += " " + s.unit;
       return r;
@@ -151,6 +267,10 @@ std::string allowed_range(const KeySpec& s) {
     }
     case KeySpec::Type::Bool:
       return "true or false";
+    case KeySpec::Type::RealList:
+    case KeySpec::Type::IntList:
+    case KeySpec::Type::StringList:
+      break;  // handled above
   }
   return "";
 }
@@ -175,6 +295,50 @@ bool Config::has(const std::string& key) const { return values_.count(key) > 0; 
 
 void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::string& origin) {
   const std::string where = origin.empty() ? "" : origin + ": ";
+  if (is_list(s.type)) {
+    const ConfigList* l = std::get_if<ConfigList>(&v);
+    if (!l) {
+      // A scalar in a TOML file: a string is the comma-separated form, anything else is not a list.
+      if (auto text = std::get_if<std::string>(&v)) return assign_checked(s, parse_text(s, *text, origin), origin);
+      throw InputError(where + s.key + " must be an array: allowed " + allowed_range(s));
+    }
+    if (l->size() < s.min_elements)
+      throw InputError(where + s.key + " has " + std::to_string(l->size()) + " elements: allowed " + allowed_range(s));
+    KeySpec e = s;
+    e.type = element_type(s.type);
+    ConfigList checked;
+    const ConfigValue before = values_.at(s.key);  // each element is checked through values_[s.key]
+    struct Restore {
+      std::map<std::string, ConfigValue>& values;
+      const std::string& key;
+      const ConfigValue& before;
+      bool done = false;
+      ~Restore() {
+        if (!done) values[key] = before;
+      }
+    } restore{values_, s.key, before};
+    for (std::size_t i = 0; i < l->size(); ++i) {
+      const ConfigScalar& x = (*l)[i];
+      const std::string shown = std::holds_alternative<std::string>(x) ? "'" + std::get<std::string>(x) + "'"
+                                                                      : scalar_text(x);
+      const std::string element = s.key + " element " + std::to_string(i + 1) + " of " + std::to_string(l->size());
+      if (e.type == KeySpec::Type::String && std::holds_alternative<std::string>(x) &&
+          trim(std::get<std::string>(x)).empty())
+        throw InputError(where + element + " is empty: allowed " + allowed_range(s));
+      try {
+        std::visit([&](const auto& y) { assign_checked(e, ConfigValue(y), ""); }, x);
+      } catch (const InputError&) {
+        throw InputError(where + element + " = " + shown + " is not valid: allowed " + allowed_range(s));
+      }
+      checked.push_back(std::visit([](const auto& y) -> ConfigScalar {
+        if constexpr (std::is_same_v<std::decay_t<decltype(y)>, ConfigList>) return ConfigScalar(0.0);
+        else return ConfigScalar(y);
+      }, values_.at(s.key)));
+    }
+    values_[s.key] = checked;
+    restore.done = true;
+    return;
+  }
   auto range_fail = [&](const std::string& shown) {
     throw InputError(where + s.key + " = " + shown + " is out of range: allowed " + allowed_range(s));
   };
@@ -186,7 +350,7 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       else throw InputError(where + s.key + " must be a number: allowed " + allowed_range(s));
       const bool ok = std::isfinite(d) && (s.min_exclusive ? d > s.min : d >= s.min) &&
                       (s.max_exclusive ? d < s.max : d <= s.max);
-      if (!ok) range_fail(fmt_num(d));
+      if (!ok) range_fail(fmt_sig(d, 12));
       values_[s.key] = d;
       return;
     }
@@ -195,7 +359,7 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       if (auto q = std::get_if<long>(&v)) i = *q;
       else if (auto p = std::get_if<double>(&v); p && std::isfinite(*p) && *p == std::floor(*p)) {
         // Range-checked as a double first: casting 1e300 to long is undefined (float-cast-overflow).
-        if (*p < s.min || *p > s.max) range_fail(fmt_num(*p));
+        if (*p < s.min || *p > s.max) range_fail(fmt_sig(*p, 12));
         i = static_cast<long>(*p);
       } else throw InputError(where + s.key + " must be an integer: allowed " + allowed_range(s));
       if (static_cast<double>(i) < s.min || static_cast<double>(i) > s.max)
@@ -220,6 +384,10 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       values_[s.key] = *p;
       return;
     }
+    case KeySpec::Type::RealList:
+    case KeySpec::Type::IntList:
+    case KeySpec::Type::StringList:
+      break;  // handled above
   }
 }
 
@@ -313,11 +481,21 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
   walk_table(tbl, "", [&](const std::string& key, const toml::node& node) {
     const KeySpec& s = spec(key);
     ConfigValue v;
-    if (auto d = node.as_floating_point()) v = d->get();
-    else if (auto i = node.as_integer()) v = static_cast<long>(i->get());
-    else if (auto str = node.as_string()) v = str->get();
-    else if (auto b = node.as_boolean()) v = b->get();
-    else throw InputError(origin + ": " + key + " has an unsupported TOML type: allowed " + allowed_range(s));
+    if (auto x = toml_scalar(node)) {
+      v = std::visit([](const auto& y) { return ConfigValue(y); }, *x);
+    } else if (auto a = node.as_array(); a && is_list(s.type)) {
+      ConfigList elements;
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        auto e = toml_scalar(*a->get(i));
+        if (!e)
+          throw InputError(origin + ": " + key + " element " + std::to_string(i + 1) + " of " +
+                           std::to_string(a->size()) + " is an array or table: allowed " + allowed_range(s));
+        elements.push_back(*e);
+      }
+      v = elements;
+    } else {
+      throw InputError(origin + ": " + key + " has an unsupported TOML type: allowed " + allowed_range(s));
+    }
     assign_checked(s, v, origin);
   });
 }
@@ -347,10 +525,35 @@ long Config::integer(const std::string& key) const {
   if (auto i = std::get_if<long>(&v)) return *i;
   throw std::logic_error("config key is not integer: " + key);
 }
-const std::string& Config::str(const std::string& key) const {
+std::string Config::str(const std::string& key) const {
   const auto& v = values_.at(spec(key).key);
   if (auto s = std::get_if<std::string>(&v)) return *s;
+  if (std::holds_alternative<ConfigList>(v)) return value_text(v);
   throw std::logic_error("config key is not a string: " + key);
+}
+namespace {
+// The elements of a list value as T (a list key of the matching type: right_type).
+template <class T>
+std::vector<T> elements_of(const ConfigValue& v, bool right_type, const std::string& key, const std::string& what) {
+  const auto* l = std::get_if<ConfigList>(&v);
+  if (!l || !right_type) throw std::logic_error("config key is not a list of " + what + ": " + key);
+  std::vector<T> out;
+  for (const auto& x : *l) out.push_back(std::get<T>(x));
+  return out;
+}
+}  // namespace
+
+std::vector<double> Config::reals(const std::string& key) const {
+  const KeySpec& s = spec(key);
+  return elements_of<double>(values_.at(s.key), s.type == KeySpec::Type::RealList, key, "reals");
+}
+std::vector<long> Config::integers(const std::string& key) const {
+  const KeySpec& s = spec(key);
+  return elements_of<long>(values_.at(s.key), s.type == KeySpec::Type::IntList, key, "integers");
+}
+std::vector<std::string> Config::strings(const std::string& key) const {
+  const KeySpec& s = spec(key);
+  return elements_of<std::string>(values_.at(s.key), s.type == KeySpec::Type::StringList, key, "strings");
 }
 bool Config::flag(const std::string& key) const {
   const auto& v = values_.at(spec(key).key);
@@ -379,8 +582,9 @@ std::string Config::to_toml() const {
       const auto& v = values_.at(s.key);
       os << name << " = ";
       if (auto str = std::get_if<std::string>(&v)) os << '"' << *str << '"';
+      else if (std::holds_alternative<ConfigList>(v)) os << '"' << value_text(v) << '"';
       else if (auto d = std::get_if<double>(&v)) {
-        std::string t = fmt_num(*d);
+        std::string t = fmt_sig(*d, 12);
         if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
         os << t;
       } else os << value_text(v);
@@ -400,6 +604,7 @@ std::string Config::to_json() const {
     os << (first ? "" : ", ") << '"' << s.key << "\": ";
     first = false;
     if (auto str = std::get_if<std::string>(&v)) os << '"' << *str << '"';
+    else if (std::holds_alternative<ConfigList>(v)) os << '"' << value_text(v) << '"';
     else os << value_text(v);
   }
   os << "}";

@@ -3,6 +3,11 @@
 // TOML file (--config), then --set key=value overrides, in that order.
 // Unknown keys, wrong types, NaN and out-of-range values are InputErrors whose
 // message names the key and its allowed range.
+// List keys (RealList, IntList, StringList) take a TOML array (`orders = [1, 2]`,
+// `--set 'convergence.orders=[1, 2]'`) or, for compatibility with earlier
+// configurations, comma-separated text (`orders = "1,2"`, `--set convergence.orders=1,2`);
+// every element is checked like a scalar key of its type, and an error names the
+// element (1-based) and the count.
 #pragma once
 #include <map>
 #include <optional>
@@ -13,7 +18,7 @@
 namespace magenc {
 
 struct KeySpec {
-  enum class Type { Real, Int, String, Bool };
+  enum class Type { Real, Int, String, Bool, RealList, IntList, StringList };
   std::string key;        // dotted "section.name", e.g. "magnet.radius_mm"
   Type type = Type::Real;
   std::string default_value;  // textual default, parsed like a --set value
@@ -21,7 +26,8 @@ struct KeySpec {
   double max = 1e300;
   bool min_exclusive = false;  // true: value must be > min (e.g. sizes > 0)
   bool max_exclusive = false;
-  std::vector<std::string> choices;  // String: allowed values (empty = any)
+  std::vector<std::string> choices;  // String, StringList: allowed values (empty = any non-empty text)
+  std::size_t min_elements = 1;      // lists: fewest elements (0: may be empty)
   std::string unit;                  // "mm", "deg", "T", "" for none
   std::string help;
 };
@@ -33,8 +39,17 @@ KeySpec int_key(std::string key, long def, long min, long max, std::string help)
 KeySpec string_key(std::string key, std::string def, std::vector<std::string> choices,
                    std::string help);
 KeySpec bool_key(std::string key, bool def, std::string help);
+// List keys: elements in [min, max] (numbers) or among choices (strings; empty: any non-empty text).
+KeySpec real_list_key(std::string key, const std::vector<double>& def, double min, double max, std::string unit,
+                      std::string help, bool min_exclusive = false, std::size_t min_elements = 1);
+KeySpec int_list_key(std::string key, const std::vector<long>& def, long min, long max, std::string help,
+                     std::size_t min_elements = 1);
+KeySpec string_list_key(std::string key, const std::vector<std::string>& def, std::vector<std::string> choices,
+                        std::string help, std::size_t min_elements = 1);
 
-using ConfigValue = std::variant<double, long, std::string, bool>;
+using ConfigScalar = std::variant<double, long, std::string, bool>;
+using ConfigList = std::vector<ConfigScalar>;
+using ConfigValue = std::variant<double, long, std::string, bool, ConfigList>;
 
 class Config {
  public:
@@ -50,7 +65,13 @@ class Config {
 
   double real(const std::string& key) const;
   long integer(const std::string& key) const;
-  const std::string& str(const std::string& key) const;
+  // A String key's value; for a list key its elements as comma-separated text (as earlier
+  // configurations wrote them, and as config.toml echoes them).
+  std::string str(const std::string& key) const;
+  // Elements of a list key.
+  std::vector<double> reals(const std::string& key) const;
+  std::vector<long> integers(const std::string& key) const;
+  std::vector<std::string> strings(const std::string& key) const;
   bool flag(const std::string& key) const;
   bool has(const std::string& key) const;
 

@@ -21,9 +21,9 @@ std::string fmt_auto(double v, int digits = 4, double zero_below = 0.0);
 std::string fmt_sig(double v, int significant);
 
 // s without leading and trailing blanks (space, tab, CR, LF).
+std::string trim(const std::string& s);
+
 // The current time in UTC, ISO 8601 ("2026-11-23T18:40:47Z"), for run metadata.
 std::string utc_timestamp_iso();
-
-std::string trim(const std::string& s);
 
 }  // namespace magenc

@@ -59,7 +59,7 @@ const ParamValue& param(const DiagnosisResult& r, const std::string& json) {
 
 }  // namespace
 
-TEST_CASE("diagnose: noiseless round trip recovers the offsets to high precision", "[analysis][diagnose]") {
+TEST_CASE("diagnose: noiseless round trip recovers the offsets to high precision", "[analysis][cross-check]") {
   const AnalyticField field{Magnet{}};
   const ModelState base = default_state("two");
   const auto truth = values_with(base, {{"sx", 0.04}, {"sy", -0.03}, {"dx", 0.05}, {"dy", -0.02}});
@@ -79,7 +79,7 @@ TEST_CASE("diagnose: noiseless round trip recovers the offsets to high precision
   CHECK(r.not_identifiable.empty());
 }
 
-TEST_CASE("diagnose: sigma scales with the noise and covers the truth", "[analysis][diagnose]") {
+TEST_CASE("diagnose: sigma scales with the noise and covers the truth", "[analysis][physics]") {
   const AnalyticField field{Magnet{}};
   const ModelState base = default_state("two");
   const auto truth = values_with(base, {{"sx", 0.03}, {"dx", -0.04}});
@@ -98,7 +98,7 @@ TEST_CASE("diagnose: sigma scales with the noise and covers the truth", "[analys
   CHECK(r1.residual_rms_deg == Approx(0.01).epsilon(0.15));
 }
 
-TEST_CASE("diagnose: a parameter with no effect at this point is reported, not given a sigma", "[analysis][diagnose]") {
+TEST_CASE("diagnose: a parameter with no effect at this point is reported, not given a sigma", "[analysis]") {
   const AnalyticField field{Magnet{}};
   const ModelState base = default_state("two");
   // Ideal mount: dz changes nothing to first order (a common scale cancels in atan2).
@@ -124,7 +124,7 @@ TEST_CASE("diagnose: a parameter with no effect at this point is reported, not g
 }
 
 TEST_CASE("diagnose: linear field, dy has no effect and is confounded, multi-start finds the minimum",
-          "[analysis][diagnose]") {
+          "[analysis][closed-form]") {
   const LinearField field;
   const ModelState base = default_state("two");
   const auto truth = values_with(base, {{"dx", 0.05}});
@@ -139,7 +139,7 @@ TEST_CASE("diagnose: linear field, dy has no effect and is confounded, multi-sta
   CHECK_THAT(r.confounded[0].text, Catch::Contains("dy_mm"));
 }
 
-TEST_CASE("diagnose: --curve-set syntax", "[analysis][diagnose]") {
+TEST_CASE("diagnose: --curve-set syntax", "[analysis][bad-input]") {
   auto [c, o] = parse_curve_set("2:mount.dz_mm+=0.5", 2);
   CHECK(c == 1);
   CHECK(o.add);
@@ -157,7 +157,7 @@ TEST_CASE("diagnose: --curve-set syntax", "[analysis][diagnose]") {
 
 TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free zero offset absorbs, "
           "one curve cannot separate them, two air gaps can",
-          "[analysis][diagnose]") {
+          "[analysis][physics]") {
   const AnalyticField field{Magnet{}};
   const ModelState base = default_state("two");
   const auto truth = values_with(base, {{"sx", 0.05}, {"gain", 0.01}});
@@ -189,7 +189,7 @@ TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free 
   CHECK(param(two, "zero_offset_deg_2").value == Approx(-0.2).margin(0.05));
 }
 
-TEST_CASE("diagnose: default free set of `two` at the ideal mount is what physics.md predicts", "[analysis][diagnose]") {
+TEST_CASE("diagnose: default free set of `two` at the ideal mount is what physics.md predicts", "[analysis][physics]") {
   // sx, sy (DC + 2nd harmonic), dx, dy (1st + 3rd); sensor tilt, gain and phase are combinations of sx, sy
   // and the zero offset; dz has no first-order effect; of magnet tilt and channel offsets (1st harmonic)
   // only as many as the 1st/3rd-harmonic content leaves room for.

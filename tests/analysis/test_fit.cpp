@@ -6,7 +6,7 @@
 
 using namespace magenc;
 
-TEST_CASE("fit_cubic recovers a known cubic exactly", "[probe][fit]") {
+TEST_CASE("fit_cubic recovers a known cubic exactly", "[analysis][closed-form]") {
   // Offsets in mm over [-0.3, 0.3] as the sweeps use; exact data, so only
   // round-off remains (condition number of the scaled Vandermonde ~1e3: 1e-10).
   const double p3 = 12.5, p2 = -3.25, p1 = 2.387, p0 = 0.041;
@@ -19,7 +19,7 @@ TEST_CASE("fit_cubic recovers a known cubic exactly", "[probe][fit]") {
   CHECK(p[3] == Approx(p0).epsilon(1e-10));
 }
 
-TEST_CASE("fit_cubic is least squares for noisy data", "[probe][fit]") {
+TEST_CASE("fit_cubic is least squares for noisy data", "[analysis][closed-form]") {
   // y = x^3 + alternating +-0.01: the residual is orthogonal to 1, x, x^2, x^3.
   Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(9, -1, 1), y(9);
   for (int i = 0; i < 9; ++i) y[i] = x[i] * x[i] * x[i] + (i % 2 ? 0.01 : -0.01);
@@ -29,7 +29,7 @@ TEST_CASE("fit_cubic is least squares for noisy data", "[probe][fit]") {
   for (int k = 0; k < 4; ++k) CHECK(std::abs(r.dot(x.array().pow(k).matrix())) < 1e-12);
 }
 
-TEST_CASE("fit_cubic rejects too few distinct points and NaN", "[probe][fit]") {
+TEST_CASE("fit_cubic rejects too few distinct points and NaN", "[analysis][bad-input]") {
   Eigen::VectorXd x(5), y(5);
   x << 0, 0.1, 0.1, 0.2, 0.2;
   y << 1, 2, 3, 4, 5;

@@ -39,7 +39,7 @@ std::string error_of(const std::string& text, const CurveReadOptions& o = {}) {
 
 }  // namespace
 
-TEST_CASE("measured curve: bad input classes each get a one-line error naming the row", "[analysis][curve]") {
+TEST_CASE("measured curve: bad input classes each get a one-line error naming the row", "[analysis][bad-input]") {
   const std::string good = curve_text(72, 5.0);
   REQUIRE_NOTHROW(parse_measured_curve(good, "c.csv"));
   auto replace_line = [&](int line, const std::string& with) {  // 1-based line of the file
@@ -120,7 +120,7 @@ TEST_CASE("measured curve: bad input classes each get a one-line error naming th
   CHECK(m.find('\n') == std::string::npos);
 }
 
-TEST_CASE("measured curve: formats, error sign, folding of two turns, non-uniform samples", "[analysis][curve]") {
+TEST_CASE("measured curve: formats, error sign, folding of two turns, non-uniform samples", "[analysis][contract]") {
   SECTION("two turns fold onto one, sorted, every sample kept") {
     const MeasuredCurve c = parse_measured_curve(curve_text(144, 5.0, -360.0 + 2.5), "c.csv");  // -357.5 .. 357.5
     CHECK(c.size() == 144);
@@ -172,7 +172,7 @@ TEST_CASE("measured curve: formats, error sign, folding of two turns, non-unifor
   }
 }
 
-TEST_CASE("harmonics_ls recovers coefficients from non-uniform samples", "[analysis][curve]") {
+TEST_CASE("harmonics_ls recovers coefficients from non-uniform samples", "[analysis][closed-form]") {
   Eigen::VectorXd th(200), v(200);
   for (int i = 0; i < 200; ++i) {
     th[i] = 360.0 * std::pow((i + 0.5) / 200.0, 1.3);  // denser at small theta

@@ -22,7 +22,7 @@ constexpr double kPlaneZ = 2.0 + 2.55;  // z_s of the default magnet
 // coefficient within 0.005 deg or 0.05 % of pp (whichever is larger) of the
 // direct pipeline on the same theta grid; order 3 within 0.02 deg or 0.2 %.
 // The measured discrepancy is reported by the study.
-TEST_CASE("surrogate matches the direct pipeline on corners and random samples", "[radius][surrogate]") {
+TEST_CASE("surrogate matches the direct pipeline on corners and random samples", "[analysis][cross-check]") {
   const AnalyticField field(default_magnet());
   const double r0 = GENERATE(0.6, 2.4, 3.4);
   const int order = GENERATE(3, 4);
@@ -55,7 +55,7 @@ TEST_CASE("surrogate matches the direct pipeline on corners and random samples",
   }
 }
 
-TEST_CASE("surrogate: ideal mount has no error and the amplitude is the field's", "[radius][surrogate]") {
+TEST_CASE("surrogate: ideal mount has no error and the amplitude is the field's", "[analysis][physics]") {
   const AnalyticField field(default_magnet());
   const CircleFieldModel model(field, 2.4, kPlaneZ, 360, 0.3, 0.2, 3);
   const FastPipeline fast(model, {ProbeArray::parse("two"), ProbeArray::parse("ring:8")});
@@ -67,13 +67,13 @@ TEST_CASE("surrogate: ideal mount has no error and the amplitude is the field's"
   CHECK(model.amplitude_T() == Approx(field.Bz_T(Vec3(2.4, 0, kPlaneZ))).epsilon(1e-9));
 }
 
-TEST_CASE("surrogate rejects arrays whose probes miss the theta grid", "[radius][bad-input]") {
+TEST_CASE("surrogate rejects arrays whose probes miss the theta grid", "[analysis][bad-input]") {
   const AnalyticField field(default_magnet());
   const CircleFieldModel model(field, 2.4, kPlaneZ, 360, 0.3, 0.2, 3);
   CHECK_THROWS_WITH(FastPipeline(model, {ProbeArray::parse("ring:7")}), Catch::Contains("radius.fast_steps"));
 }
 
-TEST_CASE("worst corner on the linear field: dy and dz cannot matter", "[radius][worst]") {
+TEST_CASE("worst corner on the linear field: dy and dz cannot matter", "[analysis][physics]") {
   // Bz = k x: dy moves probes along y (no field change) and dz scales nothing,
   // so the worst corner over a box with large dy/dz tolerances equals that of
   // the box without them (physics.md, linear model).
@@ -97,7 +97,7 @@ TEST_CASE("worst corner on the linear field: dy and dz cannot matter", "[radius]
   CHECK(pp == Approx(error_spectrum(field, ProbeSetup{two, 2.4, kPlaneZ, 360}, m).pp_deg).epsilon(1e-9));
 }
 
-TEST_CASE("find_peak and recommend", "[radius]") {
+TEST_CASE("find_peak and recommend", "[analysis][closed-form]") {
   std::vector<double> x, y;
   for (int i = 0; i <= 30; ++i) {
     x.push_back(0.1 * i);
@@ -123,7 +123,7 @@ TEST_CASE("find_peak and recommend", "[radius]") {
 }
 
 TEST_CASE("surrogate with tilts (full vector) matches the direct pipeline on tilted corners and samples",
-          "[radius][surrogate][tilt]") {
+          "[analysis][cross-check]") {
   // The tolerance box of the radius study's defaults: offsets as before plus sensor tilt +-0.5 deg and a
   // magnet lean of +-0.5 deg per component. Same acceptance as the untilted order-4 test above.
   const AnalyticField field(default_magnet());

@@ -36,7 +36,7 @@ double simulated_sigma_rad(const ProbeArray& a, double A, double sigma, double l
 }
 }  // namespace
 
-TEST_CASE("angle noise: closed forms of the three arrays", "[noise]") {
+TEST_CASE("angle noise: closed forms of the three arrays", "[analysis][closed-form]") {
   const double A = 0.05, s = 1e-5;
   CHECK(angle_noise_sigma_rad(ProbeArray::parse("two"), A, s) == Approx(s / A));
   CHECK(angle_noise_sigma_rad(ProbeArray::parse("diff4"), A, s) == Approx(s / (std::sqrt(2.0) * A)));
@@ -45,7 +45,7 @@ TEST_CASE("angle noise: closed forms of the three arrays", "[noise]") {
   CHECK_THROWS_AS(angle_noise_sigma_rad(ProbeArray::parse("two"), 0.0, s), InputError);
 }
 
-TEST_CASE("angle noise matches a direct Monte Carlo of noisy channels", "[noise]") {
+TEST_CASE("angle noise matches a direct Monte Carlo of noisy channels", "[analysis][cross-check]") {
   const auto spec = GENERATE(as<std::string>{}, "two", "diff4", "ring:8", "ring:3");
   const ProbeArray a = ProbeArray::parse(spec);
   CAPTURE(spec);
@@ -55,7 +55,7 @@ TEST_CASE("angle noise matches a direct Monte Carlo of noisy channels", "[noise]
   CHECK(simulated == Approx(predicted).epsilon(0.01));
 }
 
-TEST_CASE("quantization noise: LSB/sqrt(12) per probe", "[noise]") {
+TEST_CASE("quantization noise: LSB/sqrt(12) per probe", "[analysis][closed-form]") {
   SensorNoise n;
   n.probe_noise_uT_rms = 0;
   n.adc_bits = 10;

@@ -22,7 +22,7 @@ ProbeSetup two_setup(int steps = 720) {
 }
 }  // namespace
 
-TEST_CASE("linspace hits grid values exactly", "[sweep][studies]") {
+TEST_CASE("linspace hits grid values exactly", "[analysis][closed-form]") {
   const auto v = linspace(0.0, 0.5, 26);
   REQUIRE(v.size() == 26);
   CHECK(v.front() == 0.0);
@@ -31,7 +31,7 @@ TEST_CASE("linspace hits grid values exactly", "[sweep][studies]") {
   CHECK_THROWS_AS(linspace(0, 1, 1), InputError);
 }
 
-TEST_CASE("with_offset sets exactly one offset", "[sweep][studies]") {
+TEST_CASE("with_offset sets exactly one offset", "[analysis]") {
   Mount base;
   base.dx_mm = 0.05;
   const Mount m = with_offset(base, "dz_mm", -0.3);
@@ -44,7 +44,7 @@ TEST_CASE("with_offset sets exactly one offset", "[sweep][studies]") {
   CHECK_NOTHROW(check_coef_names({"a0_deg", "b8_deg", "pp_deg"}, "sweep.coefs"));
 }
 
-TEST_CASE("sweep of sx on the linear field: rows, fit and first-order slope", "[sweep][studies]") {
+TEST_CASE("sweep of sx on the linear field: rows, fit and first-order slope", "[analysis][closed-form]") {
   const LinearField field;
   const ProbeSetup setup = two_setup();
   const SweepResult s = run_sweep(field, setup, {"sx", "sx_mm", linspace(0, 0.2, 11), Mount{}});
@@ -67,7 +67,7 @@ TEST_CASE("sweep of sx on the linear field: rows, fit and first-order slope", "[
   for (std::size_t i = 0; i < c2.size(); ++i) CHECK(eval_cubic(fits[1].p, s.spec.values_mm[i]) == Approx(c2[i]).margin(1e-4));
 }
 
-TEST_CASE("r0 sweeps change the probe radius, not the mount", "[sweep][studies]") {
+TEST_CASE("r0 sweeps change the probe radius, not the mount", "[analysis]") {
   const LinearField field;
   Mount base;
   base.sx_mm = 0.1;
@@ -78,7 +78,7 @@ TEST_CASE("r0 sweeps change the probe radius, not the mount", "[sweep][studies]"
   CHECK(std::abs(s.rows[1].spectrum.a0_deg) < std::abs(s.rows[0].spectrum.a0_deg));
 }
 
-TEST_CASE("summary helpers", "[summary][studies]") {
+TEST_CASE("summary helpers", "[analysis]") {
   CHECK(fmt(-0.0001, 3) == "0.000");
   CHECK(fmt(1.23456, 2) == "1.23");
   CHECK(fmt_auto(0.0, 4) == "0");

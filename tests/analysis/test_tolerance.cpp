@@ -25,7 +25,7 @@ Eigen::MatrixXd run_mc(const ToleranceBox& b, long n, std::uint64_t seed, int th
 }
 }  // namespace
 
-TEST_CASE("Monte Carlo: same seed gives identical results for any thread count", "[tolerance][mc]") {
+TEST_CASE("Monte Carlo: same seed gives identical results for any thread count", "[analysis][determinism]") {
   ToleranceBox b;
   const Eigen::MatrixXd one = run_mc(b, 5000, 42, 1);
   const Eigen::MatrixXd two = run_mc(b, 5000, 42, 2);
@@ -44,7 +44,7 @@ TEST_CASE("Monte Carlo: same seed gives identical results for any thread count",
   for (int i = 0; i < 10; ++i) CHECK(few[i].dz_mm == many[i].dz_mm);
 }
 
-TEST_CASE("Monte Carlo samples are uniform in the box", "[tolerance][mc]") {
+TEST_CASE("Monte Carlo samples are uniform in the box", "[analysis]") {
   ToleranceBox b{0.1, 0.2, 0.05, 0.0, 0.3};
   const auto s = monte_carlo_samples(b, 200000, 7);
   double mean[5] = {}, m2[5] = {}, lo[5] = {1e9, 1e9, 1e9, 1e9, 1e9}, hi[5] = {-1e9, -1e9, -1e9, -1e9, -1e9};
@@ -68,7 +68,7 @@ TEST_CASE("Monte Carlo samples are uniform in the box", "[tolerance][mc]") {
   }
 }
 
-TEST_CASE("percentiles follow the type-7 definition", "[tolerance]") {
+TEST_CASE("percentiles follow the type-7 definition", "[analysis][closed-form]") {
   std::vector<double> v;
   for (int i = 100; i >= 1; --i) v.push_back(i);  // 1..100, unsorted
   CHECK(percentile(v, 0) == 1.0);
@@ -81,7 +81,7 @@ TEST_CASE("percentiles follow the type-7 definition", "[tolerance]") {
   CHECK_THROWS_AS(percentile(v, 101), InputError);
 }
 
-TEST_CASE("worst case over the corners: a case with a known answer", "[tolerance][worst]") {
+TEST_CASE("worst case over the corners: a case with a known answer", "[analysis][closed-form]") {
   // f = |sx + 2 sy - 3 dx + 0.5 dy + dz| is largest where every term has the
   // sign of its coefficient (or all opposite): value = sum |c_i| h_i.
   ToleranceBox b{0.1, 0.2, 0.05, 0.4, 0.3};
@@ -104,14 +104,14 @@ TEST_CASE("worst case over the corners: a case with a known answer", "[tolerance
   CHECK(mc.col(0).maxCoeff() > 0.8 * w.value);
 }
 
-TEST_CASE("corners drop duplicates of zero half-widths", "[tolerance]") {
+TEST_CASE("corners drop duplicates of zero half-widths", "[analysis]") {
   ToleranceBox b{0.1, 0.0, 0.1, 0.0, 0.0};
   const auto c = b.corners();
   CHECK(c.size() == 4);
   CHECK(b.max_inplane_mm() == Approx(0.2));
 }
 
-TEST_CASE("tolerance box rejects bad half-widths", "[tolerance][bad-input]") {
+TEST_CASE("tolerance box rejects bad half-widths", "[analysis][bad-input]") {
   ToleranceBox b;
   b.dz_mm = -0.1;
   CHECK_THROWS_WITH(b.validate("radius.tol_"), Catch::Contains("radius.tol_dz_mm") && Catch::Contains("[0, 10] mm"));
@@ -120,7 +120,7 @@ TEST_CASE("tolerance box rejects bad half-widths", "[tolerance][bad-input]") {
   CHECK_THROWS_AS(monte_carlo_samples(ToleranceBox{}, 0, 1), InputError);
 }
 
-TEST_CASE("tilts in the box: the five offsets draw as before, corners, groups", "[tolerance][tilt]") {
+TEST_CASE("tilts in the box: the five offsets draw as before, corners, groups", "[analysis][regression]") {
   ToleranceBox old_box;  // five offsets only (tilt half-widths 0 by default)
   ToleranceBox tilted = old_box;
   tilted.tilt_x_deg = 0.5;

@@ -1,6 +1,5 @@
-// diagnose executable end to end and the diagnosis study's tiny-config smoke test: bad input gives a
-// one-line error, exit 2 and no output directory; a good run writes fit.json (contract keys), fit.csv,
-// summary.md and the PNGs.
+// diagnose executable end to end: bad input gives a one-line error, exit 2 and no output directory;
+// a good run writes fit.json (contract keys), fit.csv, summary.md and the PNGs.
 #include <catch2/catch.hpp>
 
 #include <fstream>
@@ -22,7 +21,7 @@ fs::path make_curve(const std::string& name, const std::string& args) {
 
 }  // namespace
 
-TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[analysis][diagnose][cli]") {
+TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[apps][contract][cli]") {
   const fs::path curve = make_curve("cli_good", "--set sx=0.04 --set dx=0.03 --zero 0.1 --points 180 --turns 2");
   const fs::path out = temp_out("diagnose_good");
   const StudyRun r = run_study_exe("diagnose", out, "--measured '" + curve.string() +
@@ -48,7 +47,7 @@ TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[analysis][diagnos
   fs::remove(curve);
 }
 
-TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[analysis][diagnose][cli]") {
+TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[apps][bad-input][cli]") {
   const fs::path bad = fs::temp_directory_path() / ("magenc_test_bad_" + std::to_string(::getpid()) + ".csv");
   {
     std::ofstream f(bad);
@@ -71,26 +70,4 @@ TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[analysis][
   CHECK_FALSE(fs::exists(out));
   fs::remove(bad);
   fs::remove(good);
-}
-
-TEST_CASE("diagnosis study: tiny config runs and its round trip covers the truth", "[analysis][diagnose][study]") {
-  const fs::path out = temp_out("diagnosis_study");
-  const StudyRun r = run_study_exe("diagnosis", out,
-                                   "--set study.arrays=two --set roundtrip.cases=6 --set roundtrip.points=120 "
-                                   "--set roundtrip.all_free_cases=1 --set roundtrip.starts=2");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  for (const char* f : {"summary.md", "coverage.csv", "anomalies.csv", "example_fit.png", "config.toml", "run.json"})
-    CHECK(fs::exists(out / f));
-  const auto rows = read_csv(out / "coverage.csv");
-  REQUIRE(rows.size() >= 3);
-  int fitted = 0, within = 0;
-  for (const auto& row : rows) {
-    fitted += static_cast<int>(num(row, "cases_fitted"));
-    within += static_cast<int>(num(row, "within_2sigma"));
-  }
-  CHECK(fitted >= 6 * 3);
-  CHECK(within >= 0.7 * fitted);  // 2-sigma coverage ~95 % expected; 70 % leaves room for 6 cases' scatter
-  CHECK_THAT(slurp(out / "summary.md"), Catch::Contains("anomalies"));
-  fs::remove_all(out);
 }

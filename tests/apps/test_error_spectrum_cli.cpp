@@ -70,7 +70,7 @@ int count_lines(const std::string& s) {
 
 }  // namespace
 
-TEST_CASE("error_spectrum writes the spectra table", "[tools][cli]") {
+TEST_CASE("error_spectrum writes the spectra table", "[apps][contract][cli]") {
   Scratch s;
   SECTION("one case to --out") {
     const RunResult r = s.run("--field linear --array two --r0 2.4 --sx 0.1 --out spectra.csv");
@@ -108,7 +108,7 @@ TEST_CASE("error_spectrum writes the spectra table", "[tools][cli]") {
   }
 }
 
-TEST_CASE("error_spectrum rejects bad input cleanly", "[tools][cli]") {
+TEST_CASE("error_spectrum rejects bad input cleanly", "[apps][bad-input][cli]") {
   struct Bad {
     std::string args;
     std::string names;  // the input the message must name

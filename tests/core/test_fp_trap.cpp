@@ -76,11 +76,11 @@ void say_if_compiled_out() {
 
 }  // namespace
 
-TEST_CASE("The trap is compiled in exactly in Debug builds", "[fp_trap]") {
+TEST_CASE("The trap is compiled in exactly in Debug builds", "[core]") {
   CHECK(fp_trap_compiled_in() == bool(MAGENC_EXPECT_FP_TRAP));
 }
 
-TEST_CASE("Debug builds trap invalid, divide-by-zero and overflow from the start of main", "[fp_trap]") {
+TEST_CASE("Debug builds trap invalid, divide-by-zero and overflow from the start of main", "[core]") {
   say_if_compiled_out();
   const auto op = GENERATE(as<std::string>{}, "0/0", "1/0", "DBL_MAX*2");
   INFO("operation " << op);
@@ -89,7 +89,7 @@ TEST_CASE("Debug builds trap invalid, divide-by-zero and overflow from the start
   if (op == "DBL_MAX*2") expect_trap(run_in_child(overflow));
 }
 
-TEST_CASE("Threads started after main inherit the trap", "[fp_trap]") {
+TEST_CASE("Threads started after main inherit the trap", "[core]") {
   // The OpenMP pool is made of pthreads created after main, as this std::thread is.
   say_if_compiled_out();
   expect_trap(run_in_child([] {
@@ -98,7 +98,7 @@ TEST_CASE("Threads started after main inherit the trap", "[fp_trap]") {
   }));
 }
 
-TEST_CASE("run_main enables the trap for the executables", "[fp_trap]") {
+TEST_CASE("run_main enables the trap for the executables", "[core]") {
   say_if_compiled_out();
   expect_trap(run_in_child([] {
     fedisableexcept(FE_ALL_EXCEPT);  // undo catch_main's trap: only run_main's counts here
@@ -110,7 +110,7 @@ TEST_CASE("run_main enables the trap for the executables", "[fp_trap]") {
   }));
 }
 
-TEST_CASE("Underflow and inexact are not trapped", "[fp_trap]") {
+TEST_CASE("Underflow and inexact are not trapped", "[core]") {
   const auto end = run_in_child([] {
     volatile double tiny = DBL_MIN;
     volatile double r = tiny * 1e-300;  // FE_UNDERFLOW | FE_INEXACT
@@ -120,7 +120,7 @@ TEST_CASE("Underflow and inexact are not trapped", "[fp_trap]") {
   CHECK(end.exited_ok);
 }
 
-TEST_CASE("FpTrapPause masks the trap in its scope and restores it after", "[fp_trap]") {
+TEST_CASE("FpTrapPause masks the trap in its scope and restores it after", "[core]") {
   say_if_compiled_out();
   const auto inside = run_in_child([] {
     FpTrapPause pause;

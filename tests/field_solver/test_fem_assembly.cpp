@@ -42,7 +42,7 @@ Eigen::VectorXd solve_with_boundary_values(const TetMesh& mesh, const FeSpace& s
 
 }  // namespace
 
-TEST_CASE("patch test: P1 and P2 reproduce a linear potential exactly", "[fem]") {
+TEST_CASE("patch test: P1 and P2 reproduce a linear potential exactly", "[field_solver][closed-form]") {
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const TetMesh& mesh = small_mesh();
@@ -68,7 +68,7 @@ TEST_CASE("patch test: P1 and P2 reproduce a linear potential exactly", "[fem]")
   CHECK(worst < 1e-8);
 }
 
-TEST_CASE("patch test: P2 reproduces a harmonic quadratic potential exactly", "[fem]") {
+TEST_CASE("patch test: P2 reproduces a harmonic quadratic potential exactly", "[field_solver][closed-form]") {
   const TetMesh& mesh = small_mesh();
   FeSpace space(mesh, 2);
   Eigen::VectorXd g(space.num_dofs());
@@ -80,7 +80,7 @@ TEST_CASE("patch test: P2 reproduces a harmonic quadratic potential exactly", "[
   CHECK((psi - g).cwiseAbs().maxCoeff() < 1e-9 * g.cwiseAbs().maxCoeff());
 }
 
-TEST_CASE("stiffness: K*1 = 0 without Robin, symmetric, positive semi-definite", "[fem]") {
+TEST_CASE("stiffness: K*1 = 0 without Robin, symmetric, positive semi-definite", "[field_solver][closed-form]") {
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const TetMesh& mesh = small_mesh();
@@ -107,7 +107,7 @@ TEST_CASE("stiffness: K*1 = 0 without Robin, symmetric, positive semi-definite",
   CHECK(e1 == Approx(8.0 * 3.141592653589793 * 15.0).epsilon(0.02));
 }
 
-TEST_CASE("assembly is bitwise independent of the thread count", "[fem]") {
+TEST_CASE("assembly is bitwise independent of the thread count", "[field_solver][determinism]") {
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const TetMesh& mesh = small_mesh();

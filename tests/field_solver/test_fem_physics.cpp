@@ -49,7 +49,7 @@ Run run_cylinder(double h_zone, int order) {
 
 }  // namespace
 
-TEST_CASE("mu_r = 1: Bz on the sensing plane converges to the exact field", "[fem][physics]") {
+TEST_CASE("mu_r = 1: Bz on the sensing plane converges to the exact field", "[field_solver][physics][convergence]") {
   // Two coarse meshes per order (zone edge 0.8 and 0.5 mm). Bounds are ~1.5x
   // the errors measured when this test was written (P1: RMS 6.4e-2 at 0.8 mm;
   // P2: RMS 2.0e-3 at 0.5 mm) so that a real regression fails. Observed rates in
@@ -78,7 +78,7 @@ TEST_CASE("mu_r = 1: Bz on the sensing plane converges to the exact field", "[fe
   CHECK(b.max_rec < b.max_rel);
 }
 
-TEST_CASE("uniformly magnetized sphere with mu_r != 1 matches its closed form", "[fem][physics]") {
+TEST_CASE("uniformly magnetized sphere with mu_r != 1 matches its closed form", "[field_solver][physics][closed-form]") {
   // Sphere radius a = 2 mm, Br = 1.2 T along x. Closed form (scaled units):
   //   inside  B = 2 Br/(mu_r + 2) x^ (uniform),
   //   outside psi = m.r/r^3 with m = Br a^3/(mu_r + 2) x^ (T*mm^2).
@@ -133,7 +133,7 @@ TEST_CASE("uniformly magnetized sphere with mu_r != 1 matches its closed form", 
   CHECK(ratio_in == Approx(0.5).epsilon(0.005));
 }
 
-TEST_CASE("a high-mu_r shaft under the magnet pulls flux towards it", "[fem][physics]") {
+TEST_CASE("a high-mu_r shaft under the magnet pulls flux towards it", "[field_solver][physics]") {
   auto solve = [](bool shaft, double shaft_mu) {
     // Magnet/shaft edge 0.7 mm: at 1.0 mm the field near the face was not resolved
     // (tangential fraction at the 2nd point 0.26 -> 0.38 -> 0.50 at h 1.0, 0.7, 0.5 mm).

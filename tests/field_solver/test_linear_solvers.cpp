@@ -42,13 +42,13 @@ Solved solve(const std::string& backend, const std::vector<std::string>& sets) {
 
 }  // namespace
 
-TEST_CASE("fem.solver: auto resolves to a backend this build has, and bad names are refused", "[fem][solver]") {
+TEST_CASE("fem.solver: auto resolves to a backend this build has, and bad names are refused", "[field_solver][bad-input]") {
   CHECK(resolve_linear_solver("auto") == (petsc_available() ? "petsc-hypre" : "eigen-pcg"));
   CHECK(resolve_linear_solver("eigen-pcg") == "eigen-pcg");
   CHECK_THROWS(coarse_settings({"fem.solver=amg"}));
 }
 
-TEST_CASE("PETSc multigrid and Eigen PCG give the same potential on the coarse mesh", "[fem][solver]") {
+TEST_CASE("PETSc multigrid and Eigen PCG give the same potential on the coarse mesh", "[field_solver][cross-check]") {
   if (!petsc_available()) {
     WARN("built without PETSc: only eigen-pcg");
     return;
@@ -71,7 +71,7 @@ TEST_CASE("PETSc multigrid and Eigen PCG give the same potential on the coarse m
   CHECK(p.iterations < e.iterations);
 }
 
-TEST_CASE("multigrid iteration count stays low when the mesh is refined", "[fem][solver]") {
+TEST_CASE("multigrid iteration count stays low when the mesh is refined", "[field_solver][convergence][slow]") {
   if (!petsc_available()) {
     WARN("built without PETSc: only eigen-pcg");
     return;

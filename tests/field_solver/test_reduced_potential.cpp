@@ -55,7 +55,7 @@ std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b,
 
 }  // namespace
 
-TEST_CASE("reduced potential, mu_r = 1: the FE field is the exact field", "[fem][reduced]") {
+TEST_CASE("reduced potential, mu_r = 1: the FE field is the exact field", "[field_solver][physics]") {
   const auto s = solved({"magnet.mu_r=1", "fem.potential=reduced"});
   CHECK(s->stats().iterations == 0);  // no load: phi = 0 without a solve
   const magenc::AnalyticField exact(s->domain().magnet);
@@ -68,7 +68,7 @@ TEST_CASE("reduced potential, mu_r = 1: the FE field is the exact field", "[fem]
   CHECK(bz_error_on_grid(t->evaluator(), exact, plane(st)).rms_rel() > 1e-4);
 }
 
-TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the reaction's share", "[fem][reduced]") {
+TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the reaction's share", "[field_solver][physics][convergence]") {
   const std::vector<std::string> fine = {"magnet.mu_r=1.05", "mesh.h_zone_mm=0.4", "mesh.h_magnet_mm=0.5"};
   auto with = [](std::vector<std::string> v, const std::string& pot) {
     v.push_back("fem.potential=" + pot);
@@ -96,7 +96,7 @@ TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the r
   CHECK(bz_error_on_grid(red->evaluator(), exact, g).rms_rel() > 1e-3);
 }
 
-TEST_CASE("reduced potential: mesh.vtu keeps the source magnet, and read back B is the same", "[fem][reduced]") {
+TEST_CASE("reduced potential: mesh.vtu keeps the source magnet, and read back B is the same", "[field_solver][contract]") {
   const auto s = solved({"magnet.mu_r=1.05", "fem.potential=reduced", "magnet.magnetization_deg=30",
                          "magnet.magnetization_elevation_deg=20"});  // all three quadrant loads
   const std::filesystem::path f =
@@ -114,7 +114,7 @@ TEST_CASE("reduced potential: mesh.vtu keeps the source magnet, and read back B 
   }
 }
 
-TEST_CASE("reduced potential with a shaft is refused with a one-line reason", "[fem][reduced]") {
+TEST_CASE("reduced potential with a shaft is refused with a one-line reason", "[field_solver][bad-input]") {
   CHECK_THROWS_WITH(coarse_settings({"fem.potential=reduced", "shaft.enabled=true"}),
                     Catch::Contains("fem.potential = reduced") && Catch::Contains("shaft.enabled"));
   CHECK_THROWS_AS(coarse_settings({"fem.potential=half"}), magenc::InputError);

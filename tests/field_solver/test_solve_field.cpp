@@ -53,7 +53,7 @@ bool leftovers(const fs::path& out) {
 
 }  // namespace
 
-TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json, and FemField reads them", "[fem][cli]") {
+TEST_CASE("solve_field writes mesh.vtu, plane.vti, box.vti, solve.json, and FemField reads them", "[field_solver][contract][cli]") {
   const int order = GENERATE(1, 2);
   CAPTURE(order);
   const fs::path out = scratch("ok_p" + std::to_string(order));
@@ -106,7 +106,7 @@ std::vector<double> bz_of(const fs::path& vti) {
 }
 }  // namespace
 
-TEST_CASE("solve_field output format: raw appended VTK, mesh.vtu and zlib only when asked", "[fem][cli]") {
+TEST_CASE("solve_field output format: raw appended VTK, mesh.vtu and zlib only when asked", "[field_solver][contract][cli]") {
   // Default: plane.vti, box.vti, solve.json; raw binary appended data, no compressor, no mesh.vtu.
   const fs::path plain = scratch("fmt_plain"), packed = scratch("fmt_zlib");
   fs::remove_all(plain);
@@ -136,7 +136,7 @@ TEST_CASE("solve_field output format: raw appended VTK, mesh.vtu and zlib only w
   CHECK_THROWS_WITH(magenc::FemField(plain), Catch::Contains("output.mesh_vtu"));
 }
 
-TEST_CASE("solve_field rejects bad input with a one-line reason and no output", "[fem][cli]") {
+TEST_CASE("solve_field rejects bad input with a one-line reason and no output", "[field_solver][bad-input][cli][slow]") {
   struct Case {
     std::string args, expect;
     int code;
@@ -178,7 +178,7 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
   CHECK_FALSE(leftovers(out));
 }
 
-TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or down to the magnet", "[fem][cli]") {
+TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or down to the magnet", "[field_solver][cli]") {
   // coarse.toml has no core (zone h 0.8 mm); a core of h 0.5 mm about the plane must add elements,
   // and the variant whose core reaches down to the magnet's top face (core_below_plane_mm beyond the
   // zone box) must add more still. Both solve and write all four outputs.
@@ -202,7 +202,7 @@ TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or dow
   CHECK(to_magnet > nested);
 }
 
-TEST_CASE("TetGen adapter rejects an empty PLC with a ComputeError", "[fem]") {
+TEST_CASE("TetGen adapter rejects an empty PLC with a ComputeError", "[field_solver][bad-input]") {
   // Note: invalid PLCs that reach TetGen 1.5.0 (self-intersecting facets) crash
   // inside libtet (double free in its error path), so overlaps are rejected
   // before meshing by DomainSpec::validate (see the bad-input cases above).

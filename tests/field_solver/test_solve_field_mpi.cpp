@@ -56,7 +56,7 @@ nlohmann::json json_of(const fs::path& f) {
 
 }  // namespace
 
-TEST_CASE("mpirun -n 2 solve_field writes the 1-process outputs within the solver tolerance", "[fem][mpi]") {
+TEST_CASE("mpirun -n 2 solve_field writes the 1-process outputs within the solver tolerance", "[field_solver][cross-check][cli][mpi][slow]") {
   const std::string mpirun = std::string(MAGENC_MPIEXEC) + " -n 2 --allow-run-as-root --oversubscribe ";
   // The tolerance is tightened to 1e-12 so that the two CG runs (different
   // multigrid hierarchies: the aggregation is per rank) agree to ~1e-10 of B.
@@ -92,7 +92,7 @@ TEST_CASE("mpirun -n 2 solve_field writes the 1-process outputs within the solve
   CHECK(f2.Bz_T(p) == Approx(f1.Bz_T(p)).margin(1e-10));
 }
 
-TEST_CASE("mpirun -n 2 solve_field: bad input is one error, non-zero exit, no output", "[fem][mpi]") {
+TEST_CASE("mpirun -n 2 solve_field: bad input is one error, non-zero exit, no output", "[field_solver][bad-input][cli][mpi]") {
   const std::string mpirun = std::string(MAGENC_MPIEXEC) + " -n 2 --allow-run-as-root --oversubscribe ";
   const fs::path out = scratch("bad");
   CHECK(run(mpirun, out, "--set magnet.radius_mm=0") != 0);

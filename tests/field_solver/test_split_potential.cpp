@@ -69,7 +69,7 @@ std::vector<std::string> with(std::vector<std::string> v, const std::vector<std:
 
 }  // namespace
 
-TEST_CASE("split potential without a shaft is the reduced potential: the exact field", "[fem][split]") {
+TEST_CASE("split potential without a shaft is the reduced potential: the exact field", "[field_solver][physics][cross-check]") {
   for (const std::string pot : {"split", "auto"}) {
     const auto s = solved({"magnet.mu_r=1"}, pot);
     CHECK(s->options().potential == (pot == "auto" ? "reduced" : "split"));
@@ -82,7 +82,7 @@ TEST_CASE("split potential without a shaft is the reduced potential: the exact f
   }
 }
 
-TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the shaft's interpolation error", "[fem][split]") {
+TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the shaft's interpolation error", "[field_solver][physics]") {
   const auto sets = with(kShaft, {"magnet.mu_r=1", "shaft.mu_r=1"});
   const auto split = solved(sets, "auto");
   REQUIRE(split->options().potential == "split");
@@ -105,7 +105,7 @@ TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the sha
   }
 }
 
-TEST_CASE("split potential: phi_s on the interface is the line integral of H_s", "[fem][split]") {
+TEST_CASE("split potential: phi_s on the interface is the line integral of H_s", "[field_solver][cross-check]") {
   const auto s = solved(with(kShaft, {"shaft.mu_r=1000"}), "split");
   const FeSolution& sol = s->solution();
   REQUIRE(sol.split());
@@ -132,7 +132,7 @@ TEST_CASE("split potential: phi_s on the interface is the line integral of H_s",
   CHECK(mesh_path == Approx(line).epsilon(1e-6));
 }
 
-TEST_CASE("split potential with a mu_r = 1000 shaft agrees with the total potential", "[fem][split]") {
+TEST_CASE("split potential with a mu_r = 1000 shaft agrees with the total potential", "[field_solver][cross-check]") {
   const auto sets = with(kShaft, {"shaft.mu_r=1000", "magnet.mu_r=1.05"});
   const std::vector<std::string> fine = {"mesh.h_zone_mm=0.5", "mesh.h_magnet_mm=0.6"};
   const auto split = solved(sets, "split"), total = solved(sets, "total");
@@ -156,7 +156,7 @@ TEST_CASE("split potential with a mu_r = 1000 shaft agrees with the total potent
   CHECK(bz_error_on_grid(split->evaluator(), exact, g).rms_rel() > 1e-2);
 }
 
-TEST_CASE("split potential: quadrant solve equals the whole-mesh solve, and mesh.vtu keeps the split", "[fem][split]") {
+TEST_CASE("split potential: quadrant solve equals the whole-mesh solve, and mesh.vtu keeps the split", "[field_solver][cross-check][contract]") {
   // All three magnetization components: x and y odd across their planes (phi_s = 0 there), z even.
   const auto sets = with(kShaft, {"shaft.mu_r=1000", "magnet.mu_r=1.05", "magnet.magnetization_deg=30",
                                   "magnet.magnetization_elevation_deg=20"});
@@ -180,7 +180,7 @@ TEST_CASE("split potential: quadrant solve equals the whole-mesh solve, and mesh
   }
 }
 
-TEST_CASE("split potential: a mesh.vtu with half of the split is refused", "[fem][split]") {
+TEST_CASE("split potential: a mesh.vtu with half of the split is refused", "[field_solver][bad-input]") {
   const auto s = solved(with(kShaft, {"shaft.mu_r=1000"}), "split");
   FeSolution broken = s->solution();
   broken.interface_phi_s_Tmm.resize(3);  // no longer one value per point

@@ -71,7 +71,7 @@ DomainSpec geometry(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("symmetric mesh: same domain and regions as the whole-domain mesh, mirror-invariant", "[fem][mesh]") {
+TEST_CASE("symmetric mesh: same domain and regions as the whole-domain mesh, mirror-invariant", "[field_solver]") {
   const std::string name = GENERATE("box", "core", "shaft", "sphere");
   CAPTURE(name);
   DomainSpec d = geometry(name);
@@ -103,7 +103,7 @@ TEST_CASE("symmetric mesh: same domain and regions as the whole-domain mesh, mir
     for (int k = 0; k < 3; ++k) REQUIRE(sym.nodes.col(sym.boundary_faces(k, f)).norm() > 0.9 * d.mesh.outer_radius_mm);
 }
 
-TEST_CASE("D_N wedge mesh: invariant under the rotations and reflections of D_N, same magnet and core", "[fem][mesh]") {
+TEST_CASE("D_N wedge mesh: invariant under the rotations and reflections of D_N, same magnet and core", "[field_solver]") {
   const int N = GENERATE(4, 16);
   CAPTURE(N);
   DomainSpec d = geometry("core");  // 32 segments: N = 4, 16 divide them
@@ -144,7 +144,7 @@ TEST_CASE("D_N wedge mesh: invariant under the rotations and reflections of D_N,
     for (int k = 0; k < 3; ++k) REQUIRE(dn.nodes.col(dn.boundary_faces(k, f)).norm() > 0.9 * d.mesh.outer_radius_mm);
 }
 
-TEST_CASE("clip_plc_to_wedge rejects seeds outside the wedge", "[fem][mesh]") {
+TEST_CASE("clip_plc_to_wedge rejects seeds outside the wedge", "[field_solver][bad-input]") {
   Plc plc = build_plc(geometry("box"));
   plc.regions.front().seed_mm = Eigen::Vector3d(0, 0, 0);
   CHECK_THROWS_AS(clip_plc_to_wedge(plc, 2), magenc::ComputeError);
@@ -153,7 +153,7 @@ TEST_CASE("clip_plc_to_wedge rejects seeds outside the wedge", "[fem][mesh]") {
   CHECK_THROWS_AS(clip_plc_to_wedge(plc, 16), magenc::ComputeError);
 }
 
-TEST_CASE("symmetric mesh: B mirrors exactly, a whole-domain mesh's does not", "[fem][physics]") {
+TEST_CASE("symmetric mesh: B mirrors exactly, a whole-domain mesh's does not", "[field_solver][physics]") {
   // M along x: B_x even in x, B_y and B_z odd in x; B_x, B_z even in y, B_y odd.
   auto asymmetry = [](bool symmetric) {
     DomainSpec d = test::coarse_domain(0.6);
@@ -182,7 +182,7 @@ TEST_CASE("symmetric mesh: B mirrors exactly, a whole-domain mesh's does not", "
   CHECK(whole > 1e-3);   // measured 1.7e-2: discretization asymmetry at h 0.6 mm
 }
 
-TEST_CASE("quadrant solve = solve of the whole mirrored mesh", "[fem][physics]") {
+TEST_CASE("quadrant solve = solve of the whole mirrored mesh", "[field_solver][cross-check][slow]") {
   // Same mesh, same discrete problem restricted to its symmetric subspace: the
   // potentials agree to the CG tolerance, for one (0 deg) and two (30 deg)
   // magnetization components, Robin and Dirichlet truncation, P1 and P2.
@@ -219,7 +219,7 @@ TEST_CASE("quadrant solve = solve of the whole mirrored mesh", "[fem][physics]")
   CHECK(rel < 1e-7);  // CG tolerance 1e-10 on both; measured < 1e-10 in every combination
 }
 
-TEST_CASE("symmetric mesh end to end: ideal mount has no c1..c3, the whole-domain mesh has", "[fem][cli]") {
+TEST_CASE("symmetric mesh end to end: ideal mount has no c1..c3, the whole-domain mesh has", "[field_solver][physics][cli]") {
   const fs::path dir = fs::temp_directory_path() / ("magenc_test_sym_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string bin = MAGENC_BIN_DIR, src = MAGENC_SOURCE_DIR;

@@ -116,7 +116,7 @@ double rel_err(const Vec3& a, const Vec3& ref) { return (a - ref).norm() / ref.n
 
 }  // namespace
 
-TEST_CASE("exact field matches Biot-Savart of the equivalent surface currents", "[field][analytic]") {
+TEST_CASE("exact field matches Biot-Savart of the equivalent surface currents", "[fields][physics][cross-check]") {
   const Magnet mag = study_magnet();
   const AnalyticField f(mag);
   // Points near and far, above, beside, below and inside; each >= 0.3 mm from
@@ -138,7 +138,7 @@ TEST_CASE("exact field matches Biot-Savart of the equivalent surface currents", 
   WARN("max relative deviation exact vs Biot-Savart reference: " << worst);
 }
 
-TEST_CASE("far field tends to the point dipole like (size/r)^2", "[field][analytic]") {
+TEST_CASE("far field tends to the point dipole like (size/r)^2", "[fields][physics][closed-form]") {
   const Magnet mag = study_magnet();
   const AnalyticField f(mag);
   // m = M0*pi*R^2*L along x; B = mu0/(4 pi) (3 (m.u) u - m)/r^3 = Br R^2 L/4 (3 u_x u - x_hat)/r^3.
@@ -173,7 +173,7 @@ Vec3 dB(const AnalyticField& f, const Vec3& p, int k, double h) {
 }
 }  // namespace
 
-TEST_CASE("div B = 0 and curl B = 0 outside the magnet", "[field][analytic]") {
+TEST_CASE("div B = 0 and curl B = 0 outside the magnet", "[fields][physics]") {
   const AnalyticField f(study_magnet());
   // h = 1e-3 mm: truncation ~h^4/30 |d5B| ~ 1e-13 T/mm and round-off
   // ~1e-12 |B|/h ~ 1e-9 T/mm, against derivatives of order 0.1-1 T/mm: a
@@ -192,7 +192,7 @@ TEST_CASE("div B = 0 and curl B = 0 outside the magnet", "[field][analytic]") {
   }
 }
 
-TEST_CASE("B_n and H_t are continuous across the magnet's faces", "[field][analytic]") {
+TEST_CASE("B_n and H_t are continuous across the magnet's faces", "[fields][physics]") {
   const Magnet mag = study_magnet();
   const AnalyticField f(mag);
   const Vec3 M_T(mag.br_T, 0.0, 0.0);  // mu0*M0 (T)
@@ -239,7 +239,7 @@ TEST_CASE("B_n and H_t are continuous across the magnet's faces", "[field][analy
   }
 }
 
-TEST_CASE("magnetization_deg rotates the field rigidly", "[field][analytic]") {
+TEST_CASE("magnetization_deg rotates the field rigidly", "[fields][physics]") {
   Magnet m0 = study_magnet();
   Magnet ma = m0;
   ma.magnetization_deg = 37.0;
@@ -256,7 +256,7 @@ TEST_CASE("magnetization_deg rotates the field rigidly", "[field][analytic]") {
   }
 }
 
-TEST_CASE("scale invariance: all lengths x2 gives the same B at scaled points", "[field][analytic]") {
+TEST_CASE("scale invariance: all lengths x2 gives the same B at scaled points", "[fields][physics]") {
   Magnet m1 = study_magnet();
   Magnet m2 = m1;
   m2.radius_mm *= 2;
@@ -269,7 +269,7 @@ TEST_CASE("scale invariance: all lengths x2 gives the same B at scaled points", 
   }
 }
 
-TEST_CASE("Bz-only kernel and batch calls agree with the full kernel", "[field][analytic]") {
+TEST_CASE("Bz-only kernel and batch calls agree with the full kernel", "[fields][cross-check]") {
   const AnalyticField f(study_magnet());
   Eigen::Matrix3Xd P(3, 5);
   P << 2.4, 0.0, -1.0, 2.5, 0.5,  //
@@ -290,7 +290,7 @@ TEST_CASE("Bz-only kernel and batch calls agree with the full kernel", "[field][
 // M = M0 (cos el cos beta, cos el sin beta, sin el): the diametric kernel scaled by cos el plus the
 // axial part M0 sin el in closed form (elliptic integrals, AnalyticField::B_axial_unit_T).
 
-TEST_CASE("elevation: on-axis field of the axial part equals the textbook closed form", "[field][analytic][elevation]") {
+TEST_CASE("elevation: on-axis field of the axial part equals the textbook closed form", "[fields][physics][closed-form]") {
   // On the axis the diametric part gives Bz = 0 (Int cos phi' = 0) and Bx, By are the diametric
   // part's, so Bz(z) = (Br sin el / 2) [ (z + L/2)/sqrt((z + L/2)^2 + R^2) - (z - L/2)/sqrt((z - L/2)^2 + R^2) ]
   // (the field of two uniformly charged disks +-M0 sin el at z = +-L/2, on their axis, outside the
@@ -312,7 +312,7 @@ TEST_CASE("elevation: on-axis field of the axial part equals the textbook closed
   }
 }
 
-TEST_CASE("elevation: full vector matches Biot-Savart of the equivalent currents off the axis", "[field][analytic][elevation]") {
+TEST_CASE("elevation: full vector matches Biot-Savart of the equivalent currents off the axis", "[fields][physics][cross-check]") {
   // The reference integrates mu0 K = mu0 M x n over all faces for the tilted M (the axial part puts
   // Br sin el phi_hat on the curved face): an independent model for both parts, inside included.
   Magnet mag = study_magnet();
@@ -336,7 +336,7 @@ TEST_CASE("elevation: full vector matches Biot-Savart of the equivalent currents
   WARN("elevation 30 deg: max relative deviation exact vs Biot-Savart reference: " << worst);
 }
 
-TEST_CASE("elevation: far field tends to the tilted point dipole", "[field][analytic][elevation]") {
+TEST_CASE("elevation: far field tends to the tilted point dipole", "[fields][physics][closed-form]") {
   Magnet mag = study_magnet();
   mag.magnetization_elevation_deg = 90.0;  // pure axial: tests the elliptic-integral part alone
   for (const double el_deg : {90.0, 25.0}) {
@@ -363,7 +363,7 @@ TEST_CASE("elevation: far field tends to the tilted point dipole", "[field][anal
   }
 }
 
-TEST_CASE("elevation: axial part is curl- and divergence-free and keeps B_n continuous", "[field][analytic][elevation]") {
+TEST_CASE("elevation: axial part is curl- and divergence-free and keeps B_n continuous", "[fields][physics]") {
   Magnet mag = study_magnet();
   mag.magnetization_elevation_deg = 90.0;
   const AnalyticField f(mag);
@@ -390,7 +390,7 @@ TEST_CASE("elevation: axial part is curl- and divergence-free and keeps B_n cont
   CHECK(in.z() - out.z() == Approx(mag.br_T).margin(1e-6));
 }
 
-TEST_CASE("elevation: the quadrature's axial part equals the elliptic-integral closed form", "[field][analytic][elevation]") {
+TEST_CASE("elevation: the quadrature's axial part equals the elliptic-integral closed form", "[fields][closed-form]") {
   // Two independent derivations of the axial part: the phi' quadrature on the diametric kernel's nodes
   // (what B_T/Bz_T use) and the finite-solenoid closed form with Bulirsch's cel. elevation 90 deg:
   // the field is the axial part alone (cos 90 deg = 6e-17 leaves ~1e-16 T of the diametric part).

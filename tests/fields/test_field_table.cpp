@@ -29,6 +29,7 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "../probe/spectrum_compare.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;
@@ -96,7 +97,7 @@ GridData sample_exact(const Config& cfg, bool box, bool bz_only) {
 
 }  // namespace
 
-TEST_CASE("a grid written as a table reads back to the same grid in every format", "[grid][table]") {
+TEST_CASE("a grid written as a table reads back to the same grid in every format", "[fields][contract]") {
   const Config cfg(common_keys());
   // A small exact-field box with B (3-D) and a Bz-only plane.
   const AnalyticField exact(Magnet::from_config(cfg));
@@ -162,7 +163,7 @@ TEST_CASE("a grid written as a table reads back to the same grid in every format
   CHECK(s6.spacing_mm.x() == Approx(0.0912345).epsilon(1e-5));
 }
 
-TEST_CASE("the exact field as a table reproduces the exact spectra", "[grid][table][probe]") {
+TEST_CASE("the exact field as a table reproduces the exact spectra", "[fields][cross-check]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);
@@ -186,16 +187,14 @@ TEST_CASE("the exact field as a table reproduces the exact spectra", "[grid][tab
       ProbeSetup setup;
       setup.array = ProbeArray::parse(array);
       setup.plane_z_mm = zs;
-      for (const char* off : {"sx", "sy", "dx", "dy"}) {
-        Mount m;
-        (off[0] == 's' ? (off[1] == 'x' ? m.sx_mm : m.sy_mm) : (off[1] == 'x' ? m.dx_mm : m.dy_mm)) = 0.1;
-        const Spectrum se = error_spectrum(exact, setup, m), st = error_spectrum(*field, setup, m);
+      test::compare_spectra_per_eccentricity(exact, *field, setup, 0.1, [&](const std::string& off, const Spectrum& se,
+                                                                            const Spectrum& st) {
         CHECK(std::abs(st.a0_deg - se.a0_deg) < 1e-5);
         for (int n = 1; n <= 4; ++n) {
           CAPTURE(table, array, off, n, se.c_deg[n], st.c_deg[n]);
           CHECK(std::abs(st.c_deg[n] - se.c_deg[n]) < 1e-5);
         }
-      }
+      });
     }
   }
   // dz on the 3-D table: dz = 0.1 mm with dx = 0.1 mm, two array.
@@ -246,7 +245,7 @@ TEST_CASE("the exact field as a table reproduces the exact spectra", "[grid][tab
   fs::remove_all(dir);
 }
 
-TEST_CASE("bad tables: one line naming the problem and the first offending line", "[grid][table]") {
+TEST_CASE("bad tables: one line naming the problem and the first offending line", "[fields][bad-input]") {
   // small_table(): header on line 1, row (i, j) on line 2 + i + 4 j.
   SECTION("a good small table parses") {
     const GridData g = parse_field_table(small_table(), "t.csv", 4.55);
@@ -355,7 +354,7 @@ Run run_cmd(const std::string& cmd, const fs::path& dir) {
 }
 }  // namespace
 
-TEST_CASE("error_spectrum --field table: and table_to_vti", "[grid][table][tools]") {
+TEST_CASE("error_spectrum --field table: and table_to_vti", "[fields][cli]") {
   const Config cfg(common_keys());
   const auto dir = scratch();
   const std::string bin = MAGENC_BIN_DIR;

@@ -78,7 +78,7 @@ std::filesystem::path temp_dir() {
 
 }  // namespace
 
-TEST_CASE("interpolation exactness on polynomials", "[grid]") {
+TEST_CASE("interpolation exactness on polynomials", "[fields][closed-form]") {
   const Vec3 origin(-1.3, -0.7, 4.0);
   const Vec3 h(0.1, 0.125, 0.05);
   SECTION("2-D plane") {
@@ -144,7 +144,7 @@ TEST_CASE("interpolation exactness on polynomials", "[grid]") {
   }
 }
 
-TEST_CASE("convergence rates on a smooth field", "[grid]") {
+TEST_CASE("convergence rates on a smooth field", "[fields][convergence]") {
   // A smooth, field-like function of x, y, z (mm).
   auto smooth = fn_field([](const Vec3& p) {
     return std::exp(-0.08 * (p.x() * p.x() + p.y() * p.y())) * std::cos(0.9 * p.x() - 0.4 * p.y()) / (1.0 + 0.2 * p.z());
@@ -182,7 +182,7 @@ TEST_CASE("convergence rates on a smooth field", "[grid]") {
   }
 }
 
-TEST_CASE("points outside the grid are errors, never extrapolated", "[grid][bad-input]") {
+TEST_CASE("points outside the grid are errors, never extrapolated", "[fields][bad-input]") {
   auto f = fn_field([](const Vec3& p) { return p.x(); });
   GridData g = sample_grid(f, Vec3(-1, -1, 4.55), Vec3(0.1, 0.1, 1), {21, 21, 1});
   g.source = "output/field/plane.vti";
@@ -219,7 +219,7 @@ TEST_CASE("points outside the grid are errors, never extrapolated", "[grid][bad-
   CHECK(parse_interp("cubic") == Interp::Cubic);
 }
 
-TEST_CASE("batch equals single points and does not depend on threads", "[grid]") {
+TEST_CASE("batch equals single points and does not depend on threads", "[fields][determinism]") {
   auto f = fn_field([](const Vec3& p) { return std::sin(p.x()) * std::cos(0.5 * p.y()) * (1 + 0.1 * p.z()); });
   GridData g = sample_grid(f, Vec3(-3, -3, 4.05), Vec3(0.05, 0.05, 0.1), {121, 121, 11});
   const auto pts = random_points(5000, Vec3(-3, -3, 4.05), Vec3(3, 3, 5.05));
@@ -243,7 +243,7 @@ TEST_CASE("batch equals single points and does not depend on threads", "[grid]")
   }
 }
 
-TEST_CASE(".vti round trip and bad files", "[grid][io]") {
+TEST_CASE(".vti round trip and bad files", "[fields][contract][bad-input]") {
   const auto dir = temp_dir();
   auto f = fn_field([](const Vec3& p) { return 0.1 * p.x() * p.x() - p.y() + 0.01 * p.z(); });
   for (const bool plane : {true, false}) {

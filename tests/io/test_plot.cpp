@@ -30,7 +30,7 @@ PlotSpec two_panel_spec() {
 }
 }  // namespace
 
-TEST_CASE("write_plot writes a PNG with its script and data", "[plot][studies]") {
+TEST_CASE("write_plot writes a PNG with its script and data", "[io][contract]") {
   const fs::path dir = test::temp_out("plot");
   write_plot(dir, "demo", two_panel_spec());
   REQUIRE(fs::exists(dir / "demo.png"));
@@ -49,7 +49,7 @@ TEST_CASE("write_plot writes a PNG with its script and data", "[plot][studies]")
   fs::remove_all(dir);
 }
 
-TEST_CASE("write_plot reports gnuplot failures and bad input", "[plot][studies]") {
+TEST_CASE("write_plot reports gnuplot failures and bad input", "[io][bad-input]") {
   const fs::path dir = test::temp_out("plot_bad");
   PlotSpec bad = two_panel_spec();
   bad.panels[0].commands.push_back("set nonsense_option 42");
@@ -63,7 +63,7 @@ TEST_CASE("write_plot reports gnuplot failures and bad input", "[plot][studies]"
   fs::remove_all(dir);
 }
 
-TEST_CASE("write_heatmap writes a labelled log-colour heat map and refuses inconsistent sizes", "[plot][studies]") {
+TEST_CASE("write_heatmap writes a labelled log-colour heat map and refuses inconsistent sizes", "[io][bad-input]") {
   const fs::path dir = test::temp_out("heatmap");
   HeatmapSpec h;
   h.title = "heat map test";

@@ -55,7 +55,7 @@ fs::path temp_dir() {
 
 }  // namespace
 
-TEST_CASE("probe paths .vtp: one polyline per probe with Bz, theta_deg, probe", "[vtk][probe]") {
+TEST_CASE("probe paths .vtp: one polyline per probe with Bz, theta_deg, probe", "[io][contract]") {
   const Case c;
   const fs::path dir = temp_dir();
   const fs::path file = dir / "sub" / "paths_case.vtp";
@@ -105,7 +105,7 @@ TEST_CASE("probe paths .vtp: one polyline per probe with Bz, theta_deg, probe", 
   fs::remove_all(dir);
 }
 
-TEST_CASE("probe paths .vtp: a partial turn stays an open polyline", "[vtk][probe]") {
+TEST_CASE("probe paths .vtp: a partial turn stays an open polyline", "[io][contract]") {
   const Case c;
   const fs::path dir = temp_dir();
   const fs::path file = dir / "half.vtp";
@@ -121,7 +121,7 @@ TEST_CASE("probe paths .vtp: a partial turn stays an open polyline", "[vtk][prob
   fs::remove_all(dir);
 }
 
-TEST_CASE("probe paths .vtp: inconsistent shapes are rejected, nothing written", "[vtk][probe]") {
+TEST_CASE("probe paths .vtp: inconsistent shapes are rejected, nothing written", "[io][bad-input]") {
   const Case c;
   const fs::path dir = temp_dir();
   const fs::path file = dir / "bad.vtp";
@@ -137,7 +137,7 @@ TEST_CASE("probe paths .vtp: inconsistent shapes are rejected, nothing written",
 }
 
 TEST_CASE("probe paths .vtp of a mounting case: each point carries the field the pipeline read there",
-          "[vtk][probe]") {
+          "[io][cross-check]") {
   // write_case_probe_paths_vtp pairs probe_paths_mm with angle_error's readings
   // (M x K -> column m*K + k). On the exact field every stored Bz must equal the
   // field at the stored point; a transposed layout would break this.

@@ -22,7 +22,7 @@ fs::path write_temp(const std::string& name, const std::string& text) {
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 }  // namespace
 
-TEST_CASE("spectra table header and numbers", "[probe][tables]") {
+TEST_CASE("spectra table header and numbers", "[io][contract]") {
   SpectrumRow r;
   r.field = "linear";
   r.array = "two";
@@ -42,12 +42,12 @@ TEST_CASE("spectra table header and numbers", "[probe][tables]") {
   CHECK(spectra_csv({r}).find(",\"a,b\"\n") != std::string::npos);
 }
 
-TEST_CASE("fits table header", "[probe][tables]") {
+TEST_CASE("fits table header", "[io][contract]") {
   FitRow f{"static", "sx_mm", "c2_deg", {1, 2, 3, 4}, {}};
   CHECK(fits_csv({f}) == "study,swept,coef,p3,p2,p1,p0\nstatic,sx_mm,c2_deg,1,2,3,4\n");
 }
 
-TEST_CASE("cases CSV: columns in any order, missing = 0", "[probe][tables]") {
+TEST_CASE("cases CSV: columns in any order, missing = 0", "[io][contract]") {
   const auto p = write_temp("ok.csv", "dx_mm, sx_mm\n0.1,0.2\n-0.05 , 1e-2\r\n\n");
   const auto cases = read_cases_csv(p);
   REQUIRE(cases.size() == 2);
@@ -58,7 +58,7 @@ TEST_CASE("cases CSV: columns in any order, missing = 0", "[probe][tables]") {
   fs::remove(p);
 }
 
-TEST_CASE("cases CSV: optional tilt columns", "[probe][tables][tilt]") {
+TEST_CASE("cases CSV: optional tilt columns", "[io][contract]") {
   const auto p = write_temp("tilt.csv", "sx_mm,tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg\n"
                                         "0.1,1,-0.5,2,30\n0,0,0,0,0\n");
   const auto cases = read_cases_csv(p);
@@ -83,7 +83,7 @@ TEST_CASE("cases CSV: optional tilt columns", "[probe][tables][tilt]") {
   fs::remove(bad);
 }
 
-TEST_CASE("cases CSV: strict errors name the file, line and column", "[probe][tables]") {
+TEST_CASE("cases CSV: strict errors name the file, line and column", "[io][bad-input]") {
   struct Bad {
     const char* text;
     const char* expect;  // substring of the message

@@ -29,7 +29,7 @@ Mount mount(double sx, double sy, double dx, double dy, double dz = 0) { return 
 
 }  // namespace
 
-TEST_CASE("probe positions follow q = Rot(-theta)(p + s) - d", "[probe][mounting]") {
+TEST_CASE("probe positions follow q = Rot(-theta)(p + s) - d", "[probe][closed-form]") {
   const Mount m = mount(0.1, -0.2, 0.05, 0.07, 0.3);
   const double th = deg_to_rad(30.0);
   const Eigen::Vector3d q = probe_position_mm(m, 2.4, 0.0, th, 4.55);
@@ -44,7 +44,7 @@ TEST_CASE("probe positions follow q = Rot(-theta)(p + s) - d", "[probe][mounting
   CHECK((P.col(3 * 4 + 3) - q32).norm() < 1e-14);
 }
 
-TEST_CASE("probe arrays parse with the documented weights", "[probe][array]") {
+TEST_CASE("probe arrays parse with the documented weights", "[probe][contract]") {
   const ProbeArray two = ProbeArray::parse("two"), d4 = ProbeArray::parse("diff4"), r8 = ProbeArray::parse("ring:8");
   CHECK(two.size() == 2);
   CHECK(d4.w_cos == std::vector<double>{1, 0, -1, 0});
@@ -55,7 +55,7 @@ TEST_CASE("probe arrays parse with the documented weights", "[probe][array]") {
     CHECK_THROWS_AS(ProbeArray::parse(bad), InputError);
 }
 
-TEST_CASE("ideal mount on the exact field: no error", "[probe][analytic]") {
+TEST_CASE("ideal mount on the exact field: no error", "[probe][physics]") {
   // Bz on a circle about the axis is exactly proportional to cos(angle), so
   // the only error left is quadrature/round-off (~1e-12 relative -> ~1e-10 deg).
   const AnalyticField f{Magnet{}};
@@ -68,7 +68,7 @@ TEST_CASE("ideal mount on the exact field: no error", "[probe][analytic]") {
   }
 }
 
-TEST_CASE("magnetization direction gives a constant offset wrapped to -180 < eps <= 180", "[probe][analytic]") {
+TEST_CASE("magnetization direction gives a constant offset wrapped to -180 < eps <= 180", "[probe][physics]") {
   // M0 rotated by alpha: Bz at magnet-frame azimuth psi ~ cos(psi - alpha); probe k
   // sits at psi = b_k - theta, so phi = theta + alpha and eps = wrap(alpha).
   for (double alpha : {30.0, -100.0, 180.0, 200.0}) {
@@ -82,7 +82,7 @@ TEST_CASE("magnetization direction gives a constant offset wrapped to -180 < eps
   }
 }
 
-TEST_CASE("exact field: sy mirrors sx, and physics.md's harmonic signatures", "[probe][analytic]") {
+TEST_CASE("exact field: sy mirrors sx, and physics.md's harmonic signatures", "[probe][physics]") {
   const AnalyticField f{Magnet{}};
   const ProbeSetup two = setup_for("two");
   SECTION("static y mirrors static x: a0 flips, a2 same, b2 flips") {
@@ -112,7 +112,7 @@ TEST_CASE("exact field: sy mirrors sx, and physics.md's harmonic signatures", "[
   }
 }
 
-TEST_CASE("angle_error rejects invalid setups", "[probe][validation]") {
+TEST_CASE("angle_error rejects invalid setups", "[probe][bad-input]") {
   const AnalyticField f{Magnet{}};
   const LinearField lin;
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -139,7 +139,7 @@ TEST_CASE("angle_error rejects invalid setups", "[probe][validation]") {
   CHECK_NOTHROW(angle_error(f, setup_for("two", 1.5, 64), Mount{}));
 }
 
-TEST_CASE("angle_error_at: arbitrary rotor angles give the same error as the uniform pipeline", "[probe][analytic]") {
+TEST_CASE("angle_error_at: arbitrary rotor angles give the same error as the uniform pipeline", "[probe][cross-check]") {
   const AnalyticField field(Magnet{});
   const ProbeSetup s = setup_for("two", 2.4, 360);
   const Mount m = mount(0.1, -0.05, 0.08, 0.02, 0.1);

@@ -51,7 +51,7 @@ Eigen::VectorXd five_offset_eps_deg(const FieldSource& f, const ProbeSetup& s, c
 
 }  // namespace
 
-TEST_CASE("sensor tilt kinematics: Rs = Ry(b) Rx(a) about the sensor centre", "[probe][tilt]") {
+TEST_CASE("sensor tilt kinematics: Rs = Ry(b) Rx(a) about the sensor centre", "[probe][closed-form]") {
   const double a = deg_to_rad(30.0), b = deg_to_rad(20.0);
   // Rx(a) e_y = (0, cos a, sin a); Rx(a) e_z = (0, -sin a, cos a) (right-handed).
   CHECK((rot_x(a) * Eigen::Vector3d::UnitY() - Eigen::Vector3d(0, std::cos(a), std::sin(a))).norm() < 1e-15);
@@ -81,7 +81,7 @@ TEST_CASE("sensor tilt kinematics: Rs = Ry(b) Rx(a) about the sensor centre", "[
   CHECK((probe_normal(m, th) - rot_z(-th) * n_expect).norm() < 1e-15);
 }
 
-TEST_CASE("magnet tilt kinematics: pivot at the bottom-face centre, top leans towards psi", "[probe][tilt]") {
+TEST_CASE("magnet tilt kinematics: pivot at the bottom-face centre, top leans towards psi", "[probe][closed-form]") {
   const double g = deg_to_rad(10.0), L = 4.0;
   for (const double psi_deg : {0.0, 90.0, 200.0}) {
     const double psi = deg_to_rad(psi_deg);
@@ -113,7 +113,7 @@ TEST_CASE("magnet tilt kinematics: pivot at the bottom-face centre, top leans to
   }
 }
 
-TEST_CASE("zero tilts and an ideal chain reproduce the five-offset pipeline", "[probe][tilt]") {
+TEST_CASE("zero tilts and an ideal chain reproduce the five-offset pipeline", "[probe][regression]") {
   const AnalyticField f(Magnet{});
   for (const char* arr : {"two", "diff4", "ring:5"}) {
     const ProbeSetup s = setup_for(arr, 720);
@@ -142,7 +142,7 @@ TEST_CASE("zero tilts and an ideal chain reproduce the five-offset pipeline", "[
   }
 }
 
-TEST_CASE("reference values of physics.md (exact field, default magnet, r0 2.4 mm, two)", "[probe][tilt][reference]") {
+TEST_CASE("reference values of physics.md (exact field, default magnet, r0 2.4 mm, two)", "[probe][physics][regression]") {
   const AnalyticField f(Magnet{});
   const ProbeSetup two = setup_for("two");
   {  // sensor tilt_x 1 deg: a0 -0.403, c2 0.754 deg
@@ -198,7 +198,7 @@ TEST_CASE("reference values of physics.md (exact field, default magnet, r0 2.4 m
 //  * phase delta: cos th + i sin(th + delta) = cos(delta/2) e^{i(th + delta/2)} (1 + i t e^{-i(2 th + delta)}),
 //    t = tan(delta/2), so phi - th = delta/2 + sum_n (-1)^(n+1) (t^n/n) sin(n (pi/2 - 2 th - delta)):
 //    a0 = delta/2 exactly, c2 = t = tan(delta/2) ~ delta/2, c4 = t^2/2.
-TEST_CASE("signal chain: offsets, gain and phase give their exact Fourier series", "[probe][chain]") {
+TEST_CASE("signal chain: offsets, gain and phase give their exact Fourier series", "[probe][closed-form]") {
   const AnalyticField f(Magnet{});
   ProbeSetup two = setup_for("two", 3600);
   const double A_T = f.Bz_T(Vec3(2.4, 0.0, 4.55));  // amplitude of both channels
@@ -266,7 +266,7 @@ TEST_CASE("signal chain: offsets, gain and phase give their exact Fourier series
   }
 }
 
-TEST_CASE("signal chain validation and config keys", "[probe][chain]") {
+TEST_CASE("signal chain validation and config keys", "[probe][bad-input]") {
   SignalChain c;
   c.gain_mismatch = -1.0;
   CHECK_THROWS_AS(c.validate(), InputError);
@@ -317,7 +317,7 @@ Eigen::Vector2d rot2(double x, double y, double g_deg) {
 }
 }  // namespace
 
-TEST_CASE("symmetry: rotating the whole set-up about the axis leaves the error unchanged", "[probe][tilt]") {
+TEST_CASE("symmetry: rotating the whole set-up about the axis leaves the error unchanged", "[probe][physics]") {
   // Turning everything by gamma about the rotation axis (probe angles, s, d, the magnetization
   // azimuth, the magnet-tilt azimuth) is a rigid motion commuting with the rotor's turn: every probe
   // reads the same value at every theta, so eps(theta) is identical. A sensor tilt about x becomes,
@@ -371,7 +371,7 @@ TEST_CASE("symmetry: rotating the whole set-up about the axis leaves the error u
   }
 }
 
-TEST_CASE("sources that know only Bz on a plane refuse tilts", "[probe][tilt]") {
+TEST_CASE("sources that know only Bz on a plane refuse tilts", "[probe][bad-input]") {
   const LinearField lin;
   CHECK_FALSE(lin.gives_full_vector());
   const ProbeSetup two = setup_for("two", 64);
@@ -408,7 +408,7 @@ TEST_CASE("sources that know only Bz on a plane refuse tilts", "[probe][tilt]") 
   CHECK(f.gives_full_vector());
 }
 
-TEST_CASE("probe-in-magnet check with tilts (exact field)", "[probe][tilt]") {
+TEST_CASE("probe-in-magnet check with tilts (exact field)", "[probe][bad-input]") {
   const AnalyticField f(Magnet{});
   ProbeSetup s = setup_for("two", 64);
   // Sensor beside the magnet (plane within its height): r0 = 2.4 > R = 2 is fine untilted ...
@@ -433,7 +433,7 @@ TEST_CASE("probe-in-magnet check with tilts (exact field)", "[probe][tilt]") {
   CHECK_NOTHROW(angle_error(f, s, g));
 }
 
-TEST_CASE("magnetization elevation in the probe pipeline", "[probe][elevation]") {
+TEST_CASE("magnetization elevation in the probe pipeline", "[probe][physics]") {
   // The axial part is symmetric about the axis: a common offset on every probe. `two` sees a 1st
   // harmonic (~offset/amplitude rad); diff4 and ring:N cancel it exactly for an ideal mount.
   Magnet mag;
@@ -462,7 +462,7 @@ TEST_CASE("magnetization elevation in the probe pipeline", "[probe][elevation]")
   CHECK(eq.c_deg[2] == Approx(two.c_deg[2]).epsilon(1e-6));
 }
 
-TEST_CASE("angle_error_at and probe_normals honour tilts, chain and elevation", "[probe][tilt][chain]") {
+TEST_CASE("angle_error_at and probe_normals honour tilts, chain and elevation", "[probe][cross-check]") {
   Magnet mag;
   mag.magnetization_elevation_deg = 3.0;
   const AnalyticField f(mag);

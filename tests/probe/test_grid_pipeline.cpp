@@ -14,6 +14,7 @@
 #include "core/errors.hpp"
 #include "fields/field_factory.hpp"
 #include "analysis/provenance.hpp"
+#include "spectrum_compare.hpp"
 
 using namespace magenc;
 
@@ -25,7 +26,7 @@ std::filesystem::path scratch() {
 }
 }  // namespace
 
-TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[grid][probe]") {
+TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[probe][cross-check]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);
@@ -40,16 +41,14 @@ TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[
     opts.interp = Interp::Cubic;
     const auto grid = make_field_source("grid:" + (dir / "plane.vti").string(), cfg, opts);
     CHECK(grid->name() == "grid");
-    for (const char* off : {"sx", "sy", "dx", "dy"}) {
-      Mount m;
-      (off[0] == 's' ? (off[1] == 'x' ? m.sx_mm : m.sy_mm) : (off[1] == 'x' ? m.dx_mm : m.dy_mm)) = 0.1;
-      const Spectrum se = error_spectrum(exact, setup, m), sg = error_spectrum(*grid, setup, m);
+    test::compare_spectra_per_eccentricity(exact, *grid, setup, 0.1, [&](const std::string& off, const Spectrum& se,
+                                                                         const Spectrum& sg) {
       for (int n = 1; n <= 4; ++n) {
         CAPTURE(array, off, n, se.c_deg[n], sg.c_deg[n]);
         CHECK(std::abs(sg.c_deg[n] - se.c_deg[n]) <= std::max(0.02 * se.c_deg[n], 0.002));
         CHECK(std::abs(sg.c_deg[n] - se.c_deg[n]) < 1e-5);  // cubic at h = 0.05: far inside the acceptance
       }
-    }
+    });
   }
   // A dz on a plane grid names box.vti.
   try {
@@ -64,7 +63,7 @@ TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better interpolation removes", "[grid][probe]") {
+TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better interpolation removes", "[probe][physics]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   ProbeSetup setup;
@@ -87,7 +86,7 @@ TEST_CASE("nearest-neighbour lookup makes a spurious 4th harmonic that better in
   CHECK(c4(0.05, "linear") < c4(0.1, "linear"));
 }
 
-TEST_CASE("error_spectrum --field grid: runs and refuses points outside the grid", "[grid][tools]") {
+TEST_CASE("error_spectrum --field grid: runs and refuses points outside the grid", "[probe][bad-input][cli]") {
   const Config cfg(common_keys());
   const AnalyticField exact(Magnet::from_config(cfg));
   const double zs = sensing_plane_z_mm(cfg);

@@ -51,7 +51,7 @@ FirstOrder first_order_deg(double sx, double sy, double dx, double r0) {
 
 // physics.md gives the values to 3 decimals; 1e-3 deg accepts their rounding
 // (the printed digit is within 5e-4 of the true value) and nothing more.
-TEST_CASE("linear model reproduces the study's sanity values", "[probe][linear]") {
+TEST_CASE("linear model reproduces the study's sanity values", "[probe][physics][regression]") {
   const double tol = 1e-3;
   SECTION("static x = 0.1 mm") {
     const Spectrum s = linear_spectrum(0.1, 0, 0, 0);
@@ -86,7 +86,7 @@ TEST_CASE("linear model reproduces the study's sanity values", "[probe][linear]"
 }
 
 TEST_CASE("linear model agrees with the first-order closed form within O((offset/r0)^2)",
-          "[probe][linear]") {
+          "[probe][closed-form]") {
   const double r0 = 2.4;
   struct Case {
     double sx, sy, dx;
@@ -117,7 +117,7 @@ TEST_CASE("linear model agrees with the first-order closed form within O((offset
   }
 }
 
-TEST_CASE("linear model symmetries: sy mirrors sx, dy has no effect", "[probe][linear]") {
+TEST_CASE("linear model symmetries: sy mirrors sx, dy has no effect", "[probe][physics]") {
   for (double off : {0.05, 0.1, 0.2}) {
     const Spectrum x = linear_spectrum(off, 0, 0, 0), y = linear_spectrum(0, off, 0, 0);
     CAPTURE(off);

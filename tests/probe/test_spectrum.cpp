@@ -9,7 +9,7 @@
 
 using namespace magenc;
 
-TEST_CASE("wrap_deg maps into -180 < a <= 180", "[probe][spectrum]") {
+TEST_CASE("wrap_deg maps into -180 < a <= 180", "[probe][closed-form]") {
   CHECK(wrap_deg(0.0) == 0.0);
   CHECK(wrap_deg(180.0) == 180.0);
   CHECK(wrap_deg(-180.0) == 180.0);
@@ -21,7 +21,7 @@ TEST_CASE("wrap_deg maps into -180 < a <= 180", "[probe][spectrum]") {
   CHECK(wrap_deg(1e6 + 0.5) == Approx(wrap_deg(std::fmod(1e6, 360.0) + 0.5)).epsilon(1e-12));
 }
 
-TEST_CASE("spectrum recovers a synthetic signal exactly", "[probe][spectrum]") {
+TEST_CASE("spectrum recovers a synthetic signal exactly", "[probe][closed-form]") {
   // eps = a0 + sum a_n cos + b_n sin for n = 1..8 with arbitrary coefficients:
   // the discrete sums are exact for M > 16, up to round-off (~1e-14 deg).
   const int M = GENERATE(17, 100, 3600);
@@ -51,7 +51,7 @@ TEST_CASE("spectrum recovers a synthetic signal exactly", "[probe][spectrum]") {
   CHECK(got.pp_deg == Approx(eps.maxCoeff() - eps.minCoeff()).margin(1e-15));
 }
 
-TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][spectrum]") {
+TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][regression]") {
   // phi - theta for a true error eps = 0.4 sin(3 theta) - 0.2, computed from an
   // angle that runs over many turns: raw differences jump by multiples of 360,
   // wrap_deg must restore eps exactly.
@@ -71,7 +71,7 @@ TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][sp
   CHECK(s.pp_deg == Approx(0.8).margin(1e-12));
 }
 
-TEST_CASE("spectrum columns follow interfaces.md", "[probe][spectrum]") {
+TEST_CASE("spectrum columns follow interfaces.md", "[probe][contract]") {
   const auto& cols = spectrum_columns();
   REQUIRE(cols.size() == 1 + 3 * kHarmonics + 1);
   CHECK(cols.front() == "a0_deg");

@@ -19,7 +19,8 @@ namespace {
 
 struct KeyInfo {
   std::string key, allowed;
-  enum class Kind { Real, Int, Choice, String, Bool } kind;
+  enum class Kind { Real, Int, Choice, String, Bool, NumberList, StringList } kind;
+  int min_elements = 0;  // array keys: fewest elements allowed
   double min = -1e300, max = 1e300;
   bool min_exclusive = false, max_exclusive = false;
 };
@@ -31,6 +32,8 @@ std::vector<KeyInfo> key_table(const fs::path& exe) {
   std::vector<KeyInfo> keys;
   const std::regex line_re(R"(^  ([a-z0-9_]+\.[a-z0-9_.]+) +default (.*?), allowed (.*?)\. )");
   const std::regex range_re(R"(^(integer in )?([\[(])([^,]+), ([^\])]+)([\])]))");
+  // Array keys (TOML arrays or comma-separated text): "an array of N or more numbers, each ...".
+  const std::regex array_re(R"(^an array of ([0-9]+) or more (numbers|integers|non-empty strings|strings))");
   std::stringstream ss(r.out);
   for (std::string line; std::getline(ss, line);) {
     std::smatch m;
@@ -45,6 +48,9 @@ std::vector<KeyInfo> key_table(const fs::path& exe) {
       k.max = std::stod(rm[4]);
       k.min_exclusive = rm[2] == "(";
       k.max_exclusive = rm[5] == ")";
+    } else if (std::smatch am; std::regex_search(k.allowed, am, array_re)) {
+      k.kind = am[2] == "strings" || am[2] == "non-empty strings" ? KeyInfo::Kind::StringList : KeyInfo::Kind::NumberList;
+      k.min_elements = std::stoi(am[1]);
     } else if (k.allowed == "true or false") {
       k.kind = KeyInfo::Kind::Bool;
     } else if (k.allowed.rfind("one of ", 0) == 0) {
@@ -87,6 +93,16 @@ std::vector<std::string> bad_values(const KeyInfo& k) {
       break;
     case KeyInfo::Kind::String:
       break;
+    // Array keys: a non-finite element, an element of the wrong type, a nested array, an empty element or
+    // an empty array where elements are required; TOML array syntax and comma-separated text.
+    case KeyInfo::Kind::NumberList:
+      v = {"[nan]", "[inf]", "1,nan", "[\"abc\"]", "1,abc", "[[1]]"};
+      if (k.min_elements > 0) v.push_back("[]");
+      break;
+    case KeyInfo::Kind::StringList:
+      v = {"[1]", "[true]", "[[\"a\"]]", "[\"\"]"};
+      if (k.min_elements > 0) v.push_back("[]");
+      break;
   }
   return v;
 }
@@ -103,6 +119,16 @@ std::vector<std::string> bad_toml_values(const KeyInfo& k) {
   if (k.kind == KeyInfo::Kind::Int) return {"1e300", "-1e300", "nan", "9223372036854775807", "\"7\""};
   if (k.kind == KeyInfo::Kind::Bool) return {"1", "\"true\""};
   if (k.kind == KeyInfo::Kind::Choice) return {"\"no-such-choice\"", "3"};
+  if (k.kind == KeyInfo::Kind::NumberList) {
+    std::vector<std::string> v{"[nan]", "[1.0, -inf]", "[\"1.0\"]", "[[1.0]]", "1.0", "\"1,nan\""};
+    if (k.min_elements > 0) v.push_back("[]");
+    return v;
+  }
+  if (k.kind == KeyInfo::Kind::StringList) {
+    std::vector<std::string> v{"[1]", "[\"a\", 2.5]", "[{ x = 1 }]", "[\"\"]", "true"};
+    if (k.min_elements > 0) v.push_back("[]");
+    return v;
+  }
   return {};
 }
 
@@ -136,20 +162,25 @@ const fs::path kBin = MAGENC_BIN_DIR;
 }  // namespace
 
 TEST_CASE("bad-input matrix: every executable x every declared key x its bad values (--set and TOML)",
-          "[reliability][bad-input]") {
+          "[apps][bad-input][cli][slow]") {
   const auto exes = executables(kBin);
   REQUIRE(exes.size() >= 10);
   Matrix m;
-  int keys_total = 0;
+  int keys_total = 0, array_keys = 0;
   for (const auto& exe : exes) {
     const auto keys = key_table(exe);
+    for (const auto& k : keys)
+      array_keys += k.kind == KeyInfo::Kind::NumberList || k.kind == KeyInfo::Kind::StringList;
     INFO(exe.filename().string());
     REQUIRE(keys.size() >= 10);  // at least the common [magnet]/[sensor]/[mount] keys
     keys_total += int(keys.size());
     ScratchDir s("magenc_matrix");
     for (const auto& k : keys) {
       for (const auto& v : bad_values(k))
-        m.check("--set " + std::string(k.kind == KeyInfo::Kind::Real ? "real" : "other") + " key", exe,
+        m.check("--set " + std::string(k.kind == KeyInfo::Kind::Real                 ? "real"
+                                       : k.kind == KeyInfo::Kind::NumberList ||
+                                               k.kind == KeyInfo::Kind::StringList ? "array"
+                                                                                   : "other") + " key", exe,
                 {"--set", k.key + "=" + v, "--out", "out"}, s, {"bad.toml"}, {k.key});
       const auto dot = k.key.rfind('.');
       for (const auto& v : bad_toml_values(k)) {
@@ -159,11 +190,13 @@ TEST_CASE("bad-input matrix: every executable x every declared key x its bad val
     }
   }
   WARN("bad-input matrix (config keys): " << exes.size() << " executables, " << keys_total << " keys, " << m.cases
-                                           << " cases, " << m.failures << " failures");
+                                           << " cases, " << m.failures << " failures, " << array_keys
+                                           << " array keys");
+  CHECK(array_keys > 0);  // the studies' list keys are arrays (study.arrays, sweep.coefs, ...)
   CHECK(m.failures == 0);
 }
 
-TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
   REQUIRE(exes.size() >= 10);
   Matrix m;
@@ -200,7 +233,7 @@ TEST_CASE("bad-input matrix: every executable x unusable files and output paths"
   CHECK(m.failures == 0);
 }
 
-TEST_CASE("bad-input matrix: every executable x an output path that is unusable", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: every executable x an output path that is unusable", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
   Matrix m;
   for (const auto& exe : exes) {
@@ -241,7 +274,7 @@ std::string vti(const std::string& whole = "0 2 0 2 0 0", const std::string& pie
 }
 }  // namespace
 
-TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", "[reliability][bad-input]") {
+TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", "[apps][bad-input][cli]") {
   Matrix m;
   const fs::path es = kBin / "error_spectrum", sf = kBin / "solve_field";
   ScratchDir s("magenc_matrix_inputs");

@@ -31,7 +31,7 @@ std::vector<std::vector<std::string>> csv_cells(const std::string& text) {
 }
 }  // namespace
 
-TEST_CASE("determinism: radius study CSVs are byte-identical for 1 and 2 threads", "[reliability][determinism]") {
+TEST_CASE("determinism: radius study CSVs are byte-identical for 1 and 2 threads", "[studies][determinism][cli][slow]") {
   ScratchDir s("magenc_det_radius");
   const std::vector<std::string> tiny = {"--set", "radius.fem_dir=",         "--set", "radius.r0_min_mm=1.0",
                                          "--set", "radius.r0_max_mm=3.0",    "--set", "radius.r0_step_mm=0.5",
@@ -57,7 +57,7 @@ TEST_CASE("determinism: radius study CSVs are byte-identical for 1 and 2 threads
 }
 
 TEST_CASE("determinism: solve_field and error_spectrum on 1 and 2 threads agree within the stated tolerance",
-          "[reliability][determinism][fem]") {
+          "[apps][determinism][cli]") {
   ScratchDir s("magenc_det_fem");
   for (const std::string threads : {"1", "2"}) {
     const ProcResult r =

@@ -84,7 +84,7 @@ std::vector<std::string> incomplete_files(const fs::path& dir, int& checked) {
 }  // namespace
 
 TEST_CASE("faults: solve_field and a study killed at several moments leave complete files or none",
-          "[reliability][faults]") {
+          "[apps][faults][cli][slow]") {
   ScratchDir s("magenc_kill");
   struct Job {
     std::string exe;
@@ -136,7 +136,7 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
 }
 
 TEST_CASE("faults: a second run into the same output while one is running is refused and neither is corrupted",
-          "[reliability][faults]") {
+          "[apps][faults][cli][slow]") {
   ScratchDir s("magenc_lock");
   // A run long enough (about 1 s) for the second one to start while the first holds the lock.
   const std::vector<std::string> args = {"--config", kCoarse, "--set", "fem.order=2", "--set", "mesh.h_zone_mm=0.25",
@@ -168,7 +168,7 @@ TEST_CASE("faults: a second run into the same output while one is running is ref
 }
 
 TEST_CASE("faults: a CG solve that cannot converge stops with a clear error and its residual history",
-          "[reliability][faults][fem]") {
+          "[field_solver][faults]") {
   SECTION("solve_field with fem.max_iterations = 3 (PETSc GAMG, the default backend): exit 3, one line, no output") {
     ScratchDir s("magenc_cg_petsc");
     const ProcResult r =

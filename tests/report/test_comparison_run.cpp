@@ -59,7 +59,7 @@ struct Fixture {
 
 }  // namespace
 
-TEST_CASE("run_comparison: counts and order of sweeps, rows, fits and compared cases", "[comparison][studies]") {
+TEST_CASE("run_comparison: counts and order of sweeps, rows, fits and compared cases", "[report][contract]") {
   const Fixture fx;
   const ComparisonRun run = run_comparison(fx.sources, fx.exact, fx.setups, fx.plan);
   REQUIRE(run.arrays.size() == 2);
@@ -122,7 +122,7 @@ TEST_CASE("run_comparison: counts and order of sweeps, rows, fits and compared c
 }
 
 TEST_CASE("run_comparison: the exact field as a FEM source differs by 0, another magnet does not",
-          "[comparison][studies]") {
+          "[report][cross-check]") {
   const Fixture fx;
   const ComparisonRun run = run_comparison(fx.sources, fx.exact, fx.setups, fx.plan);
   for (const auto& c : run.compared) {
@@ -159,7 +159,7 @@ TEST_CASE("run_comparison: the exact field as a FEM source differs by 0, another
   CHECK(md.find("| sx | `two` | grid | 0.00000 |") != std::string::npos);  // each sweep against its own exact sweep
 }
 
-TEST_CASE("max_abs_difference: sweeps of different length are a ComputeError", "[comparison][studies]") {
+TEST_CASE("max_abs_difference: sweeps of different length are a ComputeError", "[report][bad-input]") {
   const AnalyticField exact{Magnet{}};
   const Mount base;
   const SweepResult a = run_sweep(exact, setup_of("two"), {"dx", "dx_mm", linspace(0.0, 0.1, 3), base});
@@ -169,7 +169,7 @@ TEST_CASE("max_abs_difference: sweeps of different length are a ComputeError", "
 }
 
 TEST_CASE("comparison_inputs_from_config: a missing solve directory is one line naming solve_field",
-          "[comparison][studies]") {
+          "[report][bad-input]") {
   std::vector<KeySpec> keys = common_keys();
   for (auto& k : fem_field_keys("plane.vti")) keys.push_back(k);
   keys.push_back(string_key("study.arrays", "two", {}, "arrays"));
@@ -185,7 +185,7 @@ TEST_CASE("comparison_inputs_from_config: a missing solve directory is one line 
   }
 }
 
-TEST_CASE("solve_mismatch: a solve of another magnetization elevation is not this magnet", "[studies][elevation]") {
+TEST_CASE("solve_mismatch: a solve of another magnetization elevation is not this magnet", "[report][bad-input]") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("magenc_test_mismatch_elev_" + std::to_string(::getpid()));
   fs::create_directories(dir);

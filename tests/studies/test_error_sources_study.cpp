@@ -27,7 +27,7 @@ double value_of(const std::vector<std::map<std::string, std::string>>& rows, con
 }
 }  // namespace
 
-TEST_CASE("error_sources study: tiny run reproduces physics.md reference values", "[studies][error_sources]") {
+TEST_CASE("error_sources study: tiny run reproduces physics.md reference values", "[studies][physics][cli]") {
   const fs::path out = temp_out("error_sources");
   const StudyRun r = run_study_exe("error_sources", out,
                                    "--set sensor.steps=720 --set sweep.points=5 --set study.arrays=two,diff4");
@@ -83,7 +83,7 @@ TEST_CASE("error_sources study: tiny run reproduces physics.md reference values"
   CHECK(md.find("harmonics_heatmap.png") != std::string::npos);
 }
 
-TEST_CASE("error_sources study: bad input exits non-zero without output", "[studies][error_sources]") {
+TEST_CASE("error_sources study: bad input exits non-zero without output", "[studies][bad-input][cli]") {
   const fs::path out = temp_out("error_sources_bad");
   StudyRun r = run_study_exe("error_sources", out, "--set study.sources=tilt_x_deg,tilt_z_deg");
   CHECK(r.code == 2);

@@ -36,7 +36,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
 }
 }  // namespace
 
-TEST_CASE("fem_convergence study runs on a tiny configuration", "[fem][study]") {
+TEST_CASE("fem_convergence study runs on a tiny configuration", "[studies][convergence][cli][slow]") {
   const fs::path out = fs::temp_directory_path() / ("magenc_fem_convergence_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const std::string cmd = std::string(MAGENC_BIN_DIR) +

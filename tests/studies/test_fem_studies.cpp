@@ -99,7 +99,7 @@ const std::map<std::string, std::string>* find_cmp(const std::vector<std::map<st
 }  // namespace
 
 TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the exact field on a coarse solve",
-          "[studies][fem_e2e]") {
+          "[studies][physics][cli]") {
   // The medium field: the dz effect on c1 checked below (0.165 deg between dz = -0.3 and
   // +0.3 mm) is a 7 % change of c1, and on the coarse field it came out 0.08-0.17 deg
   // depending on the mesh draw (Release vs Debug floating point gave different meshes).
@@ -135,7 +135,7 @@ TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the e
 }
 
 TEST_CASE("error_spectrum: tilts on fem:DIR and grid:DIR/box.vti agree with the exact field and plane.vti refuses them",
-          "[studies][fem_e2e][tilt]") {
+          "[studies][physics][bad-input][cli]") {
   // Tilted probes read n.B of the full vector off the sensing plane: the FE solution and the 3-D box serve
   // that, the 2-D plane grid does not. Cases (r0 2.4, `two`, 360 steps): sensor tilt_x 1 deg (exact: a0 -0.403,
   // c2 0.754), magnet tilt 1 deg at azimuth 0 (c1 2.476, c3 0.259) and at 90 deg with dx 0.05 (mixed).
@@ -178,7 +178,7 @@ TEST_CASE("error_spectrum: tilts on fem:DIR and grid:DIR/box.vti agree with the 
   fs::remove(cases);
 }
 
-TEST_CASE("magnetization elevation: FEM (quadrant solve, axial load) vs exact on a coarse solve", "[studies][fem_e2e][elevation]") {
+TEST_CASE("magnetization elevation: FEM (quadrant solve, axial load) vs exact on a coarse solve", "[studies][physics][cli]") {
   // solve_field with magnet.magnetization_elevation_deg = 5: the quadrant solve adds the axial component as
   // a third load (even across both symmetry planes); solve.json records the solves and the elevation.
   // Exact: `two` c1 7.70 deg (a common offset on both probes), diff4 ~ 0. Tolerance kCoarseTolDeg.
@@ -202,7 +202,7 @@ TEST_CASE("magnetization elevation: FEM (quadrant solve, axial load) vs exact on
   }
 }
 
-TEST_CASE("error_spectrum: a missing fem: directory is a one-line error", "[studies][fem_e2e]") {
+TEST_CASE("error_spectrum: a missing fem: directory is a one-line error", "[studies][bad-input][cli]") {
   const CliRun r = error_spectrum("--field fem:/nonexistent/field_dir --array two --r0 2.4");
   INFO(r.err);
   CHECK(r.code != 0);
@@ -210,7 +210,7 @@ TEST_CASE("error_spectrum: a missing fem: directory is a one-line error", "[stud
   CHECK(r.rows.empty());
 }
 
-TEST_CASE("real_field study: tiny run on a coarse solve", "[studies][real_field]") {
+TEST_CASE("real_field study: tiny run on a coarse solve", "[studies][cli]") {
   const fs::path dir = coarse_field();
   const fs::path out = temp_out("real_field");
   const StudyRun r = run_study_exe("real_field", out,
@@ -252,7 +252,7 @@ TEST_CASE("real_field study: tiny run on a coarse solve", "[studies][real_field]
   fs::remove_all(out);
 }
 
-TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][airgap]") {
+TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][cli]") {
   const fs::path dir = coarse_field();
   const fs::path out = temp_out("airgap");
   const StudyRun r = run_study_exe("airgap", out,
@@ -319,7 +319,7 @@ TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][airgap]") {
 // The variants' dx harmonics are held to kCoarseTolDeg like the directory's (coarse P1 measured 0.082 in c1,
 // 0.094 in c3).
 TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coarse solve_field directory",
-          "[studies][harmonic_provenance]") {
+          "[studies][cli]") {
   const fs::path dir = coarse_field();
   const fs::path out = temp_out("harmonic_provenance");
   const std::string coarse = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
@@ -380,7 +380,7 @@ TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coa
 }
 
 TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming provenance.fem_variants, exit 2, no output",
-          "[studies][harmonic_provenance]") {
+          "[studies][bad-input][cli]") {
   const std::string coarse = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
   for (const std::string& bad : std::vector<std::string>{"no label here", ": fem.order=1", "a: fem.order", "a: fem.order=3", "a: mesh.bogus=1",
                                 "a: magnet.mu_r=1.05", "a: config=/nonexistent/mesh.toml", "a: fem.order=1; a: fem.order=2",
@@ -399,7 +399,7 @@ TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming proven
 }
 
 TEST_CASE("FEM-driven studies: a missing field directory exits non-zero, one line naming solve_field, no output",
-          "[studies][fem_e2e]") {
+          "[studies][bad-input][cli]") {
   for (const std::string study : {"real_field", "airgap"}) {
     const fs::path out = temp_out(study + "_nofield");
     const StudyRun r = run_study_exe(study, out, "--set fem_field.dir=/nonexistent/field_dir");

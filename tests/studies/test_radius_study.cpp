@@ -42,7 +42,7 @@ std::vector<std::string> split(const std::string& line) {
 }
 }  // namespace
 
-TEST_CASE("radius study: tiny configuration", "[radius][study]") {
+TEST_CASE("radius study: tiny configuration", "[studies][cli][slow]") {
   const fs::path out = fs::temp_directory_path() / "magenc_test_radius_smoke";
   fs::remove_all(out);
   const Run r = run_radius(tiny(), out);
@@ -113,7 +113,7 @@ TEST_CASE("radius study: tiny configuration", "[radius][study]") {
 }
 
 TEST_CASE("radius study: the five-offset box (tilt tolerances 0) gives no tilt groups and the old 32 corners",
-          "[radius][study]") {
+          "[studies][regression][cli]") {
   const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_old_box_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const Run r = run_radius(tiny() + " --set radius.tol_tilt_x_deg=0 --set radius.tol_tilt_y_deg=0"
@@ -132,7 +132,7 @@ TEST_CASE("radius study: the five-offset box (tilt tolerances 0) gives no tilt g
   fs::remove_all(out);
 }
 
-TEST_CASE("radius study: bad input exits non-zero with one line and no output", "[radius][study][bad-input]") {
+TEST_CASE("radius study: bad input exits non-zero with one line and no output", "[studies][bad-input][cli]") {
   const fs::path out = fs::temp_directory_path() / "magenc_test_radius_bad";
   const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
                                    "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
@@ -148,7 +148,7 @@ TEST_CASE("radius study: bad input exits non-zero with one line and no output", 
   fs::remove(out.string() + ".stderr");
 }
 
-TEST_CASE("radius study: a solved field of another magnet is never compared with this one", "[radius][study]") {
+TEST_CASE("radius study: a solved field of another magnet is never compared with this one", "[studies][bad-input][cli][slow]") {
   // solve.json of the default magnet (R = 2 mm); the study runs for R = 3 mm. Auto-added
   // (radius.fem_dir): the FEM field is skipped with a note saying why. Listed explicitly
   // (radius.fields = ...,fem:DIR): one-line error naming the key, no output.

@@ -35,7 +35,7 @@ ProbeSetup setup_for(const std::string& array, int steps) {
 
 }  // namespace
 
-TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[studies][linear_model]") {
+TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[studies][physics][cli]") {
   const fs::path out = temp_out("linear_model");
   const StudyRun r = run_study_exe("linear_model", out, "--set sensor.steps=360 --set sweep.points=6");
   INFO(r.err);
@@ -80,7 +80,7 @@ TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[
 }
 
 TEST_CASE("exact_field study: tiny run matches the library and physics.md's qualitative picture",
-          "[studies][exact_field]") {
+          "[studies][physics][cli]") {
   const fs::path out = temp_out("exact_field");
   const StudyRun r = run_study_exe("exact_field", out,
                                    "--set sensor.steps=360 --set sweep.points=6 --set dz_sweep.points=5 "
@@ -122,7 +122,7 @@ TEST_CASE("exact_field study: tiny run matches the library and physics.md's qual
   fs::remove_all(out);
 }
 
-TEST_CASE("studies: bad input exits non-zero and leaves no output", "[studies]") {
+TEST_CASE("studies: bad input exits non-zero and leaves no output", "[studies][bad-input][cli]") {
   for (const std::string study : {"linear_model", "exact_field"}) {
     for (const std::string args : {"--set sensor.steps=3", "--set nosuch.key=1", "--set sensor.array=three",
                                    "--set sweep.coefs=c9_deg"}) {
