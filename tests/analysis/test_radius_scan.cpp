@@ -202,7 +202,7 @@ const BudgetRow* budget_row(const RadiusScanResult& r, const std::string& array,
 }
 }  // namespace
 
-TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline", "[radius][surrogate][chain]") {
+TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline", "[analysis][closed-form]") {
   // physics.md "Beyond the five offsets": a channel offset oc gives a 1st harmonic of oc/amplitude rad, a gain
   // mismatch g a 2nd harmonic of g/2 rad, a phase error delta a0 = c2 = delta/2 (small-signal forms: their
   // relative error is of the order of the perturbation itself, ~1 % here, so 3 % is the check). The channel
@@ -298,7 +298,7 @@ TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline",
   CHECK_THROWS_AS(fast.eps(el, e_case), InputError);
 }
 
-TEST_CASE("radius scan with the signal chain in the box: closed forms and the budget", "[radius][chain]") {
+TEST_CASE("radius scan with the signal chain in the box: closed forms and the budget", "[analysis][closed-form]") {
   const AnalyticField field(default_magnet());
   const double rad = 180.0 / M_PI;
   // Chain-only boxes: the corners and the Monte Carlo p99 of the peak-to-peak error follow the closed forms
@@ -387,7 +387,7 @@ TEST_CASE("radius scan with the signal chain in the box: closed forms and the bu
   for (std::size_t i = 0; i < r_off.rows.size(); ++i) CHECK(r_on.rows[i].mc.p99 > r_off.rows[i].mc.p99);
 }
 
-TEST_CASE("radius scan with the magnetization elevation in the box", "[radius][elevation]") {
+TEST_CASE("radius scan with the magnetization elevation in the box", "[analysis][physics]") {
   // physics.md reference: elevation 5 deg, `two`, r0 2.4 mm: c1 = 7.70 deg; `diff4` and `ring:N` see nothing
   // with an ideal mount (the axial part is symmetric about the axis).
   const AnalyticField field(default_magnet());

@@ -164,7 +164,7 @@ TEST_CASE("tilts in the box: the five offsets draw as before, corners, groups", 
         "sx- sy- dx- dy- dz- tx- ty- gx- gy-");
 }
 
-TEST_CASE("signal chain and elevation in the box: off by default and drawn after the tilts", "[tolerance][chain]") {
+TEST_CASE("signal chain and elevation in the box: off by default and drawn after the tilts", "[analysis][contract]") {
   ToleranceBox five;  // five offsets only
   ToleranceBox tilted = five;
   tilted.tilt_x_deg = tilted.tilt_y_deg = tilted.magnet_tilt_deg = 0.5;
