@@ -347,7 +347,16 @@ void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
     }
     img->GetPointData()->AddArray(b);
   }
-  std::filesystem::create_directories(file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
+  // An unusable output path is bad input (one line, exit 2, nothing left behind), found by the
+  // bad-input matrix for table_to_vti --out DIR / --out FILE/sub / --out /proc/...
+  std::error_code path_ec;
+  if (std::filesystem::is_directory(file, path_ec))
+    throw InputError("--out " + file.string() + " is a directory: allowed a file name (.vti)");
+  std::filesystem::create_directories(file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path(),
+                                      path_ec);
+  if (path_ec)
+    throw InputError("--out " + file.string() + ": cannot create its directory (" + path_ec.message() +
+                     "): allowed a writable path");
   const std::filesystem::path tmp = file.string() + ".tmp." + std::to_string(::getpid());
   vtkNew<vtkXMLImageDataWriter> writer;
   writer->SetFileName(tmp.string().c_str());
@@ -359,7 +368,12 @@ void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
     std::filesystem::remove(tmp, ec);
     throw ComputeError("VTK could not write " + file.string());
   }
-  std::filesystem::rename(tmp, file);
+  std::filesystem::rename(tmp, file, path_ec);
+  if (path_ec) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw InputError("--out " + file.string() + ": cannot write it (" + path_ec.message() + "): allowed a writable file path");
+  }
 }
 
 }  // namespace magenc
