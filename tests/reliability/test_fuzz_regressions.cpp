@@ -7,6 +7,11 @@
 #include <catch2/catch.hpp>
 
 #include <sys/resource.h>
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkXMLImageDataWriter.h>
 
 #include <cstdio>
 #include <new>
@@ -104,4 +109,58 @@ TEST_CASE("fuzz regressions: every found input is refused with one line and with
   }
   WARN(files << " fuzz regression inputs refused");
   CHECK(files >= 6);
+}
+
+// The other side of the .vti pre-checks: every appended layout VTK writes (zlib or none, raw or base64,
+// UInt32 or UInt64 headers, several compression blocks) and ascii are read back value for value.
+TEST_CASE("the .vti pre-checks accept every appended data layout VTK writes", "[reliability][fuzz]") {
+  ScratchDir s("magenc_vti_layouts");
+  vtkNew<vtkImageData> img;
+  img->SetDimensions(5, 5, 1);
+  img->SetOrigin(-2, -2, 4.55);
+  img->SetSpacing(1, 1, 1);
+  vtkNew<vtkDoubleArray> bz, b;
+  bz->SetName("Bz");
+  bz->SetNumberOfTuples(25);
+  b->SetName("B");
+  b->SetNumberOfComponents(3);
+  b->SetNumberOfTuples(25);
+  for (int i = 0; i < 25; ++i) {
+    bz->SetValue(i, 0.01 * i);
+    b->SetTuple3(i, 0.001 * i, -0.002 * i, 0.01 * i);
+  }
+  img->GetPointData()->AddArray(bz);
+  img->GetPointData()->AddArray(b);
+  int layouts = 0;
+  for (int mode = 0; mode < 9; ++mode) {
+    vtkNew<vtkXMLImageDataWriter> w;
+    w->SetInputData(img);
+    std::string name = "ascii.vti";
+    if (mode == 8) {
+      w->SetDataModeToAscii();
+    } else {
+      const bool zlib = mode & 1, base64 = mode & 2, u64 = mode & 4;
+      w->SetDataModeToAppended();
+      w->SetEncodeAppendedData(base64);
+      if (zlib) w->SetCompressorTypeToZLib();
+      else w->SetCompressorTypeToNone();
+      if (u64) w->SetHeaderTypeToUInt64();
+      else w->SetHeaderTypeToUInt32();
+      w->SetBlockSize(64);  // B's 600 bytes in 10 blocks
+      name = std::string(zlib ? "zlib" : "none") + (base64 ? "_base64" : "_raw") + (u64 ? "_u64" : "_u32") + ".vti";
+    }
+    const fs::path f = s.dir / name;
+    w->SetFileName(f.c_str());
+    REQUIRE(w->Write() == 1);
+    INFO(name);
+    const magenc::GridData g = magenc::read_grid_vti(f);
+    REQUIRE(g.nodes() == 25);
+    REQUIRE(g.has_B());
+    for (std::size_t i = 0; i < 25; ++i) {
+      CHECK(g.Bz_T[i] == Approx(0.01 * double(i)).margin(1e-15));
+      CHECK(g.By_T[i] == Approx(-0.002 * double(i)).margin(1e-15));
+    }
+    ++layouts;
+  }
+  CHECK(layouts == 9);
 }
