@@ -243,6 +243,7 @@ std::vector<std::string> optional_list(const std::string& text, const std::strin
 DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null) {
   // 1. Inputs.
   const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  for (const auto& a : arrays) (void)probe_setup_from_config(cfg, a, "study.arrays");  // all checked before any work
   struct Src {
     std::string label;
     FieldSourcePtr field;
@@ -256,13 +257,21 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
   rt.synth.points = static_cast<int>(cfg.integer("roundtrip.points"));
   rt.synth.noise_deg = cfg.real("roundtrip.noise_deg");
   rt.synth.quant_positions = static_cast<int>(cfg.integer("roundtrip.quant_positions"));
-  rt.free = expand_free_names(optional_list(cfg.str("roundtrip.free"), "roundtrip.free"));
-  for (const auto& n : rt.free) fit_parameter(n);
+  // Unknown names: the error names the key (the bad-input matrix found it naming only the parameter).
+  const auto parameter_list = [&](const std::string& key) {
+    try {
+      auto names = expand_free_names(optional_list(cfg.str(key), key));
+      for (const auto& n : names) fit_parameter(n);
+      return names;
+    } catch (const InputError& e) {
+      throw InputError(key + ": " + e.what());
+    }
+  };
+  rt.free = parameter_list("roundtrip.free");
   rt.range_scale = cfg.real("roundtrip.range_scale");
   rt.max_zero_deg = cfg.real("roundtrip.max_zero_deg");
   rt.starts = static_cast<int>(cfg.integer("roundtrip.starts"));
-  const auto randomized = expand_free_names(optional_list(cfg.str("roundtrip.randomized"), "roundtrip.randomized"));
-  for (const auto& n : randomized) fit_parameter(n);
+  const auto randomized = parameter_list("roundtrip.randomized");
 
   DiagnosisStudyResult res;
   res.synth = rt.synth;

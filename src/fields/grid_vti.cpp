@@ -7,17 +7,19 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
+#include <vtkXMLDataElement.h>
+#include <vtkXMLDataParser.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLImageDataWriter.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <optional>
 #include <system_error>
+#include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "core/errors.hpp"
@@ -29,107 +31,115 @@ namespace magenc {
 
 namespace {
 
-// Six integers "x0 x1 y0 y1 z0 z1" of the attribute `attr` in `tag`; false when absent or malformed.
-bool parse_extent(const std::string& tag, const std::string& attr, long long ext[6]) {
-  const auto a = tag.find(" " + attr + "=\"");
-  if (a == std::string::npos) return false;
-  const char* p = tag.c_str() + a + attr.size() + 3;
-  for (int i = 0; i < 6; ++i) {
-    char* end = nullptr;
-    errno = 0;
-    ext[i] = std::strtoll(p, &end, 10);
-    if (end == p || errno != 0) return false;
-    p = end;
-  }
-  while (*p == ' ') ++p;
-  return *p == '"';
-}
-
-// What VTK's reader does not check, checked on the file's XML text before VTK reads it:
+// What VTK's reader does not check, checked before VTK reads any data. The XML structure is taken from
+// VTK's own parse of the file (vtkXMLReader::UpdateInformation: the element tree, the compressor and
+// the appended-data position exactly as VTK will use them; an earlier check that scanned the text with
+// its own attribute parser could be told one thing while VTK read another: fuzz_vti made VTK allocate
+// 7.6 GB from a 2.5 KB file that way). Checked:
 // - the declared WholeExtent is sane (x1 >= x0, ...) and at most kMaxGridPoints nodes: VTK would
 //   otherwise try to allocate whatever the file claims (2e9 x 2e9 -> std::bad_alloc);
 // - exactly one <Piece> whose Extent is the WholeExtent (as solve_field writes): VTK accepts a
 //   smaller piece and leaves the rest of the arrays unfilled (garbage samples);
+// - every array VTK would allocate (<DataArray> or <Array>, point, cell or field data) together needs
+//   at most kMaxArrayBytes; ascii data, or appended (raw or base64) data whose headers agree with the
+//   array's size and fit in the file: VTK trusts the headers and allocates what a block header claims
+//   (block counts, block sizes, compressed sizes);
 // - the closing tags are there (</Piece>, </ImageData>, </VTKFile>): VTK accepts a file cut after
 //   its data.
 constexpr long long kMaxGridPoints = 50'000'000;  // x 64 bytes (VTK arrays + GridData) = 3.2 GB
-void check_vti_structure(const std::string& name) {
+constexpr unsigned long long kMaxArrayBytes = 32ULL * kMaxGridPoints;  // B (3 x 8) + Bz (8) per node
+
+std::string attr_or(vtkXMLDataElement* e, const char* name, const std::string& fallback) {
+  const char* v = e->GetAttribute(name);
+  return v != nullptr ? std::string(v) : fallback;
+}
+
+// Every element named DataArray or Array below `e`, with the name of its parent element.
+void collect_arrays(vtkXMLDataElement* e, std::vector<std::pair<vtkXMLDataElement*, std::string>>& out) {
+  for (int i = 0; i < e->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* n = e->GetNestedElement(i);
+    const std::string nm = n->GetName() != nullptr ? n->GetName() : "";
+    if (nm == "DataArray" || nm == "Array") out.emplace_back(n, e->GetName() != nullptr ? e->GetName() : "");
+    collect_arrays(n, out);
+  }
+}
+
+void check_vti_structure(const std::string& name, vtkXMLImageDataReader* reader) {
+  const std::string bad = "grid file " + name + ": ";
+  vtkXMLDataParser* parser = reader->GetXMLParser();
+  vtkXMLDataElement* root = parser != nullptr ? parser->GetRootElement() : nullptr;
+  if (root == nullptr || root->GetName() == nullptr || std::string(root->GetName()) != "VTKFile")
+    throw InputError(bad + "not VTK XML image data (.vti): no <VTKFile> element");
   std::ifstream in(name, std::ios::binary);
-  if (!in) throw InputError("grid file " + name + ": cannot open");
+  if (!in) throw InputError(bad + "cannot open");
   in.seekg(0, std::ios::end);
   const long long size = in.tellg();
-  // The XML part: everything before raw appended data (solve_field's files), or the whole file when
-  // the data is inline (ascii/base64), up to 64 MiB.
-  const long long head_n = std::min<long long>(size, 64LL << 20);
-  std::string head(std::size_t(head_n), '\0');
-  in.seekg(0);
-  in.read(head.data(), head_n);
-  const auto appended = head.find("<AppendedData");
-  const std::string xml = appended == std::string::npos ? head : head.substr(0, appended);
-  const std::string bad = "grid file " + name + ": ";
-  const auto img = xml.find("<ImageData");
-  if (img == std::string::npos) throw InputError(bad + "no <ImageData> element: not VTK XML image data (.vti)");
-  const std::string img_tag = xml.substr(img, xml.find('>', img) - img);
-  long long whole[6];
-  if (!parse_extent(img_tag, "WholeExtent", whole))
+
+  std::vector<vtkXMLDataElement*> imgs, pieces;
+  vtkXMLDataElement* appended_el = nullptr;
+  for (int i = 0; i < root->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* n = root->GetNestedElement(i);
+    const std::string nm = n->GetName() != nullptr ? n->GetName() : "";
+    if (nm == "ImageData") imgs.push_back(n);
+    if (nm == "AppendedData") appended_el = n;
+  }
+  if (imgs.size() != 1)
+    throw InputError(bad + std::to_string(imgs.size()) + " <ImageData> elements: allowed exactly one (VTK XML image data, .vti)");
+  vtkXMLDataElement* img = imgs[0];
+  int whole[6];
+  if (img->GetVectorAttribute("WholeExtent", 6, whole) != 6)
     throw InputError(bad + "<ImageData> has no valid WholeExtent (six integers)");
-  long double nodes = 1;
+  long double nodes = 1, cells = 1;
   for (int d = 0; d < 3; ++d) {
-    if (whole[2 * d + 1] < whole[2 * d] || whole[2 * d] < -(1LL << 40) || whole[2 * d + 1] > (1LL << 40))
+    if (whole[2 * d + 1] < whole[2 * d])
       throw InputError(bad + "WholeExtent axis " + std::to_string(d) + " is [" + std::to_string(whole[2 * d]) + ", " +
                        std::to_string(whole[2 * d + 1]) + "]: allowed lo <= hi");
-    nodes *= static_cast<long double>(whole[2 * d + 1] - whole[2 * d] + 1);
+    const long double n = static_cast<long double>(whole[2 * d + 1]) - whole[2 * d] + 1;
+    nodes *= n;
+    cells *= n > 1 ? n - 1 : 1;
   }
   if (nodes > kMaxGridPoints)
     throw InputError(bad + "WholeExtent declares " + num(double(nodes)) + " nodes (about " +
                      num(double(nodes) * 64 / 1e9) + " GB to read): allowed at most " + num(double(kMaxGridPoints)) +
                      " nodes");
-  std::size_t pieces = 0;
-  for (auto p = xml.find("<Piece", img); p != std::string::npos; p = xml.find("<Piece", p + 1)) {
-    ++pieces;
-    long long ext[6];
-    if (!parse_extent(xml.substr(p, xml.find('>', p) - p), "Extent", ext))
-      throw InputError(bad + "<Piece> has no valid Extent (six integers)");
-    for (int i = 0; i < 6; ++i)
-      if (ext[i] != whole[i])
-        throw InputError(bad + "piece Extent differs from WholeExtent: allowed one piece covering the whole grid");
-  }
-  if (pieces != 1)
-    throw InputError(bad + std::to_string(pieces) + " <Piece> elements: allowed exactly one covering the whole grid");
-  // Data arrays: ascii, or raw appended data whose block headers fit the declared extent and the file.
-  // VTK trusts those headers: a header that claims 2^32 blocks makes it allocate gigabytes (found by
-  // fuzz_vti: a mangled header_type attribute), so each one is checked here before VTK reads it.
-  const auto vtkfile = xml.find("<VTKFile");
-  const std::string file_tag = vtkfile == std::string::npos ? "" : xml.substr(vtkfile, xml.find('>', vtkfile) - vtkfile);
-  const auto attr = [](const std::string& tag, const std::string& name) -> std::optional<std::string> {
-    const auto a = tag.find(" " + name + "=\"");
-    if (a == std::string::npos) return std::nullopt;
-    const auto b = a + name.size() + 3;
-    const auto e = tag.find('"', b);
-    if (e == std::string::npos) return std::nullopt;
-    return tag.substr(b, e - b);
-  };
-  const std::string header_type = attr(file_tag, "header_type").value_or("UInt32");
+  for (int i = 0; i < img->GetNumberOfNestedElements(); ++i)
+    if (img->GetNestedElement(i)->GetName() != nullptr && std::string(img->GetNestedElement(i)->GetName()) == "Piece")
+      pieces.push_back(img->GetNestedElement(i));
+  if (pieces.size() != 1)
+    throw InputError(bad + std::to_string(pieces.size()) + " <Piece> elements: allowed exactly one covering the whole grid");
+  int ext[6];
+  if (pieces[0]->GetVectorAttribute("Extent", 6, ext) != 6)
+    throw InputError(bad + "<Piece> has no valid Extent (six integers)");
+  for (int i = 0; i < 6; ++i)
+    if (ext[i] != whole[i])
+      throw InputError(bad + "piece Extent differs from WholeExtent: allowed one piece covering the whole grid");
+
+  // Appended data: header words (UInt32 or UInt64, little endian), raw or base64 encoding, position
+  // as VTK found it (after the '_' that follows <AppendedData ...>).
+  const std::string header_type = attr_or(root, "header_type", "UInt32");
   if (header_type != "UInt32" && header_type != "UInt64")
     throw InputError(bad + "header_type '" + header_type + "': allowed UInt32 or UInt64");
   const int hw = header_type == "UInt64" ? 8 : 4;
-  const bool compressed = attr(file_tag, "compressor").has_value();
-  long long data_start = -1;
+  if (attr_or(root, "byte_order", "LittleEndian") != "LittleEndian")
+    throw InputError(bad + "byte_order must be LittleEndian");
+  const bool compressed = parser->GetCompressor() != nullptr;
+  const char* compressor_name = root->GetAttribute("compressor");
+  if (compressor_name != nullptr && !compressed)
+    throw InputError(bad + "compressor '" + compressor_name + "' is not one VTK can decompress");
   std::string encoding;
-  if (appended != std::string::npos) {
-    const std::string app_tag = head.substr(appended, head.find('>', appended) - appended);
-    encoding = attr(app_tag, "encoding").value_or("");
+  long long data_start = -1;
+  if (appended_el != nullptr) {
+    encoding = attr_or(appended_el, "encoding", "");
     if (encoding != "raw" && encoding != "base64")
       throw InputError(bad + "appended data encoding '" + encoding + "': allowed raw or base64");
-    const auto underscore = head.find('_', appended + app_tag.size());
-    if (underscore == std::string::npos) throw InputError(bad + "truncated appended data");
-    data_start = static_cast<long long>(underscore) + 1;
+    data_start = parser->GetAppendedDataPosition();
+    if (data_start <= 0 || data_start > size) throw InputError(bad + "truncated appended data");
   }
+  const bool b64 = encoding == "base64";
   // The first n bytes of the data at file position `at` (base64: decoded from 4 ceil(n / 3) characters).
   const auto bytes_at = [&](long long at, unsigned long long n) {
-    const bool b64 = encoding == "base64";
     const unsigned long long chars = b64 ? 4 * ((n + 2) / 3) : n;
-    if (at < 0 || static_cast<unsigned long long>(at) + chars > static_cast<unsigned long long>(size))
+    if (at < 0 || at > size || chars > static_cast<unsigned long long>(size - at))
       throw InputError(bad + "truncated (a data block header lies beyond the end)");
     std::string raw(chars, '\0');
     in.clear();
@@ -156,57 +166,90 @@ void check_vti_structure(const std::string& name) {
   const auto word = [&](const std::string& b, unsigned long long i) {
     unsigned long long v = 0;
     for (int k = hw - 1; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[i * hw + unsigned(k)]);
-    return v;  // little endian (byte_order checked below)
+    return v;  // little endian (byte_order checked above)
   };
-  const auto read_uint = [&](long long at) { return word(bytes_at(at, hw), 0); };
-  if (attr(file_tag, "byte_order").value_or("LittleEndian") != "LittleEndian")
-    throw InputError(bad + "byte_order must be LittleEndian");
-  for (auto p = xml.find("<DataArray", img); p != std::string::npos; p = xml.find("<DataArray", p + 1)) {
-    const std::string tag = xml.substr(p, xml.find('>', p) - p);
-    const std::string format = attr(tag, "format").value_or("");
-    if (format == "ascii") continue;
-    if (format != "appended" || data_start < 0)
-      throw InputError(bad + "DataArray format '" + format + "': allowed ascii or raw appended data");
-    const std::string type = attr(tag, "type").value_or("");
+  // Bytes of data available from file position `at` on (base64: decoded bytes).
+  const auto avail = [&](long long at) {
+    const unsigned long long left = at >= size ? 0 : static_cast<unsigned long long>(size - at);
+    return b64 ? left / 4 * 3 : left;
+  };
+
+  std::vector<std::pair<vtkXMLDataElement*, std::string>> arrays;
+  collect_arrays(root, arrays);
+  unsigned long long total_bytes = 0;
+  for (const auto& [da, parent] : arrays) {
+    const std::string type = attr_or(da, "type", "");
     const int type_size = type == "Float64" || type == "Int64" || type == "UInt64" ? 8
                           : type == "Float32" || type == "Int32" || type == "UInt32" ? 4
                           : type == "Int16" || type == "UInt16" ? 2
                           : type == "Int8" || type == "UInt8" ? 1 : 0;
     if (type_size == 0) throw InputError(bad + "DataArray type '" + type + "' is not supported");
-    const long long comps = std::atoll(attr(tag, "NumberOfComponents").value_or("1").c_str());
-    const long long offset = std::atoll(attr(tag, "offset").value_or("-1").c_str());
-    if (comps < 1 || comps > 9 || offset < 0) throw InputError(bad + "DataArray NumberOfComponents or offset invalid");
-    const unsigned long long expected = static_cast<unsigned long long>(nodes) * comps * type_size;
+    int comps = 1;
+    if (da->GetAttribute("NumberOfComponents") != nullptr && (!da->GetScalarAttribute("NumberOfComponents", comps) || comps < 1 || comps > 9))
+      throw InputError(bad + "DataArray NumberOfComponents invalid: allowed 1 to 9");
+    long double tuples = parent == "PointData" ? nodes : parent == "CellData" ? cells : -1;
+    if (tuples < 0) {  // field data: the array's own NumberOfTuples
+      long long nt = -1;
+      if (!da->GetScalarAttribute("NumberOfTuples", nt) || nt < 0 || nt > kMaxGridPoints)
+        throw InputError(bad + "a field-data array needs NumberOfTuples in [0, " + num(double(kMaxGridPoints)) + "]");
+      tuples = static_cast<long double>(nt);
+    }
+    const unsigned long long expected = static_cast<unsigned long long>(tuples) * unsigned(comps) * unsigned(type_size);
+    total_bytes += expected;
+    if (total_bytes > kMaxArrayBytes)
+      throw InputError(bad + "its data arrays need more than " + num(double(kMaxArrayBytes) / 1e9) +
+                       " GB: allowed at most that (" + num(double(kMaxGridPoints)) + " nodes of B and Bz)");
+    const std::string format = attr_or(da, "format", "");
+    if (format == "ascii") continue;
+    if (format != "appended" || data_start < 0)
+      throw InputError(bad + "DataArray format '" + format + "': allowed ascii or appended data");
+    long long offset = -1;
+    if (!da->GetScalarAttribute("offset", offset) || offset < 0 || offset > size - data_start)
+      throw InputError(bad + "DataArray offset invalid or beyond the end of the file");
     const long long at = data_start + offset;
     if (!compressed) {
-      if (read_uint(at) != expected || (encoding == "raw" && at + hw + static_cast<long long>(expected) > size))
+      if (word(bytes_at(at, unsigned(hw)), 0) != expected || avail(at) < hw + expected)
         throw InputError(bad + "a data array's size does not match the WholeExtent (or the file is truncated)");
       continue;
     }
     const std::string h3 = bytes_at(at, 3ULL * hw);
     const unsigned long long blocks = word(h3, 0), block = word(h3, 1), last = word(h3, 2);
-    const unsigned long long total = blocks == 0 ? 0 : (last == 0 ? blocks * block : (blocks - 1) * block + last);
-    if (blocks > static_cast<unsigned long long>(size) / hw || block == 0 || last > block || total != expected)
-      throw InputError(bad + "a compressed data array's block header does not match the WholeExtent");
+    // `full` blocks of `block` bytes and, when last != 0, a partial one of `last` bytes make exactly
+    // `expected` bytes (VTK allocates one block's size per block it reads: a full block may not exceed
+    // the array). Checked without overflow: a wrapped product once passed for 2^63-byte blocks.
+    const unsigned long long full = blocks - (last != 0 ? 1 : 0);
+    bool ok = blocks >= 1 && block >= 1 && last <= block && blocks <= avail(at) / unsigned(hw) &&
+              (full == 0 || (block <= expected && full <= expected / block));
+    if (ok) ok = full * block + last == expected;
+    if (!ok) throw InputError(bad + "a compressed data array's block header does not match the WholeExtent");
     const std::string h = bytes_at(at, (3 + blocks) * hw);
     unsigned long long stored = 0;
-    for (unsigned long long b = 0; b < blocks; ++b) stored += word(h, 3 + b);
-    if (encoding == "raw" && at + static_cast<long long>((3 + blocks) * hw + stored) > size)
+    for (unsigned long long b = 0; b < blocks; ++b) {
+      stored += word(h, 3 + b);  // each <= avail(at) after the check below, so no overflow
+      if (stored > avail(at)) break;
+    }
+    if (stored + (3 + blocks) * unsigned(hw) > avail(at))
       throw InputError(bad + "truncated (compressed data runs past the end of the file)");
   }
-  // Closing tags: </Piece> and </ImageData> in the XML part, </VTKFile> at the very end.
+
+  // Closing tags: </Piece> and </ImageData> before the appended data (or anywhere in an inline file),
+  // </VTKFile> at the very end.
+  const long long head_n = std::min<long long>(size, appended_el != nullptr ? data_start : (64LL << 20));
+  std::string head(std::size_t(std::max<long long>(head_n, 0)), '\0');
+  in.clear();
+  in.seekg(0);
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
   std::string tail(std::size_t(std::min<long long>(size, 256)), '\0');
+  in.clear();
   in.seekg(size - static_cast<long long>(tail.size()));
   in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
   while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.back()))) tail.pop_back();
-  const std::string& body = appended == std::string::npos ? tail : xml;
   const bool closed = tail.size() >= 10 && tail.compare(tail.size() - 10, 10, "</VTKFile>") == 0 &&
-                      (appended == std::string::npos ? size <= head_n && head.find("</ImageData>") != std::string::npos
-                                                     : body.find("</ImageData>") != std::string::npos) &&
-                      (appended == std::string::npos || tail.find("</AppendedData>") != std::string::npos);
+                      (appended_el != nullptr || size <= head_n) && head.find("</Piece>") != std::string::npos &&
+                      head.find("</ImageData>") != std::string::npos &&
+                      (appended_el == nullptr || tail.find("</AppendedData>") != std::string::npos);
   if (!closed) throw InputError(bad + "truncated (closing </ImageData> or </VTKFile> tag missing)");
 }
-
 }  // namespace
 
 GridData read_grid_vti(const std::filesystem::path& file) {
@@ -218,13 +261,17 @@ GridData read_grid_vti(const std::filesystem::path& file) {
   vtkNew<vtkXMLImageDataReader> reader;
   if (!reader->CanReadFile(name.c_str()))
     throw InputError("grid file " + name + " is not VTK XML image data (.vti)");
-  check_vti_structure(name);
   reader->SetFileName(name.c_str());
   {
     // An ascii .vti is parsed with strtod, which raises FE_OVERFLOW for values such as 1e999: bad
     // input, which the reader's error code or GridData::validate (finite values) turns into an
     // InputError, so the read itself is untrapped (fp_trap.hpp).
     const FpTrapPause parsing_input;
+    reader->UpdateInformation();  // the XML structure only: no data is read or allocated yet
+    if (reader->GetErrorCode() != 0 || vtk_messages.error())
+      throw InputError("grid file " + name + " could not be read as VTK image data (" +
+                       (vtk_messages.error() ? vtk_messages.first_message() : std::string("malformed XML")) + ")");
+    check_vti_structure(name, reader);
     reader->Update();
   }
   vtkImageData* img = reader->GetOutput();
@@ -300,7 +347,16 @@ void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
     }
     img->GetPointData()->AddArray(b);
   }
-  std::filesystem::create_directories(file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
+  // An unusable output path is bad input (one line, exit 2, nothing left behind), found by the
+  // bad-input matrix for table_to_vti --out DIR / --out FILE/sub / --out /proc/...
+  std::error_code path_ec;
+  if (std::filesystem::is_directory(file, path_ec))
+    throw InputError("--out " + file.string() + " is a directory: allowed a file name (.vti)");
+  std::filesystem::create_directories(file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path(),
+                                      path_ec);
+  if (path_ec)
+    throw InputError("--out " + file.string() + ": cannot create its directory (" + path_ec.message() +
+                     "): allowed a writable path");
   const std::filesystem::path tmp = file.string() + ".tmp." + std::to_string(::getpid());
   vtkNew<vtkXMLImageDataWriter> writer;
   writer->SetFileName(tmp.string().c_str());
@@ -312,7 +368,12 @@ void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
     std::filesystem::remove(tmp, ec);
     throw ComputeError("VTK could not write " + file.string());
   }
-  std::filesystem::rename(tmp, file);
+  std::filesystem::rename(tmp, file, path_ec);
+  if (path_ec) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw InputError("--out " + file.string() + ": cannot write it (" + path_ec.message() + "): allowed a writable file path");
+  }
 }
 
 }  // namespace magenc

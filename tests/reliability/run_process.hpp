@@ -125,15 +125,11 @@ struct ScratchDir {
   }
 };
 
-// The executables under test: every file of build/bin except the benchmarks and, for now, the ones
-// that arrived from main after the matrix was written (diagnose, diagnosis, error_sources, table_to_vti:
-// they need required flags such as --measured before any other input is read; not yet in the matrix).
+// The executables under test: every file of build/bin except the benchmarks.
 inline std::vector<fs::path> executables(const fs::path& bin_dir) {
-  const std::vector<std::string> not_yet = {"diagnose", "diagnosis", "error_sources", "table_to_vti"};
   std::vector<fs::path> exes;
   for (const auto& e : fs::directory_iterator(bin_dir)) {
     const std::string name = e.path().filename().string();
-    if (std::find(not_yet.begin(), not_yet.end(), name) != not_yet.end()) continue;
     if (e.is_regular_file() && name.rfind("bench_", 0) != 0 && ::access(e.path().c_str(), X_OK) == 0)
       exes.push_back(e.path());
   }

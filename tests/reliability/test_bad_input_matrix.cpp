@@ -136,6 +136,9 @@ std::vector<std::string> bad_toml_values(const KeyInfo& k) {
 struct Matrix {
   int cases = 0, failures = 0;
   std::set<std::string> classes;
+  double slowest = 0;  // s, the slowest case (a case that does work before it checks its input is slow)
+  std::string slowest_cmd;
+  std::string slowest_case() const { return "; slowest case " + std::to_string(slowest) + " s: " + slowest_cmd; }
   void check(const std::string& cls, const fs::path& exe, const std::vector<std::string>& args, const ScratchDir& s,
              const std::vector<std::string>& inputs, const std::vector<std::string>& must_name) {
     classes.insert(cls);
@@ -143,6 +146,10 @@ struct Matrix {
     const ProcResult r = run(exe, args, s.dir, {}, s.dir.parent_path());
     std::string cmd = exe.filename().string();
     for (const auto& a : args) cmd += " '" + a + "'";
+    if (r.seconds > slowest) {
+      slowest = r.seconds;
+      slowest_cmd = cmd;
+    }
     const auto stray = s.entries_except(inputs);
     bool named = false;
     for (const auto& n : must_name) named = named || r.err.find(n) != std::string::npos;
@@ -159,12 +166,73 @@ struct Matrix {
 
 const fs::path kBin = MAGENC_BIN_DIR;
 
+// A valid measured curve (theta_deg,error_deg, 72 rows over one turn) and a valid field table (Bz on a
+// 5 x 3 plane): the inputs diagnose (--measured) and table_to_vti (--table) require before they read
+// anything else, so that each case's one bad input is the one the error must name.
+std::string good_curve() {
+  std::string t = "theta_deg,error_deg\n";
+  for (int i = 0; i < 72; ++i) {
+    const double th = 5.0 * i;
+    t += std::to_string(th) + "," + std::to_string(0.02 * std::sin(th * M_PI / 180)) + "\n";
+  }
+  return t;
+}
+std::string good_table() {
+  std::string t = "x_mm,y_mm,Bz_T\n";
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -2; i <= 2; ++i) t += std::to_string(0.5 * i) + "," + std::to_string(0.5 * j) + ",0.0" + std::to_string(i + 3) + "\n";
+  return t;
+}
+
+// The required arguments of an executable and the files they name (written into the scratch dir).
+struct Required {
+  std::vector<std::string> args;
+  std::vector<std::pair<std::string, std::string>> files;
+};
+Required required_inputs(const fs::path& exe) {
+  const std::string n = exe.filename().string();
+  if (n == "diagnose") return {{"--measured", "good_curve.csv"}, {{"good_curve.csv", good_curve()}}};
+  if (n == "table_to_vti") return {{"--table", "good_table.csv"}, {{"good_table.csv", good_table()}}};
+  return {};
+}
+// Writes exe's required files into s, adds their names to `inputs`, returns args preceded by the
+// required arguments.
+std::vector<std::string> with_required(const fs::path& exe, const ScratchDir& s, std::vector<std::string>& inputs,
+                                       const std::vector<std::string>& args) {
+  const Required r = required_inputs(exe);
+  for (const auto& [name, text] : r.files) {
+    s.write(name, text);
+    if (std::find(inputs.begin(), inputs.end(), name) == inputs.end()) inputs.push_back(name);
+  }
+  std::vector<std::string> a = r.args;
+  a.insert(a.end(), args.begin(), args.end());
+  return a;
+}
+
+// The executables whose output is one file (--out FILE); all others write a directory (--out DIR).
+bool file_output(const fs::path& exe) {
+  return exe.filename() == "error_spectrum" || exe.filename() == "table_to_vti";
+}
+
 }  // namespace
 
-TEST_CASE("bad-input matrix: every executable x every declared key x its bad values (--set and TOML)",
-          "[apps][bad-input][cli][slow]") {
-  const auto exes = executables(kBin);
-  REQUIRE(exes.size() >= 10);
+// The executables' keys, in four ctest entries that ctest -j runs in parallel: solve_field and
+// fem_vs_exact each alone (the most keys, [fem] [mesh] [grid], and the slowest start: about 0.4 s per
+// case against 0.01 s for the others, OpenMPI's initialisation), the other apps, and the studies.
+namespace {
+enum class Group { SolveField, FemVsExact, OtherApps, Studies };
+Group group_of(const fs::path& exe) {
+  const std::string n = exe.filename().string();
+  if (n == "solve_field") return Group::SolveField;
+  if (n == "fem_vs_exact") return Group::FemVsExact;
+  if (n == "error_spectrum" || n == "diagnose" || n == "table_to_vti") return Group::OtherApps;
+  return Group::Studies;
+}
+void key_matrix(Group group, std::size_t min_exes, const std::string& label) {
+  std::vector<fs::path> exes;
+  for (const auto& e : executables(kBin))
+    if (group_of(e) == group) exes.push_back(e);
+  REQUIRE(exes.size() >= min_exes);
   Matrix m;
   int keys_total = 0, array_keys = 0;
   for (const auto& exe : exes) {
@@ -175,88 +243,118 @@ TEST_CASE("bad-input matrix: every executable x every declared key x its bad val
     REQUIRE(keys.size() >= 10);  // at least the common [magnet]/[sensor]/[mount] keys
     keys_total += int(keys.size());
     ScratchDir s("magenc_matrix");
+    std::vector<std::string> inputs{"bad.toml"};
     for (const auto& k : keys) {
       for (const auto& v : bad_values(k))
         m.check("--set " + std::string(k.kind == KeyInfo::Kind::Real                 ? "real"
                                        : k.kind == KeyInfo::Kind::NumberList ||
                                                k.kind == KeyInfo::Kind::StringList ? "array"
                                                                                    : "other") + " key", exe,
-                {"--set", k.key + "=" + v, "--out", "out"}, s, {"bad.toml"}, {k.key});
+                with_required(exe, s, inputs, {"--set", k.key + "=" + v, "--out", "out"}), s, inputs, {k.key});
       const auto dot = k.key.rfind('.');
       for (const auto& v : bad_toml_values(k)) {
         s.write("bad.toml", "[" + k.key.substr(0, dot) + "]\n" + k.key.substr(dot + 1) + " = " + v + "\n");
-        m.check("TOML value", exe, {"--config", "bad.toml", "--out", "out"}, s, {"bad.toml"}, {k.key});
+        m.check("TOML value", exe, with_required(exe, s, inputs, {"--config", "bad.toml", "--out", "out"}), s, inputs,
+                {k.key});
       }
     }
   }
-  WARN("bad-input matrix (config keys): " << exes.size() << " executables, " << keys_total << " keys, " << m.cases
-                                           << " cases, " << m.failures << " failures, " << array_keys
-                                           << " array keys");
-  CHECK(array_keys > 0);  // the studies' list keys are arrays (study.arrays, sweep.coefs, ...)
+  WARN("bad-input matrix (config keys, " << label << "): " << exes.size() << " executables, " << keys_total
+                                          << " keys, " << m.cases << " cases, " << m.failures << " failures, "
+                                          << array_keys << " array keys" << m.slowest_case());
+  if (group == Group::Studies) CHECK(array_keys > 0);  // the studies' list keys are arrays (study.arrays, ...)
   CHECK(m.failures == 0);
+}
+}  // namespace
+
+TEST_CASE("bad-input matrix: solve_field x every declared key x its bad values (--set and TOML)",
+          "[apps][bad-input][cli][slow]") {
+  key_matrix(Group::SolveField, 1, "solve_field");
+}
+
+TEST_CASE("bad-input matrix: fem_vs_exact x every declared key x its bad values (--set and TOML)",
+          "[apps][bad-input][cli][slow]") {
+  key_matrix(Group::FemVsExact, 1, "fem_vs_exact");
+}
+
+TEST_CASE("bad-input matrix: error_spectrum diagnose table_to_vti x every declared key x its bad values",
+          "[apps][bad-input][cli]") {
+  key_matrix(Group::OtherApps, 3, "error_spectrum, diagnose, table_to_vti");
+}
+
+TEST_CASE("bad-input matrix: every study x every declared key x its bad values (--set and TOML)",
+          "[apps][bad-input][cli][slow]") {
+  key_matrix(Group::Studies, 9, "studies");
 }
 
 TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
-  REQUIRE(exes.size() >= 10);
+  REQUIRE(exes.size() >= 14);
   Matrix m;
   for (const auto& exe : exes) {
     INFO(exe.filename().string());
     ScratchDir s("magenc_matrix_files");
+    std::vector<std::string> inputs;  // files this executable's cases wrote so far (not output)
+    const auto check = [&](const std::string& cls, const std::vector<std::string>& args,
+                           const std::vector<std::string>& names) {
+      m.check(cls, exe, with_required(exe, s, inputs, args), s, inputs, names);
+    };
+    const auto add = [&](const std::string& name, const std::string& text) {
+      s.write(name, text);
+      inputs.push_back(name);
+      return name;
+    };
     // Configuration files: missing, a directory, truncated, binary garbage, deeply nested, too big.
-    m.check("config missing", exe, {"--config", "missing.toml", "--out", "out"}, s, {}, {"missing.toml"});
+    check("config missing", {"--config", "missing.toml", "--out", "out"}, {"missing.toml"});
     fs::create_directories(s.dir / "cfgdir.toml");
-    m.check("config is a directory", exe, {"--config", "cfgdir.toml", "--out", "out"}, s, {"cfgdir.toml"},
-            {"cfgdir.toml"});
-    fs::remove(s.dir / "cfgdir.toml");
-    s.write("trunc.toml", "[magnet]\nradius_mm = 2.0\n[sens");
-    m.check("config truncated", exe, {"--config", "trunc.toml", "--out", "out"}, s, {"trunc.toml"}, {"trunc.toml"});
+    inputs.push_back("cfgdir.toml");
+    check("config is a directory", {"--config", "cfgdir.toml", "--out", "out"}, {"cfgdir.toml"});
+    add("trunc.toml", "[magnet]\nradius_mm = 2.0\n[sens");
+    check("config truncated", {"--config", "trunc.toml", "--out", "out"}, {"trunc.toml"});
     std::string garbage;
     for (int i = 0; i < 4096; ++i) garbage += char((i * 7919 + 13) % 256);
-    s.write("garbage.toml", garbage);
-    m.check("config corrupted", exe, {"--config", "garbage.toml", "--out", "out"}, s, {"garbage.toml", "trunc.toml"},
-            {"garbage.toml"});
+    add("garbage.toml", garbage);
+    check("config corrupted", {"--config", "garbage.toml", "--out", "out"}, {"garbage.toml"});
     std::string deep = "[a";
     for (int i = 0; i < 50000; ++i) deep += ".a";
-    s.write("deep.toml", deep + "]\n");
-    m.check("config nested 50,000 deep", exe, {"--config", "deep.toml", "--out", "out"}, s,
-            {"deep.toml", "garbage.toml", "trunc.toml"}, {"deep.toml"});
+    add("deep.toml", deep + "]\n");
+    check("config nested 50,000 deep", {"--config", "deep.toml", "--out", "out"}, {"deep.toml"});
     // Unknown key, malformed --set, unknown flag.
-    m.check("unknown key", exe, {"--set", "magnet.no_such_key=1", "--out", "out"}, s,
-            {"deep.toml", "garbage.toml", "trunc.toml"}, {"magnet.no_such_key"});
-    m.check("malformed --set", exe, {"--set", "magnet.radius_mm", "--out", "out"}, s,
-            {"deep.toml", "garbage.toml", "trunc.toml"}, {"magnet.radius_mm"});
-    m.check("unknown flag", exe, {"--no-such-flag", "--out", "out"}, s, {"deep.toml", "garbage.toml", "trunc.toml"},
-            {"--no-such-flag"});
+    check("unknown key", {"--set", "magnet.no_such_key=1", "--out", "out"}, {"magnet.no_such_key"});
+    check("malformed --set", {"--set", "magnet.radius_mm", "--out", "out"}, {"magnet.radius_mm"});
+    check("unknown flag", {"--no-such-flag", "--out", "out"}, {"--no-such-flag"});
   }
-  WARN("bad-input matrix (files, flags): " << m.cases << " cases, " << m.failures << " failures");
+  WARN("bad-input matrix (files, flags): " << m.cases << " cases, " << m.failures << " failures" << m.slowest_case());
   CHECK(m.failures == 0);
 }
 
 TEST_CASE("bad-input matrix: every executable x an output path that is unusable", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
+  REQUIRE(exes.size() >= 14);
   Matrix m;
   for (const auto& exe : exes) {
     INFO(exe.filename().string());
     ScratchDir s("magenc_matrix_out");
     s.write("afile", "not a directory\n");
     fs::create_directories(s.dir / "adir");
-    const bool file_output = exe.filename() == "error_spectrum";  // --out FILE.csv; all others --out DIR
+    const bool to_file = file_output(exe);  // --out FILE; all others --out DIR
     std::vector<std::string> base;
-    if (file_output) base = {"--field", "analytic", "--array", "two", "--r0", "2.4", "--steps", "256"};
+    if (exe.filename() == "error_spectrum") base = {"--field", "analytic", "--array", "two", "--r0", "2.4", "--steps", "256"};
+    if (exe.filename() == "diagnose") base = {"--starts", "1"};  // (the fit runs before the output is written)
+    std::vector<std::string> inputs{"afile", "adir"};
     auto with = [&](const std::string& out) {
       auto a = base;
       a.insert(a.end(), {"--out", out});
-      return a;
+      return with_required(exe, s, inputs, a);
     };
-    if (file_output) m.check("--out is a directory", exe, with("adir"), s, {"afile", "adir"}, {"adir"});
-    else m.check("--out is a file", exe, with("afile"), s, {"afile", "adir"}, {"afile"});
-    m.check("--out not writable (below a file)", exe, with("afile/sub"), s, {"afile", "adir"}, {"afile/sub"});
-    m.check("--out not writable (/proc)", exe, with("/proc/magenc_no_such_dir/out"), s, {"afile", "adir"},
+    if (to_file) m.check("--out is a directory", exe, with("adir"), s, inputs, {"adir"});
+    else m.check("--out is a file", exe, with("afile"), s, inputs, {"afile"});
+    m.check("--out not writable (below a file)", exe, with("afile/sub"), s, inputs, {"afile/sub"});
+    m.check("--out not writable (/proc)", exe, with("/proc/magenc_no_such_dir/out"), s, inputs,
             {"/proc/magenc_no_such_dir/out"});
     CHECK(slurp(s.dir / "afile") == "not a directory\n");
   }
-  WARN("bad-input matrix (output paths): " << m.cases << " cases, " << m.failures << " failures");
+  WARN("bad-input matrix (output paths): " << m.cases << " cases, " << m.failures << " failures" << m.slowest_case());
   CHECK(m.failures == 0);
 }
 
@@ -388,6 +486,98 @@ TEST_CASE("bad-input matrix: grid, FE and cases files, geometry, absurd sizes", 
     }
   }
   WARN("bad-input matrix (input files, geometry, sizes): " << m.cases << " cases in " << m.classes.size()
-                                                            << " classes, " << m.failures << " failures");
+                                                            << " classes, " << m.failures << " failures" << m.slowest_case());
+  CHECK(m.failures == 0);
+}
+
+TEST_CASE("bad-input matrix: measured curves, field tables and the studies' free-string keys",
+          "[apps][bad-input][cli]") {
+  Matrix m;
+  const fs::path dg = kBin / "diagnose", tv = kBin / "table_to_vti", es = kBin / "error_spectrum";
+  ScratchDir s("magenc_matrix_curves");
+  std::vector<std::string> inputs;
+  auto add = [&](const std::string& name, const std::string& text) {
+    s.write(name, text);
+    inputs.push_back(name);
+    return name;
+  };
+  fs::create_directories(s.dir / "dir.csv");
+  inputs.push_back("dir.csv");
+  const std::string curve = good_curve(), table = good_table();
+  add("good_curve.csv", curve);
+  add("good_table.csv", table);
+  // Measured curves (diagnose --measured): each fails in the reader, before any fit.
+  auto curve_case = [&](const std::string& cls, const std::string& file) {
+    m.check("measured curve " + cls, dg, {"--measured", file, "--out", "out"}, s, inputs, {file});
+  };
+  curve_case("missing", "missing.csv");
+  curve_case("is a directory", "dir.csv");
+  curve_case("empty", add("empty.csv", ""));
+  curve_case("truncated mid-row", add("trunc.csv", curve.substr(0, curve.find('\n', curve.size() / 2) + 4)));
+  curve_case("truncated to 40 rows", add("short.csv", curve.substr(0, curve.find("200.000000"))));
+  std::string garbage;
+  for (int i = 0; i < 4096; ++i) garbage += char((i * 7919 + 13) % 256);
+  curve_case("corrupted (binary)", add("garbage.csv", garbage));
+  curve_case("NUL bytes", add("nul.csv", curve.substr(0, 200) + std::string(1, '\0') + curve.substr(200)));
+  for (const auto& [cls, v] : std::vector<std::pair<std::string, std::string>>{
+           {"NaN", "nan"}, {"inf", "inf"}, {"overflow", "1e999"}, {"text", "abc"}, {"empty cell", ""}}) {
+    std::string c = curve;
+    const auto row = c.find("\n100.000000,") + 12;
+    c.replace(row, c.find('\n', row) - row, v);
+    curve_case(cls + " value", add("value_" + std::to_string(inputs.size()) + ".csv", c));
+  }
+  curve_case("unknown header", add("header.csv", "theta_deg,err\n" + curve.substr(curve.find('\n') + 1)));
+  curve_case("gap of 60 deg", add("gap.csv", curve.substr(0, curve.find("\n100.000000,") + 1) +
+                                                 curve.substr(curve.find("\n160.000000,") + 1)));
+  curve_case("repeated angle, other value", add("repeat.csv", curve + "5.000000,0.3\n"));
+  curve_case("theta out of range", add("theta.csv", curve + "1e12,0.0\n"));
+  // A field table given to diagnose / error_spectrum (--field table:FILE) and table_to_vti (--table FILE).
+  std::vector<std::pair<std::string, std::string>> tables;
+  {
+    std::string t = table;
+    tables.push_back({"truncated mid-row", t.substr(0, t.size() - 5)});
+    tables.push_back({"missing point", t.substr(0, t.rfind('\n', t.size() - 2) + 1)});
+    tables.push_back({"repeated point", t + t.substr(t.find('\n') + 1, t.find('\n', t.find('\n') + 1) - t.find('\n'))});
+    std::string nan = t;
+    nan.replace(nan.rfind(",0.0"), 5, ",nan");
+    tables.push_back({"NaN value", nan});
+    std::string off = t;
+    off.replace(off.find("\n0.000000,"), 10, "\n0.013000,");
+    tables.push_back({"point off the lattice", off});
+    tables.push_back({"unknown column", "x_mm,y_mm,Hz_A_per_m\n" + t.substr(t.find('\n') + 1)});
+    tables.push_back({"corrupted (binary)", garbage});
+    tables.push_back({"empty", ""});
+  }
+  int k = 0;
+  for (const auto& [cls, text] : tables) {
+    const std::string f = add("table" + std::to_string(k++) + ".csv", text);
+    m.check("table " + cls, tv, {"--table", f, "--out", "t.vti"}, s, inputs, {f});
+    m.check("--field table: " + cls, es,
+            {"--field", "table:" + f, "--array", "two", "--r0", "0.5", "--steps", "256", "--out", "o.csv"}, s, inputs,
+            {f});
+    m.check("--field table: " + cls, dg, {"--measured", "good_curve.csv", "--field", "table:" + f, "--out", "out"}, s,
+            inputs, {f});
+  }
+  m.check("table missing", tv, {"--table", "missing.csv", "--out", "t.vti"}, s, inputs, {"missing.csv"});
+  m.check("table is a directory", tv, {"--table", "dir.csv", "--out", "t.vti"}, s, inputs, {"dir.csv"});
+  m.check("table --out is the table", tv, {"--table", "good_table.csv", "--out", "good_table.csv"}, s, inputs,
+          {"good_table.csv"});
+  m.check("table one plane off the sensing plane", es,
+          {"--field", "table:" + add("plane3.csv", "x_mm,y_mm,z_mm,Bz_T\n0,0,3,0.1\n1,0,3,0.1\n0,1,3,0.1\n1,1,3,0.1\n"),
+           "--array", "two", "--r0", "0.5", "--steps", "256", "--out", "o.csv"},
+          s, inputs, {"plane3.csv"});
+  // The studies' free-string keys (lists and names, checked where they are used).
+  for (const auto& [study, set, name] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"error_sources", "study.arrays=two,ring:2", "study.arrays"},
+           {"error_sources", "study.sources=tilt_x_deg,no_such_source", "study.sources"},
+           {"error_sources", "study.field=grid:missing.vti", "missing.vti"},  // (its message says --field)
+           {"error_sources", "sweep.coefs=c1_deg,zz_deg", "sweep.coefs"},
+           {"diagnosis", "study.arrays=two,ring:2", "study.arrays"},
+           {"diagnosis", "roundtrip.free=sx_mm,no_such_parameter", "roundtrip.free"},
+           {"diagnosis", "roundtrip.randomized=no_such_parameter", "roundtrip.randomized"},
+           {"diagnosis", "fem_field.dir=missing_dir", "missing_dir"}})
+    m.check("study free-string key", kBin / study, {"--set", set, "--out", "study"}, s, inputs, {name});
+  WARN("bad-input matrix (curves, tables, study strings): " << m.cases << " cases in " << m.classes.size()
+                                                           << " classes, " << m.failures << " failures" << m.slowest_case());
   CHECK(m.failures == 0);
 }
