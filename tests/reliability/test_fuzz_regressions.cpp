@@ -86,7 +86,7 @@ std::pair<int, std::string> refused_in_child(const fs::path& file, F read) {
 }  // namespace
 
 TEST_CASE("fuzz regressions: every found input is refused with one line and without the memory it claims",
-          "[reliability][fuzz]") {
+          "[fields][regression][bad-input]") {
   const fs::path dir = fs::path(MAGENC_SOURCE_DIR) / "tests/fuzz/regressions";
   static const magenc::Config cfg(magenc::common_keys());
   int files = 0;
@@ -113,7 +113,7 @@ TEST_CASE("fuzz regressions: every found input is refused with one line and with
 
 // The other side of the .vti pre-checks: every appended layout VTK writes (zlib or none, raw or base64,
 // UInt32 or UInt64 headers, several compression blocks) and ascii are read back value for value.
-TEST_CASE("the .vti pre-checks accept every appended data layout VTK writes", "[reliability][fuzz]") {
+TEST_CASE("the .vti pre-checks accept every appended data layout VTK writes", "[fields][contract]") {
   ScratchDir s("magenc_vti_layouts");
   vtkNew<vtkImageData> img;
   img->SetDimensions(5, 5, 1);
