@@ -45,11 +45,11 @@ int main(int argc, char** argv) {
     out->commit();
   }
   magenc::AnalyticField exact(s.domain.magnet);
-  auto g = magenc::fem::GridSpec::from_range({-5, -5, s.plane_z_mm}, {5, 5, s.plane_z_mm}, {0.1, 0.1, 1});
+  auto g = magenc::GridData::from_range({-5, -5, s.plane_z_mm}, {5, 5, s.plane_z_mm}, {0.1, 0.1, 1});
   auto e = magenc::fem::bz_error_on_grid(solver.evaluator(), exact, g);
   auto& st = solver.stats();
   {
-    auto P = g.points();
+    auto P = g.points_mm();
     auto B = solver.evaluator().B_T(P);
     auto bz = exact.Bz_T(P);
     Eigen::Index im = 0; double em = 0;
