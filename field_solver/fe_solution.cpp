@@ -24,9 +24,9 @@ Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
     Eigen::Matrix<double, 3, 10> G;
     basis_gradients(order, g, L, G);
     const int nd = dofs_per_cell(order);
-    for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
+    for (int i = 0; i < nd; ++i) grad += cell_dof_value(c, i) * G.col(i);
   }
-  if (!source) return -mu_r[c] * grad + br_T.col(c);
+  if (!source || (split() && cell_total[static_cast<size_t>(c)])) return -mu_r[c] * grad + br_T.col(c);
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
   for (int k = 0; k < 4; ++k) x += L[k] * points_mm.col(cell_dofs(k, c));
   return reduced_B(*source, mu_r[c], x, grad);
@@ -57,7 +57,11 @@ void FeSolution::recover_gradient() {
   grad_recovered.setZero(3, ndofs);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(ndofs);
   std::vector<int> material(static_cast<size_t>(ndofs), -1);  // first cell seen; -2: mixed
-  auto same_material = [&](int a, int b) { return mu_r[a] == mu_r[b] && br_T.col(a) == br_T.col(b); };
+  // Split: the total and reduced cells count as different materials (their potentials differ on the interface).
+  auto same_material = [&](int a, int b) {
+    return mu_r[a] == mu_r[b] && br_T.col(a) == br_T.col(b) &&
+           (!split() || cell_total[static_cast<size_t>(a)] == cell_total[static_cast<size_t>(b)]);
+  };
   // Barycentric coordinates of the local dof nodes (vertices, edge midpoints).
   std::array<Eigen::Vector4d, 10> node;
   for (int i = 0; i < 4; ++i) node[i] = Eigen::Vector4d::Unit(i);
@@ -68,7 +72,7 @@ void FeSolution::recover_gradient() {
     for (int k = 0; k < nd; ++k) {
       basis_gradients(order, g, node[k], G);
       Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-      for (int i = 0; i < nd; ++i) grad += psi_Tmm[cell_dofs(i, c)] * G.col(i);
+      for (int i = 0; i < nd; ++i) grad += cell_dof_value(c, i) * G.col(i);
       const int d = cell_dofs(k, c);
       grad_recovered.col(d) += grad;
       count[d] += 1.0;
@@ -89,7 +93,7 @@ double FeSolution::psi_in_cell(int c, const Eigen::Vector4d& L) const {
   double N[10];
   basis_values(order, L, N);
   double v = 0;
-  for (int i = 0; i < dofs_per_cell(order); ++i) v += psi_Tmm[cell_dofs(i, c)] * N[i];
+  for (int i = 0; i < dofs_per_cell(order); ++i) v += cell_dof_value(c, i) * N[i];
   return v;
 }
 

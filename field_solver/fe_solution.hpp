@@ -24,6 +24,20 @@ struct FeSolution {
   // Br_s = the source's remanence inside its (true, round) cylinder, 0
   // outside; br_T is then not used for B. Null: total potential.
   std::shared_ptr<const AnalyticField> source;
+  // Split potential (fem.potential = split, reduced_potential.hpp): with a
+  // source, cells with cell_total[c] = 1 (the shaft) carry the total potential
+  // psi (B = mu_r (-grad psi) + Br), the others the reduced phi = psi_Tmm -
+  // interface_phi_s (phi_s at the interface dofs, 0 elsewhere). Both empty:
+  // one potential in every cell.
+  std::vector<char> cell_total;
+  Eigen::VectorXd interface_phi_s_Tmm;
+  bool split() const { return !cell_total.empty(); }
+  // The potential of cell c at its local dof i: psi_Tmm, minus phi_s at the
+  // interface in the reduced cells of a split solution.
+  double cell_dof_value(int c, int i) const {
+    const int d = cell_dofs(i, c);
+    return split() && !cell_total[static_cast<size_t>(c)] ? psi_Tmm[d] - interface_phi_s_Tmm[d] : psi_Tmm[d];
+  }
   // Gradient recovery (optional): grad psi averaged at every dof node over the
   // cells around it, then interpolated with the same Lagrange basis. Used only
   // in cells whose dofs all lie inside one material (same mu_r and Br), so the
@@ -37,7 +51,7 @@ struct FeSolution {
   // B (T) in cell c at barycentric point L: mu_r*(-grad psi) + Br (recovered
   // gradient where available).
   Eigen::Vector3d B_in_cell(int c, const Eigen::Vector4d& L) const;
-  // psi (T*mm) in cell c at barycentric point L.
+  // psi (T*mm) in cell c at barycentric point L (split: the cell's own potential, psi or phi).
   double psi_in_cell(int c, const Eigen::Vector4d& L) const;
 };
 

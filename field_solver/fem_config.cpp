@@ -46,9 +46,10 @@ std::vector<KeySpec> fem_keys() {
                  "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
                  "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-gamg when built with "
                  "PETSc, else eigen-pcg"),
-      string_key("fem.potential", "total", {"total", "reduced"},
+      string_key("fem.potential", "auto", {"auto", "total", "reduced", "split"},
                  "total: psi of the whole field; reduced: the magnet's exact free-space field (analytic) plus an FE "
-                 "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft)"),
+                 "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft); split: "
+                 "total potential in the shaft, reduced elsewhere; auto: split with a shaft, else reduced"),
       string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner of fem.solver = eigen-pcg"),
       real_key("fem.tolerance", 1e-10, 0, 1, "", "CG relative residual tolerance", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
@@ -180,8 +181,8 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   if (o.potential == "reduced" && d.shaft.enabled)
     throw InputError("fem.potential = reduced with shaft.enabled = true is not supported: in the shaft (mu_r = " +
                      std::to_string(d.shaft.mu_r) +
-                     ") H ~ 0 while the source field is not, and the reaction potential cancels it (a total/reduced "
-                     "split is not implemented); use fem.potential = total");
+                     ") H ~ 0 while the source field is not, and the reaction potential cancels it; use "
+                     "fem.potential = split (or auto) or total");
   s.write_mesh_vtu = cfg.flag("output.mesh_vtu");
   s.compress = cfg.flag("output.compress");
   o.preconditioner = cfg.str("fem.preconditioner");

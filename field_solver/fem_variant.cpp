@@ -61,6 +61,9 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
   for (const auto& k : fixed) cfg.set_value(k, study_cfg.real(k));
   cfg.set_value("magnet.mu_r", 1.0);
   cfg.set_value("fem.progress_every", 0L);
+  // The variants exist to show the total potential's discretization artefacts: with mu_r = 1 the reduced
+  // potential (fem.potential = auto) is the exact field itself. A variant may still set fem.potential.
+  cfg.set_value("fem.potential", std::string("total"));
   try {
     for (const auto& s : variant.settings) {
       const auto eq = s.find('=');

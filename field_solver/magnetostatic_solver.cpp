@@ -21,6 +21,21 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Wall time of a sequence of stages: run(seconds, stage) runs one and stores its time;
+// total_s() is the time since construction.
+class StageTimer {
+ public:
+  template <class Stage> void run(double& seconds, Stage&& stage) {
+    const auto t = Clock::now();
+    stage();
+    seconds = seconds_since(t);
+  }
+  double total_s() const { return seconds_since(t0_); }
+
+ private:
+  Clock::time_point t0_ = Clock::now();
+};
+
 // Wraps an Eigen preconditioner; Eigen's CG calls solve(r_k) once per iteration with the current
 // residual r_k (and once before the loop with r_0), which is where the progress line is printed and
 // the residual history is kept. A residual that is not finite (breakdown on an indefinite or singular
@@ -148,6 +163,18 @@ Eigen::Vector3d remanence_T(const Magnet& m) {
   return {m.br_T * ce * std::cos(a), m.br_T * ce * std::sin(a), m.br_T * se};
 }
 
+// The magnet magnetized along one axis only: br_T has one non-zero component c,
+// the result has |Br_c| along +-x_c (the source field of that component alone).
+Magnet component_magnet(const Magnet& magnet, const Eigen::Vector3d& br_T) {
+  int c = 0;
+  br_T.cwiseAbs().maxCoeff(&c);
+  Magnet m = magnet;
+  m.br_T = std::abs(br_T[c]);
+  m.magnetization_deg = c == 0 ? (br_T[c] < 0 ? 180.0 : 0.0) : c == 1 ? (br_T[c] < 0 ? 270.0 : 90.0) : 0.0;
+  m.magnetization_elevation_deg = c == 2 ? (br_T[c] < 0 ? -90.0 : 90.0) : 0.0;
+  return m;
+}
+
 }  // namespace
 
 MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions options)
@@ -157,28 +184,19 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
-  if (options_.potential != "total" && options_.potential != "reduced")
-    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed total, reduced");
+  if (options_.potential == "auto") options_.potential = domain_.shaft.enabled ? "split" : "reduced";
+  if (options_.potential != "total" && options_.potential != "reduced" && options_.potential != "split")
+    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed auto, total, reduced, split");
 }
 
 void MagnetostaticSolver::run() {
-  const auto t0 = Clock::now();
-  auto t = Clock::now();
-  make_mesh();
-  stats_.t_mesh_s = seconds_since(t);
-  t = Clock::now();
-  setup_system();
-  stats_.t_setup_s = seconds_since(t);
-  t = Clock::now();
-  assemble_system();
-  stats_.t_assemble_s = seconds_since(t);
-  t = Clock::now();
-  solve();
-  stats_.t_solve_s = seconds_since(t);
-  t = Clock::now();
-  compute_cell_fields();
-  stats_.t_post_s = seconds_since(t);
-  stats_.t_total_s = seconds_since(t0);
+  StageTimer timer;
+  timer.run(stats_.t_mesh_s, [&] { make_mesh(); });
+  timer.run(stats_.t_setup_s, [&] { setup_system(); });
+  timer.run(stats_.t_assemble_s, [&] { assemble_system(); });
+  timer.run(stats_.t_solve_s, [&] { solve(); });
+  timer.run(stats_.t_post_s, [&] { compute_cell_fields(); });
+  stats_.t_total_s = timer.total_s();
 }
 
 // 1. Mesh the regions (TetGen).
@@ -203,51 +221,63 @@ void MagnetostaticSolver::setup_system() {
   stats_.threads = options_.threads;
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
   br_cell_ = cell_br(mesh_, remanence_T(domain_.magnet));
+  cell_total_.clear();
+  if (options_.potential == "split") {
+    cell_total_ = total_potential_cells(mesh_);
+    if (std::none_of(cell_total_.begin(), cell_total_.end(), [](char c) { return c != 0; }))
+      cell_total_.clear();  // no permeable part: the split is the reduced potential
+  }
   stats_.solved_dofs = stats_.dofs;
   if (quadrant_solve_) {
-    quad_space_ = std::make_unique<FeSpace>(quad_, options_.order);
-    stats_.solved_dofs = quad_space_->num_dofs();
+    quadrant_ = std::make_unique<QuadrantSolve>(std::move(quad_), options_.order);
+    stats_.solved_dofs = quadrant_->num_dofs();
   }
+  quad_ = TetMesh();
 }
 
 // 3. Stiffness (+ Robin) and load vector.
 void MagnetostaticSolver::assemble_system() {
+  const Eigen::Vector3d br_T = remanence_T(domain_.magnet);
   if (quadrant_solve_) {
     // The quadrant's cells carry the same materials; one load per non-zero
     // component of Br (magnetization_deg = 0, no elevation: x only).
-    K_ = assemble_stiffness(quad_, *quad_space_, cell_mu_r(domain_, quad_), options_.robin, options_.threads);
-    const Eigen::Vector3d br_T = remanence_T(domain_.magnet);
-    quad_loads_.clear();
-    for (int c = 0; c < 3; ++c) {
-      if (std::abs(br_T[c]) < 1e-12 * domain_.magnet.br_T) continue;
-      Eigen::Vector3d br = Eigen::Vector3d::Zero();
-      br[c] = br_T[c];
-      if (options_.potential == "reduced") {
-        // The source field of this component alone: |Br_c| along +-x_c.
-        Magnet m = domain_.magnet;
-        m.br_T = std::abs(br_T[c]);
-        m.magnetization_deg = c == 0 ? (br_T[c] < 0 ? 180.0 : 0.0) : c == 1 ? (br_T[c] < 0 ? 270.0 : 90.0) : 0.0;
-        m.magnetization_elevation_deg = c == 2 ? (br_T[c] < 0 ? -90.0 : 90.0) : 0.0;
-        quad_loads_.emplace_back(c, assemble_reaction_rhs(quad_, *quad_space_, cell_mu_r(domain_, quad_), AnalyticField(m)));
-      } else {
-        quad_loads_.emplace_back(c, assemble_rhs(quad_, *quad_space_, cell_br(quad_, br)));
-      }
-    }
-    if (!options_.robin) {
-      const std::vector<int> outer = boundary_dofs(quad_, *quad_space_);
-      for (auto& [c, f] : quad_loads_) apply_zero_dirichlet(K_, f, outer);
-    }
-    stats_.nonzeros = K_.nonZeros();
+    const Eigen::VectorXd mu = cell_mu_r(domain_, quadrant_->mesh());
+    quadrant_->assemble(mu, br_T, domain_.magnet.br_T, options_.robin, options_.threads,
+                        [&](const TetMesh& m, const FeSpace& sp, const Eigen::Vector3d& br) {
+                          const int odd_axis = std::abs(br[0]) > 0 ? 0 : std::abs(br[1]) > 0 ? 1 : -1;
+                          return potential_load(m, sp, mu, br, component_magnet(domain_.magnet, br), odd_axis);
+                        });
+    stats_.nonzeros = quadrant_->nonzeros();
     return;
   }
   K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
-  f_ = options_.potential == "reduced" ? assemble_reaction_rhs(mesh_, *space_, mu_r_cell_, AnalyticField(domain_.magnet))
-                                       : assemble_rhs(mesh_, *space_, br_cell_);
+  PotentialLoad load = potential_load(mesh_, *space_, mu_r_cell_, br_T, domain_.magnet, -1);
+  f_ = std::move(load.f);
+  interface_phi_s_ = std::move(load.interface_phi_s);
   if (!options_.robin) apply_zero_dirichlet(K_, f_, boundary_dofs(mesh_, *space_));
   stats_.nonzeros = K_.nonZeros();
 }
 
-// 4. Solve K psi = f with preconditioned CG.
+// The load of the configured potential for remanence br_T (total potential) or,
+// equivalently, the source magnet `source` (reduced and split: its exact field;
+// split: odd_axis 0 or 1 when the potential is odd across x_odd_axis = 0, else -1).
+PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
+                                                  const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const {
+  PotentialLoad l;
+  if (options_.potential == "total") {
+    l.f = assemble_rhs(mesh, space, cell_br(mesh, br_T));
+  } else if (options_.potential == "reduced" || cell_total_.empty()) {
+    l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
+  } else {
+    const AnalyticField field(source);
+    const std::vector<char> total = total_potential_cells(mesh);
+    l.interface_phi_s = interface_source_potential(space, total, field, odd_axis);
+    l.f = assemble_split_rhs(mesh, space, mu_r, total, field, l.interface_phi_s);
+  }
+  return l;
+}
+
+// 4. Solve K psi = f (one solve, or one per magnetization component on the quadrant).
 void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
@@ -269,33 +299,8 @@ void MagnetostaticSolver::solve() {
   stats_.residual = 0;
   stats_.solves = 0;
   if (quadrant_solve_) {
-    // Component c of Br (x or y) gives a potential odd across the plane x_c = 0 (psi = 0
-    // there) and even across the other (natural condition): solve, then mirror
-    // with the sign of x_c. The axial component (c = 2, magnetization
-    // elevation) is unchanged by both reflections x -> -x and y -> -y, which
-    // map the magnet and every region onto themselves: its potential is even
-    // in x and in y (natural condition on both planes), mirrored without a sign.
-    const Eigen::Matrix3Xd& qp = quad_space_->dof_points();
-    const Eigen::Matrix3Xd& fp = space_->dof_points();
-    const std::vector<int> image = mirror_dof_map(fp, qp);
-    psi_ = Eigen::VectorXd::Zero(space_->num_dofs());
-    for (size_t k = 0; k < quad_loads_.size(); ++k) {
-      auto& [c, f] = quad_loads_[k];
-      std::vector<int> plane;
-      if (c < 2)
-        for (Eigen::Index i = 0; i < qp.cols(); ++i)
-          if (qp(c, i) == 0.0) plane.push_back(static_cast<int>(i));
-      SparseMatrix Kc;
-      if (k + 1 < quad_loads_.size()) Kc = K_;  // the last solve may overwrite K_
-      SparseMatrix& K = k + 1 < quad_loads_.size() ? Kc : K_;
-      apply_zero_dirichlet(K, f, plane);
-      Eigen::VectorXd psi_q;
-      cg(K, f, psi_q);
-      for (Eigen::Index i = 0; i < fp.cols(); ++i)
-        psi_[i] += (c < 2 && fp(c, i) < 0 ? -1.0 : 1.0) * psi_q[image[static_cast<size_t>(i)]];
-    }
-    quad_loads_.clear();
-    quad_space_.reset();
+    psi_ = quadrant_->solve_and_mirror(space_->dof_points(), cg, &interface_phi_s_);
+    quadrant_.reset();
   } else {
     cg(K_, f_, psi_);
   }
@@ -313,7 +318,11 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
-  if (options_.potential == "reduced") s.source = std::make_shared<AnalyticField>(domain_.magnet);
+  if (options_.potential != "total") s.source = std::make_shared<AnalyticField>(domain_.magnet);
+  if (!cell_total_.empty()) {
+    s.cell_total = cell_total_;
+    s.interface_phi_s_Tmm = interface_phi_s_;
+  }
   if (options_.recovery) s.recover_gradient();
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
   B_cell_ = evaluator_->B_cell_centroids();

@@ -1,4 +1,6 @@
-// Magnetostatic FEM for a permanent magnet (total scalar potential).
+// Magnetostatic FEM for a permanent magnet (fem.potential: the total scalar
+// potential below; or the reduced potential / total-reduced split of
+// reduced_potential.hpp, which add the magnet's exact field analytically).
 //
 // PDE (scaled units, units.hpp: psi = mu0*phi_m in T*mm, Br = mu0*M0 in T):
 //   -div(mu_r grad psi) = -div(Br)   in the ball Omega of radius R_out,
@@ -23,6 +25,7 @@
 #include "fe_solution.hpp"
 #include "fe_space.hpp"
 #include "geometry.hpp"
+#include "quadrant_solve.hpp"
 
 namespace magenc::fem {
 
@@ -30,7 +33,9 @@ struct SolverOptions {
   int order = 2;                          // Lagrange order, 1 or 2
   bool robin = true;                      // dipole Robin condition; false: psi = 0 on the sphere
   std::string solver = "auto";            // linear_solver.hpp: "auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"
-  std::string potential = "total";        // "total" or "reduced" (reduced_potential.hpp)
+  // "total", "reduced", "split" (reduced_potential.hpp) or "auto": split with a shaft, else reduced.
+  // (The config key fem.potential defaults to auto; this struct keeps total for in-process callers.)
+  std::string potential = "total";
   std::string preconditioner = "jacobi";  // eigen-pcg: "jacobi" (parallel) or "ichol" (serial)
   double tolerance = 1e-10;               // CG stop: |f - K psi| / |f| below this
   int max_iterations = 20000;             // CG iteration cap (ComputeError when reached)
@@ -77,7 +82,8 @@ void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOpti
 class MagnetostaticSolver {
  public:
   MagnetostaticSolver(DomainSpec domain, SolverOptions options);
-  // make_mesh -> setup_system -> assemble_system -> solve -> compute_cell_fields.
+  // make_mesh -> setup_system -> assemble_system -> solve -> compute_cell_fields, each timed
+  // into stats() (t_mesh_s, t_setup_s, t_assemble_s, t_solve_s, t_post_s; t_total_s for all).
   void run();
 
   const DomainSpec& domain() const { return domain_; }
@@ -97,17 +103,20 @@ class MagnetostaticSolver {
   void assemble_system();
   void solve();
   void compute_cell_fields();
+  PotentialLoad potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
+                               const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const;
 
   DomainSpec domain_;
   SolverOptions options_;
   TetMesh mesh_;                           // tets, region ids, outer boundary faces (mm)
-  TetMesh quad_;                           // mesh.symmetric: the quadrant mesh_ mirrors (outer faces only)
-  bool quadrant_solve_ = false;            // solve on quad_ and mirror (mesh.symmetric and options.quadrant)
-  std::unique_ptr<FeSpace> quad_space_;    // dofs on quad_ (quadrant solve)
-  std::vector<std::pair<int, Eigen::VectorXd>> quad_loads_;  // (magnetization component, load on quad_)
+  TetMesh quad_;                           // mesh.symmetric: the quadrant mesh_ mirrors, until setup_system
+  bool quadrant_solve_ = false;            // solve on the quadrant and mirror (mesh.symmetric and options.quadrant)
+  std::unique_ptr<QuadrantSolve> quadrant_;  // the quadrant's system (quadrant solve)
   std::unique_ptr<FeSpace> space_;         // P1/P2 dofs on mesh_
   Eigen::VectorXd mu_r_cell_;              // relative permeability per cell
   Eigen::Matrix3Xd br_cell_;               // remanence Br per cell (T), 0 outside the magnet
+  std::vector<char> cell_total_;           // split potential: 1 in the cells with the total potential (empty: none)
+  Eigen::VectorXd interface_phi_s_;        // split potential: phi_s at the interface dofs (T*mm), else empty
   SparseMatrix K_;                         // stiffness + Robin (dofs x dofs, 1/mm*mm^3 scaled: mm)
   Eigen::VectorXd f_;                      // load Int Br . grad v (T*mm^2)
   Eigen::VectorXd psi_;                    // solution psi at dofs (T*mm)

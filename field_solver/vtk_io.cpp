@@ -90,6 +90,18 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
       src->InsertNextValue(v);
     grid->GetFieldData()->AddArray(src);
   }
+  if (sol.split()) {  // split potential: which cells hold the total potential, phi_s on the interface
+    vtkNew<vtkIntArray> total;
+    total->SetName("total_potential");
+    total->SetNumberOfTuples(sol.num_cells());
+    for (int c = 0; c < sol.num_cells(); ++c) total->SetValue(c, sol.cell_total[static_cast<size_t>(c)]);
+    grid->GetCellData()->AddArray(total);
+    vtkNew<vtkDoubleArray> phi_s;
+    phi_s->SetName("interface_phi_s");
+    phi_s->SetNumberOfTuples(sol.interface_phi_s_Tmm.size());
+    for (Eigen::Index i = 0; i < sol.interface_phi_s_Tmm.size(); ++i) phi_s->SetValue(i, sol.interface_phi_s_Tmm[i]);
+    grid->GetPointData()->AddArray(phi_s);
+  }
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
@@ -175,6 +187,18 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
     } catch (const InputError& e) {
       throw InputError(path.string() + ": reduced_potential_source: " + e.what());
     }
+  }
+  auto* total = vtkIntArray::SafeDownCast(grid->GetCellData()->GetArray("total_potential"));
+  auto* phi_s = vtkDoubleArray::SafeDownCast(grid->GetPointData()->GetArray("interface_phi_s"));
+  if (total || phi_s) {
+    if (!total || !phi_s || !s.source || total->GetNumberOfTuples() != nc || phi_s->GetNumberOfTuples() != np)
+      throw InputError(path.string() + ": split potential: total_potential (per cell), interface_phi_s (per point) and "
+                       "reduced_potential_source must all be present and match the cells and points");
+    s.cell_total.resize(static_cast<size_t>(nc));
+    s.interface_phi_s_Tmm.resize(np);
+    for (vtkIdType c = 0; c < nc; ++c) s.cell_total[static_cast<size_t>(c)] = total->GetValue(c) != 0;
+    for (vtkIdType i = 0; i < np; ++i) s.interface_phi_s_Tmm[i] = phi_s->GetValue(i);
+    if (!s.interface_phi_s_Tmm.allFinite()) throw InputError(path.string() + ": interface_phi_s contains NaN");
   }
   if (rec && rec->GetNumberOfTuples() > 0 && rec->GetValue(0) == 1) s.recover_gradient();
   return s;

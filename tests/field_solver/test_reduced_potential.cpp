@@ -5,7 +5,8 @@
 //    (only the reaction, ~1 % of the field, carries discretization error);
 //    total and reduced converge to the same field;
 //  - mesh.vtu keeps the source, so fem:DIR evaluates the same B;
-//  - with a shaft it is refused (one line naming the keys).
+//  - with a shaft it is refused (one line naming the keys; the split of
+//    test_split_potential.cpp is the formulation for a shaft).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>

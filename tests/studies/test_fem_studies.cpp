@@ -30,13 +30,16 @@ constexpr double kCoarseTolDeg = 0.15;
 fs::path solve_coarse_config(const std::string& name, const std::string& extra) {
   const fs::path d = temp_out(name);
   const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
-                          "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set output.mesh_vtu=true " + extra + " --out '" +
+                          "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set fem.potential=total "
+                          "--set output.mesh_vtu=true " + extra + " --out '" +
                           d.string() + "' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
   return d;
 }
 
-// A coarse order-2, mu_r = 1 solve in a temp directory (made once per process).
+// A coarse order-2, mu_r = 1 solve in a temp directory (made once per process). The total potential:
+// these fields stand for FE solutions with discretization error (with mu_r = 1 the default reduced
+// potential is the exact field).
 const fs::path& coarse_field() {
   static const fs::path dir = solve_coarse_config("coarse_field", "");
   return dir;
