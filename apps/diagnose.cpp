@@ -24,7 +24,7 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/omp_wait.hpp"
-#include "fem_field_scheme.hpp"
+#include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "report/diagnosis_report.hpp"
 #include "report/study_output.hpp"
@@ -78,7 +78,6 @@ std::string help_footer() {
 
 int run(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
-  magenc::register_fem_field_scheme();  // fem:DIR (field_solver)
   // 1. Options.
   CLI::App app{"diagnose: fit mounting and signal-chain errors to measured angle-error curves (interfaces.md)"};
   magenc::CommonOptions common;
@@ -129,7 +128,7 @@ int run(int argc, char** argv) {
   opts.cond_limit = f.cond_limit;
   magenc::FieldOptions fo;
   fo.interp = magenc::parse_interp(f.interp, "--interp");
-  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, fo);
+  const magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, fo);
 
   // 3. Fit. On a discretised field (fem:, grid:, table:) the Jacobian uses a larger step (1e-2 typical sizes,
   // see DiagnosisOptions::fd_step), and the default free set is chosen on the exact field of the same magnet.

@@ -32,7 +32,7 @@
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
-#include "fem_field_scheme.hpp"
+#include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
 #include "io/probe_paths_vtk.hpp"
@@ -79,7 +79,6 @@ void apply_flags(Config& cfg, const Flags& f) {
 }
 
 int run(int argc, char** argv) {
-  magenc::register_fem_field_scheme();  // fem:DIR (field_solver)
   // 1. Options.
   CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (interfaces.md)"};
   magenc::CommonOptions common;
@@ -125,7 +124,7 @@ int run(int argc, char** argv) {
                       : magenc::read_cases_csv(f.cases);
   magenc::FieldOptions field_opts;
   field_opts.interp = magenc::parse_interp(f.interp, "--interp");
-  const magenc::FieldSourcePtr field = magenc::make_field_source(f.field, cfg, field_opts);
+  const magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, field_opts);
 
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;

@@ -83,12 +83,12 @@ int main(int argc, char** argv) {
     out->commit();
   }
   magenc::AnalyticField exact(s.domain.magnet);
-  auto g = magenc::fem::GridSpec::from_range({-half_mm, -half_mm, s.plane_z_mm}, {half_mm, half_mm, s.plane_z_mm},
-                                              {step_mm, step_mm, 1});
+  auto g = magenc::GridData::from_range({-half_mm, -half_mm, s.plane_z_mm}, {half_mm, half_mm, s.plane_z_mm},
+                                        {step_mm, step_mm, 1});
   auto e = magenc::fem::bz_error_on_grid(solver.evaluator(), exact, g);
   auto& st = solver.stats();
   {
-    auto P = g.points();
+    auto P = g.points_mm();
     auto B = solver.evaluator().B_T(P);
     auto bz = exact.Bz_T(P);
     Eigen::Index im = 0; double em = 0;

@@ -43,7 +43,7 @@ int run(int argc, char** argv) {
   if (out.empty()) out = std::filesystem::path(table).replace_extension(".vti");
   if (out == std::filesystem::path(table))
     throw magenc::InputError("--out " + out.string() + " is the table itself: allowed another file name");
-  magenc::write_grid_vti(out, grid);
+  magenc::write_grid_vti(out, grid, {.compress = true, .base64 = true, .with_bz = true});  // zlib, base64
   std::cout << out.string() << ": " << grid.dims[0] << " x " << grid.dims[1] << " x " << grid.dims[2] << " nodes, "
             << (grid.has_B() ? "B and Bz" : "Bz only") << ", origin (" << grid.origin_mm.x() << ", "
             << grid.origin_mm.y() << ", " << grid.origin_mm.z() << ") mm, spacing (" << grid.spacing_mm.x() << ", "

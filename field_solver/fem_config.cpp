@@ -11,35 +11,35 @@ namespace magenc::fem {
 
 std::vector<KeySpec> fem_keys() {
   return {
-      int_key("mesh.segments", 64, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
-      bool_key("mesh.equal_area", true, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
-      real_key("mesh.h_magnet_mm", 0.3, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
-      real_key("mesh.h_zone_mm", 0.3, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
-      real_key("mesh.h_air_mm", 12.0, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
-      real_key("mesh.outer_radius_mm", 60.0, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
-      int_key("mesh.sphere_subdivisions", 3, 1, 6, "icosphere level of the faceted truncation sphere"),
-      bool_key("mesh.symmetric", true,
+      int_key("mesh.segments", mesh_defaults::kSegments, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
+      bool_key("mesh.equal_area", mesh_defaults::kEqualArea, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
+      real_key("mesh.h_magnet_mm", mesh_defaults::kHMagnet_mm, 0.01, 100, "mm", "target tet edge length in the magnet and shaft", true),
+      real_key("mesh.h_zone_mm", mesh_defaults::kHZone_mm, 0.01, 100, "mm", "target tet edge length in the refinement zone", true),
+      real_key("mesh.h_air_mm", mesh_defaults::kHAir_mm, 0.01, 1000, "mm", "maximum tet edge length in the far air", true),
+      real_key("mesh.outer_radius_mm", mesh_defaults::kOuterRadius_mm, 0, 1e5, "mm", "radius of the truncation sphere (>= ~10x magnet size)", true),
+      int_key("mesh.sphere_subdivisions", mesh_defaults::kSphereSubdivisions, 1, 6, "icosphere level of the faceted truncation sphere"),
+      bool_key("mesh.symmetric", mesh_defaults::kSymmetric,
                "mesh one quadrant (x, y >= 0) and mirror it, so the mesh has the magnet's symmetry about x = 0 and "
                "y = 0 (false: one TetGen mesh of the whole domain)"),
-      int_key("mesh.symmetry_order", 16, 2, 64,
+      int_key("mesh.symmetry_order", mesh_defaults::kSymmetryOrder, 2, 64,
               "with mesh.symmetric: order N of the mesh's dihedral symmetry (2: mirror planes x = 0, y = 0 only; "
               "4..64, a power of two dividing mesh.segments: a wedge of 180/N deg is meshed and reflected, which "
               "moves the mesh's ideal-mount artefacts to harmonics >= N; the zone box becomes an N-gon prism)"),
-      real_key("mesh.zone_half_width_mm", 7.0, 0, 1000, "mm",
+      real_key("mesh.zone_half_width_mm", mesh_defaults::kZoneHalfWidth_mm, 0, 1000, "mm",
                "refinement zone half width in x and y (with mesh.symmetry_order N > 4 the inradius of the zone's "
                "N-gon prism; 7 mm: the prism covers the plane grid's corners)", true),
-      real_key("mesh.zone_half_height_mm", 1.3, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
-      real_key("mesh.core_radius_mm", 3.2, 0, 1000, "mm",
+      real_key("mesh.zone_half_height_mm", mesh_defaults::kZoneHalfHeight_mm, 0, 1000, "mm", "refinement zone half height about the sensing plane", true),
+      real_key("mesh.core_radius_mm", mesh_defaults::kCoreRadius_mm, 0, 1000, "mm",
                "radius of the core cylinder about the sensing plane inside the zone, meshed with mesh.h_core_mm "
                "(0 = none; > magnet radius, < 0.8x zone half width)"),
-      real_key("mesh.h_core_mm", 0.10, 0.01, 100, "mm", "target tet edge length in the zone's core cylinder", true),
-      real_key("mesh.core_top_above_plane_mm", 0.6, 0, 1000, "mm",
+      real_key("mesh.h_core_mm", mesh_defaults::kHCore_mm, 0.01, 100, "mm", "target tet edge length in the zone's core cylinder", true),
+      real_key("mesh.core_top_above_plane_mm", mesh_defaults::kCoreTopAbovePlane_mm, 0, 1000, "mm",
                "core cylinder top above the sensing plane (< mesh.zone_half_height_mm)"),
-      real_key("mesh.core_below_plane_mm", 0.6, 0, 1000, "mm",
+      real_key("mesh.core_below_plane_mm", mesh_defaults::kCoreBelowPlane_mm, 0, 1000, "mm",
                "core cylinder bottom below the sensing plane; reaching the zone box's bottom (z_s - "
                "mesh.zone_half_height_mm, clamped above the magnet) takes core and zone down to the magnet's top face"),
-      real_key("mesh.quality_ratio", 2.0, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
-      real_key("mesh.min_dihedral_deg", 15.0, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      real_key("mesh.quality_ratio", mesh_defaults::kQualityRatio, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
+      real_key("mesh.min_dihedral_deg", mesh_defaults::kMinDihedral_deg, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.solver", "auto", {"auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"},
@@ -201,24 +201,25 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   // Grids.
   const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");
   if (!(pmax > pmin))
-    throw InputError("grid.plane_max_mm = " + std::to_string(pmax) + " must be > grid.plane_min_mm = " + std::to_string(pmin));
+    throw InputError("grid.plane_max_mm = " + num(pmax) + " must be > grid.plane_min_mm = " + num(pmin));
   const double ps = cfg.real("grid.plane_step_mm");
-  s.plane = GridSpec::from_range({pmin, pmin, s.plane_z_mm}, {pmax, pmax, s.plane_z_mm}, {ps, ps, 1.0});
+  s.plane = GridData::from_range({pmin, pmin, s.plane_z_mm}, {pmax, pmax, s.plane_z_mm}, {ps, ps, 1.0});
   const double bmin = cfg.real("grid.box_xy_min_mm"), bmax = cfg.real("grid.box_xy_max_mm");
   if (!(bmax > bmin))
-    throw InputError("grid.box_xy_max_mm = " + std::to_string(bmax) + " must be > grid.box_xy_min_mm = " + std::to_string(bmin));
+    throw InputError("grid.box_xy_max_mm = " + num(bmax) + " must be > grid.box_xy_min_mm = " + num(bmin));
   const double bs = cfg.real("grid.box_step_mm");
   const double z0 = s.plane_z_mm - cfg.real("grid.box_z_below_mm"), z1 = s.plane_z_mm + cfg.real("grid.box_z_above_mm");
-  s.box = GridSpec::from_range({bmin, bmin, z0}, {bmax, bmax, z1}, {bs, bs, bs});
+  s.box = GridData::from_range({bmin, bmin, z0}, {bmax, bmax, z1}, {bs, bs, bs});
   // Both grids must lie well inside the truncation sphere (inscribed polyhedron).
-  auto check_inside = [&](const GridSpec& g, const char* what) {
-    const Eigen::Vector3d lo = g.origin_mm, hi = g.origin_mm + g.step_mm.cwiseProduct((g.dims.array() - 1).cast<double>().matrix());
+  auto check_inside = [&](const GridData& g, const char* what) {
+    const Eigen::Vector3d lo = g.origin_mm,
+                          hi = g.origin_mm + g.spacing_mm.cwiseProduct(Eigen::Vector3d(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
     const double far = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();
     if (far >= 0.9 * m.outer_radius_mm)
-      throw InputError(std::string(what) + " reaches " + std::to_string(far) +
-                       " mm from the origin, outside the domain: mesh.outer_radius_mm = " + std::to_string(m.outer_radius_mm) +
-                       " must be > " + std::to_string(far / 0.9) + " mm");
-    if (g.num_points() > 200'000'000L) throw InputError(std::string(what) + " has too many points (> 2e8): increase its step");
+      throw InputError(std::string(what) + " reaches " + num(far) +
+                       " mm from the origin, outside the domain: mesh.outer_radius_mm = " + num(m.outer_radius_mm) +
+                       " must be > " + num(far / 0.9) + " mm");
+    if (g.nodes() > 200'000'000UL) throw InputError(std::string(what) + " has too many points (> 2e8): increase its step");
   };
   check_inside(s.plane, "grid plane");
   check_inside(s.box, "grid box");

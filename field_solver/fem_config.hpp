@@ -5,7 +5,7 @@
 
 #include "core/config.hpp"
 #include "geometry.hpp"
-#include "grids.hpp"
+#include "fields/grid.hpp"
 #include "magnetostatic_solver.hpp"
 
 namespace magenc::fem {
@@ -18,8 +18,8 @@ std::vector<KeySpec> solve_field_schema();
 struct FemSettings {
   DomainSpec domain;
   SolverOptions solver;
-  GridSpec plane;  // sensing-plane grid (dims.z == 1, at z_s)
-  GridSpec box;    // 3-D box around the plane
+  GridData plane;  // sensing-plane grid (dims[2] == 1, at z_s; no values)
+  GridData box;    // 3-D box around the plane (no values)
   double plane_z_mm = 0;  // z_s
   bool write_mesh_vtu = false;  // output.mesh_vtu: write mesh.vtu (fem:DIR and ParaView need it)
   bool compress = false;        // output.compress: zlib-compressed VTK blocks

@@ -1,6 +1,5 @@
 #include "fem_field.hpp"
 
-#include <cstdio>
 #include <utility>
 
 #include "core/errors.hpp"
@@ -16,11 +15,9 @@ FemField::FemField(fem::FeSolution solution)
 
 Vec3 FemField::B_T(const Vec3& p) const {
   auto b = evaluator_->B_T(p);
-  if (!b) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "fem field: point (%g, %g, %g) mm lies outside the FE mesh", p.x(), p.y(), p.z());
-    throw InputError(buf);
-  }
+  if (!b)
+    throw InputError("fem field: point (" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) +
+                     ") mm lies outside the FE mesh");
   return *b;
 }
 

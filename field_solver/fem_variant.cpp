@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -124,20 +123,10 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
   solver.run();
   r.stats = solver.stats();
   // The plane grid as solve_field writes it to plane.vti.
-  const GridSpec& g = r.settings.plane;
-  const Eigen::Matrix3Xd B = solver.evaluator().B_T(g.points());
+  r.plane = r.settings.plane;
+  const Eigen::Matrix3Xd B = solver.evaluator().B_T(r.plane.points_mm());
   if (!B.allFinite()) throw ComputeError("B on the plane grid contains NaN");
-  r.plane.origin_mm = g.origin_mm;
-  r.plane.spacing_mm = g.step_mm;
-  r.plane.dims = {g.dims[0], g.dims[1], g.dims[2]};
-  r.plane.Bx_T.resize(B.cols());
-  r.plane.By_T.resize(B.cols());
-  r.plane.Bz_T.resize(B.cols());
-  for (long i = 0; i < B.cols(); ++i) {
-    r.plane.Bx_T[i] = B(0, i);
-    r.plane.By_T[i] = B(1, i);
-    r.plane.Bz_T[i] = B(2, i);
-  }
+  r.plane.set_B(B);
   r.plane.source = "plane grid of the in-process solve";
   r.plane.validate();
   r.field = std::make_shared<const FemField>(solver.solution());
@@ -151,26 +140,10 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
   r.facts.h_core_mm = d.zone.core() ? d.mesh.h_core_mm : 0.0;
   r.facts.mu_r = d.magnet.mu_r;
   r.facts.t_total_s = r.stats.t_total_s;
-  r.facts.plane_step_mm = g.step_mm[0];
+  r.facts.plane_step_mm = r.plane.spacing_mm[0];
   r.facts.symmetry_order = d.mesh.symmetric ? d.mesh.symmetry_order : 1;
   return r;
 }
-
-namespace {
-// nlohmann's get<int>/get<long> static_casts a stored double (1e300 -> undefined behaviour): integers of
-// solve.json are read through this range check instead.
-long json_integer(const nlohmann::json& j, const char* key, long fallback, bool required, long lo, long hi) {
-  if (!j.contains(key)) {
-    if (required) throw std::out_of_range(std::string("key '") + key + "' not found");
-    return fallback;
-  }
-  const auto& v = j.at(key);
-  if (!v.is_number_integer() || v.get<double>() < double(lo) || v.get<double>() > double(hi))
-    throw std::out_of_range(std::string("'") + key + "' is not an integer in [" + std::to_string(lo) + ", " +
-                            std::to_string(hi) + "]");
-  return v.get<long>();
-}
-}  // namespace
 
 std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const std::string& key,
                                                  const std::vector<fs::path>& search_dirs) {
@@ -178,36 +151,6 @@ std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const 
   for (const auto& v : parse_fem_variants(study_cfg.str(key), key))
     out.push_back({v.label, fem_variant_config(v, study_cfg, key, search_dirs)});
   return out;
-}
-
-FemSolveFacts solve_json_facts(const fs::path& dir) {
-  const fs::path file = dir / "solve.json";
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot open (a solve_field output directory has one)");
-  FemSolveFacts f;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(in);
-    if (!j.is_object()) throw std::invalid_argument("not a JSON object");
-    const long big = 1L << 50;
-    f.order = static_cast<int>(json_integer(j, "order", 0, true, 1, 2));
-    f.elements = json_integer(j, "elements", 0, true, 0, big);
-    f.dofs = json_integer(j, "dofs", 0, true, 0, big);
-    f.iterations = json_integer(j, "iterations", 0, false, 0, big);
-    f.t_total_s = j.value("t_total_s", NAN);
-    f.mu_r = j.contains("magnet") ? j["magnet"].value("mu_r", NAN) : NAN;
-    if (j.contains("domain")) {
-      const auto& d = j["domain"];
-      f.h_magnet_mm = d.value("h_magnet_mm", NAN);
-      f.h_zone_mm = d.value("h_zone_mm", NAN);
-      f.h_core_mm = d.contains("zone") ? d["zone"].value("h_core_mm", 0.0) : 0.0;
-      f.symmetry_order = static_cast<int>(
-          json_integer(d, "symmetry_order", d.value("symmetric", false) ? 2 : 1, false, 1, 64));
-    }
-    f.plane_step_mm = j.contains("plane_grid") ? j["plane_grid"].value("step_mm", NAN) : NAN;
-  } catch (const std::exception& e) {
-    throw InputError(file.string() + ": unreadable solve record (" + std::string(e.what()) + ")");
-  }
-  return f;
 }
 
 }  // namespace magenc::fem

@@ -71,8 +71,4 @@ struct SolvedFemField {
 // when the solve fails.
 SolvedFemField solve_fem_field(const Config& solve_cfg);
 
-// Facts recorded in DIR/solve.json (solve_field output); InputError naming
-// the file when it is missing or unreadable.
-FemSolveFacts solve_json_facts(const std::filesystem::path& dir);
-
 }  // namespace magenc::fem

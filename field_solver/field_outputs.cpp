@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
+#include "fields/grid.hpp"
 #include "magenc_version.hpp"
 #include "linear_solver.hpp"
 #include "vtk_io.hpp"
@@ -23,13 +24,18 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                          const std::string& config_json) {
   const auto t0 = std::chrono::steady_clock::now();
   // 1. Grids: B from the FE solution at every grid point.
-  const Eigen::Matrix3Xd B_plane = solver.evaluator().B_T(s.plane.points());
-  const Eigen::Matrix3Xd B_box = solver.evaluator().B_T(s.box.points());
+  GridData plane = s.plane, box = s.box;
+  const Eigen::Matrix3Xd B_plane = solver.evaluator().B_T(plane.points_mm());
+  const Eigen::Matrix3Xd B_box = solver.evaluator().B_T(box.points_mm());
   if (!B_plane.allFinite() || !B_box.allFinite()) throw ComputeError("B on the grids contains NaN");
-  // 2. VTK files.
+  plane.set_B(B_plane);
+  box.set_B(B_box);
+  plane.source = (dir / "plane.vti").string();
+  box.source = (dir / "box.vti").string();
+  // 2. VTK files: raw binary appended data, zlib blocks with output.compress; box.vti has B only.
   if (s.write_mesh_vtu) write_solution_vtu(dir / "mesh.vtu", solver.solution(), solver.B_cell(), s.compress);
-  write_grid_vti(dir / "plane.vti", s.plane, B_plane, true, s.compress);
-  write_grid_vti(dir / "box.vti", s.box, B_box, false, s.compress);
+  write_grid_vti(dir / "plane.vti", plane, {.compress = s.compress, .base64 = false, .with_bz = true});
+  write_grid_vti(dir / "box.vti", box, {.compress = s.compress, .base64 = false, .with_bz = false});
   const double t_out = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // 3. solve.json.
   const SolveStats& st = solver.stats();
@@ -87,9 +93,9 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                             {"gap_mm", d.shaft.gap_mm}, {"mu_r", d.shaft.mu_r}}}};
   j["plane_z_mm"] = s.plane_z_mm;
   j["plane_grid"] = {{"origin_mm", {s.plane.origin_mm[0], s.plane.origin_mm[1], s.plane.origin_mm[2]}},
-                     {"step_mm", s.plane.step_mm[0]}, {"dims", {s.plane.dims[0], s.plane.dims[1]}}};
+                     {"step_mm", s.plane.spacing_mm[0]}, {"dims", {s.plane.dims[0], s.plane.dims[1]}}};
   j["box_grid"] = {{"origin_mm", {s.box.origin_mm[0], s.box.origin_mm[1], s.box.origin_mm[2]}},
-                   {"step_mm", s.box.step_mm[0]}, {"dims", {s.box.dims[0], s.box.dims[1], s.box.dims[2]}}};
+                   {"step_mm", s.box.spacing_mm[0]}, {"dims", {s.box.dims[0], s.box.dims[1], s.box.dims[2]}}};
   j["config"] = nlohmann::json::parse(config_json);
   std::ofstream out(dir / "solve.json");
   out << j.dump(2) << "\n";

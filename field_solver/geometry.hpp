@@ -11,6 +11,30 @@ namespace magenc::fem {
 
 enum class MagnetShape { Cylinder, Sphere };  // Sphere: radius = magnet.radius_mm (validation case)
 
+// Defaults of the [mesh] keys: fem_keys() (fem_config.cpp) declares the keys
+// with these values and MeshSpec and ZoneSpec start from them, so a default
+// DomainSpec meshes like a default solve_field run. Test meshes set their own
+// values (meshes/coarse.toml, tests/fem/fem_test_util.hpp).
+namespace mesh_defaults {
+inline constexpr int kSegments = 64;
+inline constexpr bool kEqualArea = true;
+inline constexpr double kHMagnet_mm = 0.3;
+inline constexpr double kHZone_mm = 0.3;
+inline constexpr double kHCore_mm = 0.10;
+inline constexpr double kHAir_mm = 12.0;
+inline constexpr double kOuterRadius_mm = 60.0;
+inline constexpr int kSphereSubdivisions = 3;
+inline constexpr bool kSymmetric = true;
+inline constexpr int kSymmetryOrder = 16;
+inline constexpr double kZoneHalfWidth_mm = 7.0;
+inline constexpr double kZoneHalfHeight_mm = 1.3;
+inline constexpr double kCoreRadius_mm = 3.2;
+inline constexpr double kCoreTopAbovePlane_mm = 0.6;
+inline constexpr double kCoreBelowPlane_mm = 0.6;
+inline constexpr double kQualityRatio = 2.0;
+inline constexpr double kMinDihedral_deg = 15.0;
+}  // namespace mesh_defaults  // Sphere: radius = magnet.radius_mm (validation case)
+
 // Refinement zone: the box [-half_width, half_width]^2 x [z_min, z_max] (mm) of air
 // meshed with the zone's edge length.
 // Optional core (core_radius_mm > 0, cylinder magnets only): a coaxial air
@@ -19,9 +43,12 @@ enum class MagnetShape { Cylinder, Sphere };  // Sphere: radius = magnet.radius_
 // z_min the core starts at the magnet's top face and the zone box reaches down
 // to it too (z_min unused), so the air gap between magnet and sensing plane is
 // refined instead of being graded by TetGen's quality bound alone.
+// The z range and the core are set about the sensing plane by
+// fem_settings_from_config (mesh.zone_half_height_mm, mesh.core_*); a ZoneSpec
+// made without a configuration has no core.
 struct ZoneSpec {
   bool enabled = true;
-  double half_width_mm = 5.5;
+  double half_width_mm = mesh_defaults::kZoneHalfWidth_mm;
   double z_min_mm = 3.55;  // must lie above the magnet's top face
   double z_max_mm = 5.55;
   double core_radius_mm = 0;  // 0: no core; else > magnet polygon radius, < 0.8 half_width
@@ -41,22 +68,22 @@ struct ShaftSpec {
 };
 
 struct MeshSpec {
-  int segments = 64;          // polygon segments around every curved (cylindrical) face
-  bool equal_area = true;     // polygon radius scaled so the cross-section area (sphere: volume) is exact
-  double h_magnet_mm = 0.6;  // target edge length in the magnet (and shaft)
-  double h_zone_mm = 0.3;    // target edge length in the refinement zone
-  double h_core_mm = 0.2;    // target edge length in the zone's core cylinder (if any)
-  double h_air_mm = 10.0;     // maximum edge length in the far air
-  double outer_radius_mm = 60.0;  // truncation sphere radius
-  int sphere_subdivisions = 3;    // icosphere level of the faceted outer sphere (and sphere magnets: +1)
+  int segments = mesh_defaults::kSegments;  // polygon segments around every curved (cylindrical) face
+  bool equal_area = mesh_defaults::kEqualArea;  // polygon radius scaled so the cross-section area (sphere: volume) is exact
+  double h_magnet_mm = mesh_defaults::kHMagnet_mm;  // target edge length in the magnet (and shaft)
+  double h_zone_mm = mesh_defaults::kHZone_mm;      // target edge length in the refinement zone
+  double h_core_mm = mesh_defaults::kHCore_mm;      // target edge length in the zone's core cylinder (if any)
+  double h_air_mm = mesh_defaults::kHAir_mm;        // maximum edge length in the far air
+  double outer_radius_mm = mesh_defaults::kOuterRadius_mm;        // truncation sphere radius
+  int sphere_subdivisions = mesh_defaults::kSphereSubdivisions;  // icosphere level of the faceted outer sphere (and sphere magnets: +1)
   // Mesh the quadrant x >= 0, y >= 0 and mirror it (symmetric_mesh.hpp): the
   // mesh, and so the solution, has the domain's symmetry about x = 0 and y = 0.
-  bool symmetric = true;
+  bool symmetric = mesh_defaults::kSymmetric;
   // Order N of the mesh's dihedral symmetry with `symmetric` (2: mirror x and
   // y only; 4..64, a power of two dividing `segments`: a wedge of pi/N is
   // meshed and reflected, see symmetric_mesh.hpp).
-  int symmetry_order = 2;
-  MesherOptions mesher;
+  int symmetry_order = mesh_defaults::kSymmetryOrder;
+  MesherOptions mesher{mesh_defaults::kQualityRatio, mesh_defaults::kMinDihedral_deg};
 };
 
 struct DomainSpec {

@@ -7,8 +7,8 @@
 
 namespace magenc::fem {
 
-BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridSpec& grid) {
-  const Eigen::Matrix3Xd p = grid.points();
+BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridData& grid) {
+  const Eigen::Matrix3Xd p = grid.points_mm();
   const Eigen::Matrix3Xd B = fem.B_T(p);
   const Eigen::Matrix3Xd B_ref = ref.B_T(p);
   const Eigen::VectorXd bz_ref = B_ref.row(2).transpose();
@@ -28,7 +28,7 @@ BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref,
   return s;
 }
 
-ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridSpec& grid) {
+ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridData& grid) {
   MagnetostaticSolver solver(domain, options);
   solver.run();
   const AnalyticField exact(domain.magnet);

@@ -3,7 +3,7 @@
 #pragma once
 #include "fe_solution.hpp"
 #include "fields/field_source.hpp"
-#include "grids.hpp"
+#include "fields/grid.hpp"
 #include "magnetostatic_solver.hpp"
 
 namespace magenc::fem {
@@ -21,7 +21,7 @@ struct BzErrorStats {
 };
 
 // Bz error of the FE solution against ref on every grid point (parallel).
-BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridSpec& grid);
+BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridData& grid);
 
 // One FEM solve compared with the exact AnalyticField of the same magnet
 // (meaningful for mu_r = 1 everywhere: the exact field has no permeability).
@@ -30,7 +30,7 @@ struct ExactComparison {
   BzErrorStats error;
   double peak_rss_mib = 0;  // process peak RSS after the solve
 };
-ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridSpec& grid);
+ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridData& grid);
 
 // Observed rate p of e ~ x^(-p) between two runs (e.g. x = h^-1 or dofs^(1/3)).
 double observed_rate(double x_a, double e_a, double x_b, double e_b);

@@ -6,14 +6,12 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
-#include <vtkImageData.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLImageDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLWriter.h>
@@ -107,27 +105,6 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   vtkNew<vtkXMLUnstructuredGridWriter> w;
   w->SetFileName(path.c_str());
   w->SetInputData(grid);
-  set_format(w, compress);
-  if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
-}
-
-void write_grid_vti(const std::filesystem::path& path, const GridSpec& g, const Eigen::Matrix3Xd& B, bool with_bz,
-                    bool compress) {
-  vtkNew<vtkImageData> img;
-  img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
-  img->SetOrigin(g.origin_mm[0], g.origin_mm[1], g.origin_mm[2]);
-  img->SetSpacing(g.step_mm[0], g.step_mm[1], g.step_mm[2]);
-  if (with_bz) {
-    vtkNew<vtkDoubleArray> bz;
-    bz->SetName("Bz");
-    bz->SetNumberOfTuples(B.cols());
-    for (Eigen::Index i = 0; i < B.cols(); ++i) bz->SetValue(i, B(2, i));
-    img->GetPointData()->AddArray(bz);
-  }
-  img->GetPointData()->AddArray(vector_array("B", B));
-  vtkNew<vtkXMLImageDataWriter> w;
-  w->SetFileName(path.c_str());
-  w->SetInputData(img);
   set_format(w, compress);
   if (w->Write() != 1) throw ComputeError("cannot write " + path.string());
 }

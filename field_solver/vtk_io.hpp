@@ -1,10 +1,10 @@
-// The one VTK output layer of the FEM (XML formats, coordinates in mm, B in T,
-// psi in T*mm). Array names are the stable contract of interfaces.md.
+// The FE solution as VTK (mesh.vtu: coordinates in mm, B in T, psi in T*mm).
+// Array names are the stable contract of interfaces.md. The grids (plane.vti,
+// box.vti) are written by fields/grid.hpp's write_grid_vti.
 #pragma once
 #include <filesystem>
 
 #include "fe_solution.hpp"
-#include "grids.hpp"
 
 namespace magenc::fem {
 
@@ -14,11 +14,6 @@ namespace magenc::fem {
 // zlib-compressed blocks (smaller, several times slower to write).
 void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol, const Eigen::Matrix3Xd& B_cell_T,
                         bool compress = false);
-
-// Image data (grid.dims.z() == 1: plane) with point arrays `B` (T, 3) and,
-// when with_bz, `Bz` (T).
-void write_grid_vti(const std::filesystem::path& path, const GridSpec& grid, const Eigen::Matrix3Xd& B_T, bool with_bz,
-                    bool compress = false);
 
 // Reads a mesh.vtu written by write_solution_vtu back into a solution.
 // Throws InputError naming the file and what is missing.

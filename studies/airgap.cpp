@@ -17,7 +17,7 @@
 // src/report/fem_field_reports.*.
 //   airgap [--config studies/airgap.toml] [--set fem_field.dir=/tmp/field] [--out DIR]
 #include "analysis/fem_field_studies.hpp"
-#include "fem_field_scheme.hpp"
+#include "solved_field.hpp"
 #include "report/fem_field_reports.hpp"
 #include "report/study_output.hpp"
 
@@ -39,14 +39,13 @@ std::vector<KeySpec> study_keys() {
 }
 
 void run(const Config& cfg, StudyOutput& out) {
-  const AirgapResult result = run_airgap(cfg, kStudy);
+  const AirgapResult result = run_airgap(cfg, kStudy, fem_sources_from_config(cfg));
   write_airgap_report(out, result);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  register_fem_field_scheme();  // fem:DIR field sources (field_solver/)
   return run_study(kStudy,
                    "airgap: angle-error spectra vs the air-gap offset dz on the FEM field (grid:DIR/box.vti, "
                    "fem:DIR), alone and with residual eccentricities, beside the exact field",

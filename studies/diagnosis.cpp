@@ -14,10 +14,9 @@
 //   diagnosis [--config studies/diagnosis.toml] [--set roundtrip.cases=20] [--out DIR]
 #include "analysis/diagnosis_study.hpp"
 #include "core/omp_wait.hpp"
-#include "fem_field_scheme.hpp"
-#include "fields/field_factory.hpp"
 #include "report/diagnosis_report.hpp"
 #include "report/study_output.hpp"
+#include "solved_field.hpp"
 
 using namespace magenc;
 
@@ -47,10 +46,9 @@ std::vector<KeySpec> study_keys() {
 
 void run(const Config& cfg, StudyOutput& out) {
   // The FE field (fem:DIR, served by field_solver/) is opened here; the library makes the exact field.
-  register_fem_field_scheme();
   FieldSourcePtr fem;
   const std::string fem_dir = cfg.str("fem_field.dir");
-  if (!fem_dir.empty() && cfg.integer("roundtrip.fem_cases") > 0) fem = make_field_source("fem:" + fem_dir, cfg);
+  if (!fem_dir.empty() && cfg.integer("roundtrip.fem_cases") > 0) fem = open_field_source("fem:" + fem_dir, cfg);
   const DiagnosisStudyResult result = run_diagnosis_study(cfg, fem);  // analysis/
   write_diagnosis_study_report(out, result);                          // report/
 }

@@ -79,14 +79,14 @@ void run(const Config& cfg, StudyOutput& out) {
   // The runs refine the zone box (and the magnet) only: no core cylinder with
   // its own fixed edge length, so the rates are rates in h_zone.
   base.domain.zone.core_radius_mm = 0;
-  const GridSpec& plane = base.plane;
+  const GridData& plane = base.plane;
   const auto hs = numbers(cfg, "convergence.h_zone_list");
   const auto orders = numbers(cfg, "convergence.orders");
   if (hs.size() < 2) throw InputError("convergence.h_zone_list needs at least 2 sizes");
   const double factor = cfg.real("convergence.h_magnet_factor");
   std::string md = "# fem_convergence\n\nBz of the FEM on the sensing plane (z_s = " + fmt(base.plane_z_mm, 2) +
                    " mm, grid " + std::to_string(plane.dims[0]) + "x" + std::to_string(plane.dims[1]) + ", step " +
-                   fmt(plane.step_mm[0], 3) + " mm) against the exact field, with the magnet's mu_r forced to 1 (exact field: no permeability). Errors relative to the peak |Bz| on the grid. B from the " +
+                   fmt(plane.spacing_mm[0], 3) + " mm) against the exact field, with the magnet's mu_r forced to 1 (exact field: no permeability). Errors relative to the peak |Bz| on the grid. B from the " +
                    std::string(base.solver.recovery ? "recovered (node-averaged) gradient of psi (fem.recovery = true)"
                                                     : "raw FE gradient (fem.recovery = false)") + ".\n\n";
 

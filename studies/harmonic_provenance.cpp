@@ -22,6 +22,7 @@
 #include "fem_variant.hpp"
 #include "report/provenance_report.hpp"
 #include "report/study_output.hpp"
+#include "solved_field.hpp"
 
 using namespace magenc;
 
@@ -32,6 +33,7 @@ const char* kStudy = "harmonic_provenance";
 void run(const Config& cfg, StudyOutput& out) {
   // 1. Inputs. FE variants and directories are all checked before anything is solved.
   const ProvenanceOptions options = ProvenanceOptions::from_config(cfg);
+  for (const auto& dir : options.fem_dirs) SolvedFieldDir(dir).require_complete_solve_of(cfg, "provenance.fem_dirs");
   const auto variants = fem::fem_variants_from_config(cfg, kFemVariantsKey, {".", MAGENC_SOURCE_DIR});
 
   // 2. Grid sampling of the exact field, then the FE solutions (directly and through their plane grids).
@@ -44,10 +46,10 @@ void run(const Config& cfg, StudyOutput& out) {
     add_fe_solution(run, {v.label, "solved here", s.facts}, *s.field, options.via_grid() ? &s.plane : nullptr);
   }
   for (const auto& dir : options.fem_dirs) {
-    const FemField field(dir);
-    const GridData plane =
-        options.via_grid() ? read_grid_vti(std::filesystem::path(dir) / "plane.vti") : GridData{};
-    add_fe_solution(run, {dir, dir, fem::solve_json_facts(dir)}, field, options.via_grid() ? &plane : nullptr);
+    const SolvedFieldDir solved(dir);
+    const auto field = solved.fem();
+    const GridData plane = options.via_grid() ? read_grid_vti(solved.dir() / "plane.vti") : GridData{};
+    add_fe_solution(run, {dir, dir, solved.facts()}, *field, options.via_grid() ? &plane : nullptr);
   }
 
   // 3. Table, plots, summary.

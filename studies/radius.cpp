@@ -13,11 +13,10 @@
 #include <chrono>
 #include <iostream>
 
-#include "fem_field_scheme.hpp"
-#include "fields/field_factory.hpp"
 #include "report/radius_report.hpp"
 #include "analysis/radius_scan.hpp"
 #include "report/study_output.hpp"
+#include "solved_field.hpp"
 
 using namespace magenc;
 
@@ -28,9 +27,10 @@ void run(const Config& cfg, StudyOutput& out) {
   // 1. Inputs: scan options, then the field sources (fails before any work).
   const RadiusScanOptions opt = RadiusScanOptions::from_config(cfg);
   std::vector<std::string> notes;
-  const auto specs = radius_field_specs(cfg, notes);
+  const auto specs =
+      radius_field_specs(cfg, notes, [&](const std::string& dir) { return SolvedFieldDir(dir).mismatch(cfg); });
   std::vector<std::pair<std::string, FieldSourcePtr>> fields;
-  for (const auto& s : specs) fields.emplace_back(s, make_field_source(s, cfg));
+  for (const auto& s : specs) fields.emplace_back(s, open_field_source(s, cfg));
   for (const auto& [spec, field] : fields) check_field_serves_box(*field, spec, opt);  // e.g. an elevation axis
 
   // 2. The scan, one field after another.
@@ -56,7 +56,6 @@ void run(const Config& cfg, StudyOutput& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  register_fem_field_scheme();  // fem:DIR field specs (field_solver/)
   return run_study("radius", "Probe radius choice: error spectra across r0, tolerance analysis, sensor noise",
                    RadiusScanOptions::keys(), argc, argv, run);
 }

@@ -21,7 +21,7 @@
 // src/report/fem_field_reports.*.
 //   real_field [--config studies/real_field.toml] [--set fem_field.dir=/tmp/field] [--out DIR]
 #include "analysis/fem_field_studies.hpp"
-#include "fem_field_scheme.hpp"
+#include "solved_field.hpp"
 #include "report/fem_field_reports.hpp"
 #include "report/study_output.hpp"
 
@@ -40,14 +40,13 @@ std::vector<KeySpec> study_keys() {
 }
 
 void run(const Config& cfg, StudyOutput& out) {
-  const RealFieldResult result = run_real_field(cfg, kStudy);
+  const RealFieldResult result = run_real_field(cfg, kStudy, fem_sources_from_config(cfg));
   write_real_field_report(out, result, cfg);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  register_fem_field_scheme();  // fem:DIR field sources (field_solver/)
   return run_study(kStudy,
                    "real_field: angle-error spectra of the FEM field (fem:DIR / grid:DIR/plane.vti) for one-offset "
                    "sweeps and several arrays, beside the exact field, with the FEM-vs-exact acceptance check",

@@ -2,20 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <limits>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
-#include "fields/field_factory.hpp"
-#include "fields/grid_field.hpp"
 
 namespace magenc {
-
-namespace fs = std::filesystem;
 
 std::vector<KeySpec> fem_field_keys(const std::string& default_grid_file) {
   return {
@@ -27,126 +19,6 @@ std::vector<KeySpec> fem_field_keys(const std::string& default_grid_file) {
                  "grid of DIR that grid sources sample (plane.vti has no dz)"),
       string_key("fem_field.interp", "cubic", {"nearest", "linear", "cubic"}, "grid interpolation"),
   };
-}
-
-namespace {
-
-// DIR/solve.json, or {} when there is none. A file that is there but is not a JSON object (truncated,
-// corrupted) is an InputError, not a silently skipped check.
-nlohmann::json read_solve_json(const fs::path& dir) {
-  std::ifstream in(dir / "solve.json");
-  if (!in) return {};
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError((dir / "solve.json").string() + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
-  if (!j.is_object()) throw InputError((dir / "solve.json").string() + ": not a JSON object (expected solve_field's record)");
-  return j;
-}
-
-// A number of solve.json (NaN when absent); InputError when present with another type.
-double json_number(const nlohmann::json& obj, const char* key, const fs::path& dir) {
-  if (!obj.is_object() || !obj.contains(key)) return std::numeric_limits<double>::quiet_NaN();
-  const auto& v = obj.at(key);
-  if (!v.is_number())
-    throw InputError((dir / "solve.json").string() + ": '" + key + "' is not a number (expected solve_field's record)");
-  return v.get<double>();
-}
-
-}  // namespace
-
-std::string solve_mismatch(const fs::path& dir, const Config& cfg) {
-  const nlohmann::json j = read_solve_json(dir);
-  if (!j.contains("magnet")) return "";
-  if (!j["magnet"].is_object())
-    throw InputError((dir / "solve.json").string() + ": 'magnet' is not an object (expected solve_field's record)");
-  const auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); };
-  for (const char* k : {"radius_mm", "height_mm", "br_T"}) {
-    const double solved = json_number(j["magnet"], k, dir);
-    const double want = cfg.real(std::string("magnet.") + k);
-    if (differs(solved, want))
-      return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
-             ": solve again with the study's [magnet] keys";
-  }
-  {  // solves written before the key existed had no elevation
-    const double solved = j["magnet"].value("magnetization_elevation_deg", 0.0);
-    const double want = cfg.real("magnet.magnetization_elevation_deg");
-    if (differs(solved, want))
-      return "was solved with magnet.magnetization_elevation_deg = " + fmt(solved, 4) + ", the study uses " +
-             fmt(want, 4) + ": solve again with the study's [magnet] keys";
-  }
-  if (j.contains("plane_z_mm")) {
-    const double solved = json_number(j, "plane_z_mm", dir);
-    const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");
-    if (differs(solved, want))
-      return "has its sensing plane at z = " + fmt(solved, 4) + " mm, the study uses z_s = " + fmt(want, 4) +
-             " mm (sensor.plane_height_mm)";
-  }
-  return "";
-}
-
-std::vector<FemSource> fem_sources_from_config(const Config& cfg) {
-  const fs::path dir = cfg.str("fem_field.dir");
-  const auto labels = split_list(cfg.str("fem_field.sources"), "fem_field.sources");
-  const std::string hint = ": run solve_field first (solve_field --out " + dir.string() + ")";
-  if (!fs::is_directory(dir)) throw InputError("fem_field.dir '" + dir.string() + "' is not a directory" + hint);
-  FieldOptions opts;
-  opts.interp = parse_interp(cfg.str("fem_field.interp"), "fem_field.interp");
-  std::vector<FemSource> out;
-  for (const auto& l : labels) {
-    std::string file, spec;
-    if (l == "fem") {
-      file = "mesh.vtu";
-      spec = "fem:" + dir.string();
-    } else if (l == "grid") {
-      file = cfg.str("fem_field.grid_file");
-      spec = "grid:" + (dir / file).string();
-    } else {
-      throw InputError("fem_field.sources: '" + l + "' is not a FEM source: allowed grid, fem");
-    }
-    if (!fs::exists(dir / file))
-      throw InputError("fem_field.dir '" + dir.string() + "' has no " + file +
-                       (l == "fem" ? ": run solve_field --set output.mesh_vtu=true --out " + dir.string() : hint));
-    if (std::any_of(out.begin(), out.end(), [&](const FemSource& s) { return s.label == l; }))
-      throw InputError("fem_field.sources: '" + l + "' listed twice");
-    out.push_back({l, spec, nullptr});
-  }
-  // The solve's magnet and plane must be the study's: the exact field beside it
-  // is built from the study's [magnet] keys.
-  if (const std::string why = solve_mismatch(dir, cfg); !why.empty())
-    throw InputError("fem_field.dir '" + dir.string() + "' " + why);
-  for (auto& s : out) s.field = make_field_source(s.spec, cfg, opts);
-  return out;
-}
-
-std::string solve_description(const fs::path& dir) {
-  std::ostringstream s;
-  try {
-    const nlohmann::json j = read_solve_json(dir);
-    if (j.empty()) return "";
-    s << "order " << j.value("order", 0) << ", " << j.value("elements", 0L) << " tetrahedra, "
-      << j.value("dofs", 0L) << " dofs";
-    if (j.contains("domain")) {
-      const auto& d = j["domain"];
-      s << ", " << d.value("segments", 0) << " segments on the curved face, h_zone " << fmt(d.value("h_zone_mm", 0.0), 3)
-        << " mm, outer radius " << fmt(d.value("outer_radius_mm", 0.0), 1) << " mm";
-    }
-    if (j.contains("magnet")) s << ", magnet mu_r " << fmt(j["magnet"].value("mu_r", 0.0), 3);
-    if (j.contains("plane_grid")) s << ", plane grid step " << fmt(j["plane_grid"].value("step_mm", 0.0), 3) << " mm";
-    if (j.contains("box_grid")) s << ", box grid step " << fmt(j["box_grid"].value("step_mm", 0.0), 3) << " mm";
-    s << ", solve " << fmt(j.value("t_total_s", 0.0), 1) << " s";
-  } catch (...) {
-    return "";
-  }
-  return s.str();
-}
-
-double solve_mu_r(const fs::path& dir) {
-  const nlohmann::json j = read_solve_json(dir);
-  if (!j.contains("magnet")) return std::numeric_limits<double>::quiet_NaN();
-  return json_number(j["magnet"], "mu_r", dir);
 }
 
 double AcceptanceRule::tolerance_deg(double exact_deg) const { return std::max(rel * std::abs(exact_deg), abs_deg); }
@@ -179,15 +51,17 @@ std::string comparison_csv(const std::vector<ComparedCase>& cases, const std::ve
   return s.str();
 }
 
-ComparisonInputs comparison_inputs_from_config(const Config& cfg) {
+ComparisonInputs comparison_inputs_from_config(const Config& cfg, FemSources fem) {
   ComparisonInputs in;
-  in.sources = fem_sources_from_config(cfg);  // first: a missing solve directory is the error to report
+  in.sources = std::move(fem.sources);
+  in.solve_description = std::move(fem.description);
+  in.solve_mu_r = fem.mu_r;
   in.exact = std::make_shared<const AnalyticField>(Magnet::from_config(cfg));
   in.base = Mount::from_config(cfg);
   const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
   ProbeArray::parse(cfg.str("sensor.array"));  // unused here (study.arrays), but still checked
   for (const auto& a : arrays) in.setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
-  in.dir = cfg.str("fem_field.dir");
+  in.dir = fem.dir;
   return in;
 }
 

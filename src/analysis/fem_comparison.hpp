@@ -3,11 +3,10 @@
 // and on the exact field of the same magnet, and report each FEM coefficient
 // beside the exact one and their difference. This header holds the computation
 // they share (the tables, plots and summaries are report/comparison_run.hpp's):
-//   fem_sources_from_config        the solved directory and the FEM field sources
-//                                  ([fem_field] keys), with a one-line error naming
-//                                  solve_field when the directory is not there
-//   comparison_inputs_from_config  the FEM sources, exact field, base mount and
-//                                  probe setups of the configuration
+//   FemSources                     the solved directory and its FEM field sources
+//                                  (opened by field_solver/solved_field.hpp)
+//   comparison_inputs_from_config  the FEM sources with the exact field, base mount
+//                                  and probe setups of the configuration
 //   run_comparison                 all sweeps on all sources, fits, FEM/exact pairs
 //   AcceptanceRule                 |FEM - exact| <= max(rel*|exact|, abs_deg)
 //                                  (judged cell by cell in fem_field_studies.hpp)
@@ -39,28 +38,18 @@ std::vector<KeySpec> fem_field_keys(const std::string& default_grid_file);
 // One FEM field source of a study.
 struct FemSource {
   std::string label;      // "fem" or "grid" (table column `source`, plot legends)
-  std::string spec;       // make_field_source spec: "fem:DIR" or "grid:DIR/box.vti"
+  std::string spec;       // open_field_source spec: "fem:DIR" or "grid:DIR/box.vti"
   FieldSourcePtr field;
 };
 
-// Checks that fem_field.dir holds what the listed sources need (mesh.vtu for
-// fem, the grid file for grid) and builds the sources (fem: needs
-// register_fem_field_scheme() to have been called). A missing directory or
-// file throws one InputError line, e.g.
-//   "fem_field.dir 'output/field' has no mesh.vtu: run solve_field first (solve_field --out output/field)".
-std::vector<FemSource> fem_sources_from_config(const Config& cfg);
-
-// Why the solve in DIR does not fit the configured magnet and sensing plane
-// (magnet.radius_mm, height_mm, br_T, z_s differ from DIR/solve.json), e.g.
-// "was solved with magnet.radius_mm = 2, the study uses 3: ..."; "" when it
-// fits or solve.json records no magnet.
-std::string solve_mismatch(const std::filesystem::path& dir, const Config& cfg);
-
-// Selected facts of DIR/solve.json for summaries ("order 2, 230k elements,
-// mu_r 1.05, ..."); "" when the file is missing or unreadable.
-std::string solve_description(const std::filesystem::path& dir);
-// magnet.mu_r recorded in DIR/solve.json, or NaN when absent.
-double solve_mu_r(const std::filesystem::path& dir);
+// The FEM field sources of a study and what its solve.json says, opened by
+// field_solver's fem_sources_from_config (src/ cannot read FE solutions).
+struct FemSources {
+  std::string dir;                // fem_field.dir (solve_field output directory)
+  std::vector<FemSource> sources; // fem_field.sources, in order; the first is plotted
+  std::string description;        // facts of the solve for summaries ("order 2, ..."; "" when unreadable)
+  double mu_r = 0;                // magnet.mu_r of the solve (NaN if not recorded)
+};
 
 // The acceptance rule for a FEM coefficient against the exact one:
 // |value - exact| <= max(rel * |exact|, abs_deg).
@@ -96,16 +85,18 @@ std::string comparison_csv(const std::vector<ComparedCase>& cases, const std::ve
 struct ComparisonInputs {
   std::string dir;                              // fem_field.dir (solve_field output directory)
   std::vector<FemSource> sources;               // fem_field.sources, in order; the first is plotted
+  std::string solve_description;                // FemSources::description
+  double solve_mu_r = 0;                        // FemSources::mu_r
   std::shared_ptr<const AnalyticField> exact;   // exact field of the [magnet] keys
   Mount base;                                   // [mount] (mm)
   std::vector<ProbeSetup> setups;               // one per study.arrays entry ([sensor] keys for r0, plane, steps)
 };
 
-// Reads [fem_field] (fem_sources_from_config: a missing solve directory fails
-// first), [magnet], [mount], study.arrays (comma list of probe arrays) and
-// checks sensor.array (unused by these studies, still validated). Needs
-// register_fem_field_scheme() to have been called when "fem" is a source.
-ComparisonInputs comparison_inputs_from_config(const Config& cfg);
+// Takes the opened FEM sources (field_solver's fem_sources_from_config, called
+// first so a missing solve directory is the error reported), reads [magnet],
+// [mount], study.arrays (comma list of probe arrays) and checks sensor.array
+// (unused by these studies, still validated).
+ComparisonInputs comparison_inputs_from_config(const Config& cfg, FemSources fem);
 
 // All results of one probe array on one field (a FEM source or the exact field).
 struct SourceRun {

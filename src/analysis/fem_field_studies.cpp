@@ -1,6 +1,7 @@
 #include "analysis/fem_field_studies.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -52,17 +53,17 @@ AcceptanceResult judge_acceptance(const ComparisonRun& run, const std::vector<st
   return a;
 }
 
-RealFieldResult run_real_field(const Config& cfg, const std::string& study) {
+RealFieldResult run_real_field(const Config& cfg, const std::string& study, FemSources fem) {
   RealFieldResult r;
-  // 1. Inputs: the FEM sources (fails first if the solved directory is missing), the exact field, the arrays.
-  r.inputs = comparison_inputs_from_config(cfg);
+  // 1. Inputs: the FEM sources (opened by the caller), the exact field, the arrays.
+  r.inputs = comparison_inputs_from_config(cfg, std::move(fem));
   r.options = OffsetSweepOptions::from_config(cfg);
   const auto acc_arrays = split_list(cfg.str("acceptance.arrays"), "acceptance.arrays");
   const auto acc_coefs = split_list(cfg.str("acceptance.coefs"), "acceptance.coefs");
   check_coef_names(acc_coefs, "acceptance.coefs");
   for (const auto& o : r.options.offsets)
     if (o == "dz_mm") throw InputError("sweep.offsets: dz_mm is the airgap study's (plane.vti has no dz)");
-  r.solve_mu_r = solve_mu_r(r.inputs.dir);
+  r.solve_mu_r = r.inputs.solve_mu_r;
   r.interp = cfg.str("fem_field.interp");
 
   // 2. Per array, on every FEM source and on the exact field: the ideal mount, each
@@ -80,10 +81,10 @@ RealFieldResult run_real_field(const Config& cfg, const std::string& study) {
   return r;
 }
 
-AirgapResult run_airgap(const Config& cfg, const std::string& study) {
+AirgapResult run_airgap(const Config& cfg, const std::string& study, FemSources fem) {
   AirgapResult r;
   // 1. Inputs.
-  r.inputs = comparison_inputs_from_config(cfg);
+  r.inputs = comparison_inputs_from_config(cfg, std::move(fem));
   const auto coefs = split_list(cfg.str("dz_sweep.coefs"), "dz_sweep.coefs");
   check_coef_names(coefs, "dz_sweep.coefs");
   if (!(cfg.real("dz_sweep.max_mm") > cfg.real("dz_sweep.min_mm")))
@@ -92,7 +93,7 @@ AirgapResult run_airgap(const Config& cfg, const std::string& study) {
                      static_cast<int>(cfg.integer("dz_sweep.points")));
   r.residual_sx_mm = cfg.real("residual.sx_mm");
   r.residual_dx_mm = cfg.real("residual.dx_mm");
-  r.solve_mu_r = solve_mu_r(r.inputs.dir);
+  r.solve_mu_r = r.inputs.solve_mu_r;
   r.interp = cfg.str("fem_field.interp");
   const Mount& base = r.inputs.base;
   const Mount with_sx = with_offset(base, "sx_mm", base.sx_mm + r.residual_sx_mm);

@@ -7,7 +7,7 @@
 //               offset (AcceptanceRule, cell by cell)
 //   airgap      dz swept over dz_sweep.min_mm..max_mm alone and with residual
 //               eccentricities sx, dx and both; eps(theta) at three air gaps
-// Sources of kind "fem" need register_fem_field_scheme() (field_solver/) first.
+// The FEM sources come opened (field_solver/solved_field.hpp fem_sources_from_config).
 #pragma once
 #include <string>
 #include <vector>
@@ -53,7 +53,7 @@ struct RealFieldResult {
   std::string interp;             // fem_field.interp
 };
 // The real_field study: dz_mm is not an allowed offset (plane.vti has no dz).
-RealFieldResult run_real_field(const Config& cfg, const std::string& study);
+RealFieldResult run_real_field(const Config& cfg, const std::string& study, FemSources fem);
 
 // One residual-eccentricity case of the dz sweep.
 struct GapCase {
@@ -77,6 +77,6 @@ struct AirgapResult {
   double solve_mu_r = 0;
   std::string interp;
 };
-AirgapResult run_airgap(const Config& cfg, const std::string& study);
+AirgapResult run_airgap(const Config& cfg, const std::string& study, FemSources fem);
 
 }  // namespace magenc

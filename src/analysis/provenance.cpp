@@ -74,14 +74,6 @@ ProvenanceOptions ProvenanceOptions::from_config(const Config& cfg) {
              {"dx=" + fmt(o.offset_mm, 2), with_offset(base, "dx_mm", o.offset_mm)}};
   if (!cfg.str("provenance.fem_dirs").empty())
     o.fem_dirs = split_list(cfg.str("provenance.fem_dirs"), "provenance.fem_dirs");
-  for (const auto& dir : o.fem_dirs) {
-    if (const std::string why = solve_mismatch(dir, cfg); !why.empty())
-      throw InputError("provenance.fem_dirs: '" + dir + "' " + why);
-    for (const char* f : {"mesh.vtu", "plane.vti", "solve.json"})
-      if (!std::filesystem::exists(std::filesystem::path(dir) / f))
-        throw InputError("provenance.fem_dirs: '" + dir + "' has no " + f +
-                         ": run solve_field first (solve_field --set output.mesh_vtu=true --out " + dir + ")");
-  }
   o.grid_interp = cfg.str("provenance.fem_grid_interp");
   return o;
 }

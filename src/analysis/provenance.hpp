@@ -93,7 +93,7 @@ struct ProvenanceOptions {
   double half_width_mm = 0;              // plane grids span [-w, w] in x and y
   double offset_mm = 0;                  // size of the sx and dx cases
   double floor_deg = 0;                  // exact c_n at or above this is physical
-  std::vector<std::string> fem_dirs;     // solve_field output directories (checked: files present, same magnet)
+  std::vector<std::string> fem_dirs;     // solve_field output directories (the caller checks them: SolvedFieldDir)
   std::string grid_interp;               // provenance.fem_grid_interp: "none" or an interpolation mode
   bool via_grid() const { return grid_interp != "none"; }
   static ProvenanceOptions from_config(const Config& cfg);

@@ -13,7 +13,6 @@
 #include "probe/angle_error.hpp"
 #include "probe/signal_chain.hpp"
 #include "core/errors.hpp"
-#include "analysis/fem_comparison.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/magnet.hpp"
 #include "core/units.hpp"
@@ -708,7 +707,8 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
   out.fields.push_back(info);
 }
 
-std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes) {
+std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes,
+                                            const SolveMismatch& solve_mismatch) {
   std::vector<std::string> specs = split_commas(cfg.str("radius.fields"));
   if (specs.empty()) throw InputError("radius.fields is empty: allowed a comma-separated list of field specs");
   const std::string dir = cfg.str("radius.fem_dir");
@@ -716,14 +716,14 @@ std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::
   // A listed fem:DIR must be a solve of the configured magnet: it is compared with the analytic field.
   for (const auto& s : specs)
     if (s.rfind("fem:", 0) == 0)
-      if (const std::string why = solve_mismatch(s.substr(4), cfg); !why.empty())
+      if (const std::string why = solve_mismatch(s.substr(4)); !why.empty())
         throw InputError("radius.fields: '" + s + "' " + why);
   if (dir.empty()) {
     notes.push_back("radius.fem_dir is empty: no FEM field added automatically.");
   } else if (has_fem) {
     notes.push_back("radius.fields lists a fem: field; radius.fem_dir not used.");
   } else if (const std::string why = std::filesystem::exists(std::filesystem::path(dir) / "solve.json")
-                                         ? solve_mismatch(dir, cfg)
+                                         ? solve_mismatch(dir)
                                          : std::string();
              !why.empty()) {
     notes.push_back("The solved field in " + dir + " " + why + "; FEM field not run.");

@@ -29,6 +29,7 @@
 // (tests bound them).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -270,6 +271,11 @@ Peak find_peak(const std::vector<double>& x, const std::vector<double>& y);
 // Field specs to run: radius.fields (comma-separated), plus "fem:<radius.fem_dir>"
 // when that directory holds a solved field (solve.json) and no fem: spec is
 // listed. notes receives one line per decision (for summary.md).
-std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes);
+// solve_mismatch(DIR) says why the solve in DIR does not fit cfg's magnet ("" when
+// it fits or DIR has no solve.json): field_solver's SolvedFieldDir(DIR).mismatch(cfg),
+// which this library cannot call itself.
+using SolveMismatch = std::function<std::string(const std::string& dir)>;
+std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes,
+                                            const SolveMismatch& solve_mismatch);
 
 }  // namespace magenc

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "core/errors.hpp"
 
@@ -26,15 +25,8 @@ std::string interp_name(Interp mode) {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 std::string point_text(const Vec3& p) {
-  return "(" + fmt(p.x()) + ", " + fmt(p.y()) + ", " + fmt(p.z()) + ") mm";
+  return "(" + num(p.x()) + ", " + num(p.y()) + ", " + num(p.z()) + ") mm";
 }
 
 // Tolerance, in cells, for points that rounding puts just outside the grid.
@@ -170,26 +162,6 @@ Eigen::Index dispatch(Interp mode, bool is3d, const Geo& g, const double* const*
 
 }  // namespace
 
-void GridData::validate() const {
-  const std::string what = "grid " + (source.empty() ? std::string("<memory>") : source);
-  for (int d = 0; d < 3; ++d)
-    if (dims[d] < 1) throw InputError(what + ": dimension " + std::to_string(d) + " has " + std::to_string(dims[d]) + " nodes: allowed >= 1");
-  for (int d = 0; d < (is_plane() ? 2 : 3); ++d)
-    if (!(std::isfinite(spacing_mm[d]) && spacing_mm[d] > 0))
-      throw InputError(what + ": spacing " + fmt(spacing_mm[d]) + " mm along axis " + std::to_string(d) + ": allowed > 0");
-  if (!origin_mm.allFinite()) throw InputError(what + ": origin is not finite");
-  if (Bz_T.size() != nodes()) throw InputError(what + ": Bz has " + std::to_string(Bz_T.size()) + " values, grid has " + std::to_string(nodes()) + " nodes");
-  if (has_B() && (Bx_T.size() != nodes() || By_T.size() != nodes()))
-    throw InputError(what + ": B components do not match the grid's node count");
-  auto finite = [&](const std::vector<double>& v, const char* name) {
-    for (std::size_t i = 0; i < v.size(); ++i)
-      if (!std::isfinite(v[i])) throw InputError(what + ": " + name + " is not finite at node " + std::to_string(i));
-  };
-  finite(Bz_T, "Bz");
-  finite(Bx_T, "Bx");
-  finite(By_T, "By");
-}
-
 GridData sample_grid(const FieldSource& field, const Vec3& origin_mm, const Vec3& spacing_mm,
                      const std::array<int, 3>& dims, bool bz_only) {
   GridData g;
@@ -198,26 +170,12 @@ GridData sample_grid(const FieldSource& field, const Vec3& origin_mm, const Vec3
   g.dims = dims;
   g.source = "sampled " + field.name() + " field";
   const std::size_t n = g.nodes();
-  Eigen::Matrix3Xd p(3, static_cast<Eigen::Index>(n));
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const Eigen::Index idx = i + Eigen::Index(dims[0]) * (j + Eigen::Index(dims[1]) * k);
-        p.col(idx) = origin_mm + Vec3(i * spacing_mm.x(), j * spacing_mm.y(), k * spacing_mm.z());
-      }
+  const Eigen::Matrix3Xd p = g.points_mm();
   if (bz_only) {
     const Eigen::VectorXd bz = field.Bz_T(p);
     g.Bz_T.assign(bz.data(), bz.data() + n);
   } else {
-    const Eigen::Matrix3Xd b = field.B_T(p);
-    g.Bx_T.resize(n);
-    g.By_T.resize(n);
-    g.Bz_T.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      g.Bx_T[i] = b(0, Eigen::Index(i));
-      g.By_T[i] = b(1, Eigen::Index(i));
-      g.Bz_T[i] = b(2, Eigen::Index(i));
-    }
+    g.set_B(field.B_T(p));
   }
   g.validate();
   return g;
@@ -246,11 +204,11 @@ bool GridField::contains(const Vec3& p_mm) const {
 std::string GridField::extent_text() const {
   const auto& g = grid_;
   auto range = [&](int d) {
-    return "[" + fmt(g.origin_mm[d]) + ", " + fmt(g.origin_mm[d] + (g.dims[d] - 1) * g.spacing_mm[d]) + "] mm";
+    return "[" + num(g.origin_mm[d]) + ", " + num(g.origin_mm[d] + (g.dims[d] - 1) * g.spacing_mm[d]) + "] mm";
   };
   std::string s = "x in " + range(0) + ", y in " + range(1);
   if (g.is_plane())
-    s += ", z = " + fmt(g.origin_mm.z()) + " mm (2-D plane)";
+    s += ", z = " + num(g.origin_mm.z()) + " mm (2-D plane)";
   else
     s += ", z in " + range(2);
   return s;
@@ -260,7 +218,7 @@ void GridField::throw_outside(const Vec3& p) const {
   const auto& g = grid_;
   if (g.is_plane() && !std::islessequal(std::abs(p.z() - g.origin_mm.z()), kPlaneTolerance_mm))  // quiet: p may be NaN
     throw InputError(name_ + " " + g.source + ": point " + point_text(p) + " is off the " + name_ + "'s plane z = " +
-                     fmt(g.origin_mm.z()) + " mm: a 2-D " + name_ + " serves only dz = 0 (no tilts); " +
+                     num(g.origin_mm.z()) + " mm: a 2-D " + name_ + " serves only dz = 0 (no tilts); " +
                      (name_ == "table" ? "give a z column with several levels" : "use box.vti") +
                      " for air-gap offsets");
   throw InputError(name_ + " " + g.source + ": point " + point_text(p) + " is outside the sampled region " + extent_text() +

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "fields/field_source.hpp"
+#include "fields/grid.hpp"
 
 namespace magenc {
 
@@ -42,35 +43,10 @@ enum class Interp { Nearest, Linear, Cubic };
 Interp parse_interp(const std::string& s, const std::string& what = "--interp");
 std::string interp_name(Interp mode);
 
-// Regular grid of B samples (magnet frame, mm; T).
-struct GridData {
-  Vec3 origin_mm = Vec3::Zero();        // position of node (0,0,0)
-  Vec3 spacing_mm = Vec3::Ones();       // node spacing hx, hy, hz (> 0; hz unused when nz == 1)
-  std::array<int, 3> dims{1, 1, 1};     // nodes per axis nx, ny, nz
-  std::vector<double> Bx_T, By_T, Bz_T; // node values (size nx*ny*nz); Bx_T/By_T empty when only Bz is known
-  std::string source;                   // file name or description, used in messages
-
-  std::size_t nodes() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
-  bool has_B() const { return !Bx_T.empty(); }
-  bool is_plane() const { return dims[2] == 1; }
-  // Throws InputError for inconsistent sizes, non-positive spacing, non-finite values.
-  void validate() const;
-};
-
 // Samples `field` at the nodes of a grid (batch, OpenMP). With bz_only, only
 // Bz is evaluated and stored.
 GridData sample_grid(const FieldSource& field, const Vec3& origin_mm, const Vec3& spacing_mm,
                      const std::array<int, 3>& dims, bool bz_only = false);
-
-// Reads VTK XML image data (.vti): point arrays `B` (3 comp., T) and/or `Bz`
-// (T); Bz is taken from `Bz` when present, else from B's z component.
-// InputError when the file is missing/unreadable, has neither array, or has a
-// non-identity direction matrix.
-GridData read_grid_vti(const std::filesystem::path& file);
-
-// Writes a GridData as .vti (point arrays `Bz` and, when known, `B`),
-// atomically (temporary name, then rename).
-void write_grid_vti(const std::filesystem::path& file, const GridData& grid);
 
 class GridField final : public FieldSource {
  public:

@@ -1,5 +1,5 @@
-// .vti input/output of GridData (VTK XML image data). The only file of the
-// grid-field module that includes VTK.
+// .vti input/output of GridData (VTK XML image data): the one .vti reader and
+// writer of magenc (solve_field's plane.vti and box.vti, table_to_vti, grid: sources).
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkImageData.h>
@@ -24,7 +24,7 @@
 
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
-#include "fields/grid_field.hpp"
+#include "fields/grid.hpp"
 #include "core/vtk_messages.hpp"
 
 namespace magenc {
@@ -324,18 +324,20 @@ GridData read_grid_vti(const std::filesystem::path& file) {
   return g;
 }
 
-void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
+void write_grid_vti(const std::filesystem::path& file, const GridData& g, const VtiFormat& format) {
   g.validate();
   vtkNew<vtkImageData> img;
   img->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
   img->SetOrigin(g.origin_mm.x(), g.origin_mm.y(), g.origin_mm.z());
   img->SetSpacing(g.spacing_mm.x(), g.spacing_mm.y(), g.is_plane() ? 1.0 : g.spacing_mm.z());
   const vtkIdType n = vtkIdType(g.nodes());
-  vtkNew<vtkDoubleArray> bz;
-  bz->SetName("Bz");
-  bz->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i < n; ++i) bz->SetValue(i, g.Bz_T[std::size_t(i)]);
-  img->GetPointData()->AddArray(bz);
+  if (format.with_bz) {
+    vtkNew<vtkDoubleArray> bz;
+    bz->SetName("Bz");
+    bz->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i) bz->SetValue(i, g.Bz_T[std::size_t(i)]);
+    img->GetPointData()->AddArray(bz);
+  }
   if (g.has_B()) {
     vtkNew<vtkDoubleArray> b;
     b->SetName("B");
@@ -362,7 +364,9 @@ void write_grid_vti(const std::filesystem::path& file, const GridData& g) {
   writer->SetFileName(tmp.string().c_str());
   writer->SetInputData(img);
   writer->SetDataModeToAppended();
-  writer->SetCompressorTypeToZLib();
+  writer->SetEncodeAppendedData(format.base64 ? 1 : 0);
+  if (format.compress) writer->SetCompressorTypeToZLib();
+  else writer->SetCompressorTypeToNone();
   if (writer->Write() != 1) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);

@@ -61,10 +61,10 @@ std::string max_difference_table(const ComparisonRun& run, const std::string& fi
   return md_table(header, t);
 }
 
-std::string fe_solution_text(const std::string& dir, const std::vector<FemSource>& sources,
+std::string fe_solution_text(const std::string& dir, const std::string& description, const std::vector<FemSource>& sources,
                              const std::string& interp) {
   std::ostringstream s;
-  s << "FE solution `" << dir << "` (" << solve_description(dir) << "), used through ";
+  s << "FE solution `" << dir << "` (" << description << "), used through ";
   for (std::size_t i = 0; i < sources.size(); ++i)
     s << (i ? " and " : "") << "`" << sources[i].spec << "`"
       << (sources[i].label == "grid" ? " (" + interp + " interpolation)" : "");

@@ -48,7 +48,7 @@ std::string max_difference_table(const ComparisonRun& run, const std::string& fi
 
 // "FE solution `DIR` (solve facts), used through `grid:...` (cubic interpolation) and `fem:DIR`"
 // for summaries; interp is fem_field.interp.
-std::string fe_solution_text(const std::string& dir, const std::vector<FemSource>& sources,
+std::string fe_solution_text(const std::string& dir, const std::string& description, const std::vector<FemSource>& sources,
                              const std::string& interp);
 
 }  // namespace magenc

@@ -63,7 +63,7 @@ void write_real_field_report(StudyOutput& out, const RealFieldResult& result, co
   // 3. Summary (every number from the runs above).
   std::ostringstream md;
   md << "# real_field: mounting errors on the FEM field of the magnet, beside the exact field\n\n"
-     << fe_solution_text(in.dir, in.sources, result.interp)
+     << fe_solution_text(in.dir, in.solve_description, in.sources, result.interp)
      << ". Exact field of the same magnet (R = " << fmt(cfg.real("magnet.radius_mm"), 2)
      << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
      << " T, plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face) beside every case. r0 = "
@@ -160,7 +160,7 @@ void write_airgap_report(StudyOutput& out, const AirgapResult& result) {
   // 3. Summary (all numbers from the runs above).
   std::ostringstream md;
   md << "# airgap: the air-gap offset dz on the FEM field, beside the exact field\n\n"
-     << fe_solution_text(in.dir, in.sources, result.interp)
+     << fe_solution_text(in.dir, in.solve_description, in.sources, result.interp)
      << "; the exact field of the same magnet beside every case. r0 = " << fmt(in.setups.front().r0_mm, 3) << " mm, "
      << in.setups.front().steps << " samples per turn; dz swept over " << fmt(dz.front(), 2) << ".."
      << fmt(dz.back(), 2)

@@ -11,13 +11,12 @@
 #include "analysis/sweep.hpp"
 #include "analysis/diagnosis_study.hpp"
 #include "core/errors.hpp"
-#include "fem_field_scheme.hpp"
+#include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "report/study_output.hpp"
 
 int main(int argc, char** argv) {
   return magenc::run_main("magenc_make_curve", [&] {
-    magenc::register_fem_field_scheme();
     CLI::App app{"synthetic measured curve"};
     std::string out, field = "analytic", array = "two";
     int points = 360, quant = 8192, turns = 1;
@@ -42,7 +41,7 @@ int main(int argc, char** argv) {
       const auto eq = s.find('=');
       truth.push_back({s.substr(0, eq), std::stod(s.substr(eq + 1))});
     }
-    const auto f = magenc::make_field_source(field, cfg);
+    const auto f = magenc::open_field_source(field, cfg);
     std::mt19937 rng(seed);
     std::ofstream os(out);
     os << "theta_deg,error_deg\n";

@@ -17,6 +17,9 @@ inline DomainSpec coarse_domain(double h_zone_mm, double h_magnet_mm = 1.0, int 
   d.zone.half_width_mm = 3.5;
   d.zone.z_min_mm = 4.0;
   d.zone.z_max_mm = 5.1;
+  // The test meshes as they were before MeshSpec took the [mesh] keys' defaults:
+  d.mesh.symmetry_order = 2;            // mirror planes x = 0, y = 0 only
+  d.mesh.mesher.min_dihedral_deg = 10;  // TetGen's -q angle of the coarse meshes
   return d;
 }
 

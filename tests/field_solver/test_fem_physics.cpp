@@ -38,7 +38,7 @@ Run run_cylinder(double h_zone, int order) {
   s.run();
   magenc::AnalyticField exact(s.domain().magnet);
   // Plane grid over the probe region (|x|, |y| <= 3 mm) at z_s.
-  const GridSpec g = GridSpec::from_range({-3, -3, test::kPlaneZ}, {3, 3, test::kPlaneZ}, {0.2, 0.2, 1});
+  const magenc::GridData g = magenc::GridData::from_range({-3, -3, test::kPlaneZ}, {3, 3, test::kPlaneZ}, {0.2, 0.2, 1});
   const BzErrorStats e = bz_error_on_grid(s.evaluator(), exact, g);
   FeSolution rec = s.solution();
   rec.recover_gradient();
@@ -99,6 +99,8 @@ TEST_CASE("uniformly magnetized sphere with mu_r != 1 matches its closed form", 
     d.mesh.h_magnet_mm = 0.5;
     d.mesh.h_air_mm = 3.0;
     d.mesh.outer_radius_mm = 15.0;
+    d.mesh.symmetry_order = 2;            // the mesh this test was measured on
+    d.mesh.mesher.min_dihedral_deg = 10;
     auto s = std::make_unique<MagnetostaticSolver>(d, quiet(2));
     s->run();
     return s;

@@ -21,6 +21,7 @@
 #include "vtk_io.hpp"
 
 using namespace magenc::fem;
+using magenc::GridData;
 
 namespace {
 
@@ -33,8 +34,8 @@ FemSettings coarse_settings(const std::vector<std::string>& sets) {
 }
 
 // Plane grid of the tests: |x|, |y| <= 3 mm at z_s, 0.25 mm.
-GridSpec plane(const FemSettings& s) {
-  return GridSpec::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
+GridData plane(const FemSettings& s) {
+  return GridData::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
 }
 
 std::unique_ptr<MagnetostaticSolver> solved(const std::vector<std::string>& sets) {
@@ -45,8 +46,8 @@ std::unique_ptr<MagnetostaticSolver> solved(const std::vector<std::string>& sets
 }
 
 // RMS and max of |B_a - B_b| on the grid, relative to the peak |B_b|.
-std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridSpec& g) {
-  const Eigen::Matrix3Xd P = g.points();
+std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridData& g) {
+  const Eigen::Matrix3Xd P = g.points_mm();
   const Eigen::Matrix3Xd A = a.B_T(P), B = b.B_T(P);
   const double peak = B.colwise().norm().maxCoeff();
   const Eigen::VectorXd d = (A - B).colwise().norm();
@@ -78,7 +79,7 @@ TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the r
   const auto ref_total = solved(with(fine, "total"));
   const auto red = solved(with({"magnet.mu_r=1.05"}, "reduced"));
   const auto tot = solved(with({"magnet.mu_r=1.05"}, "total"));
-  const GridSpec g = plane(coarse_settings({}));
+  const GridData g = plane(coarse_settings({}));
   const auto [rms_red, max_red] = diff(red->evaluator(), ref->evaluator(), g);
   const auto [rms_tot, max_tot] = diff(tot->evaluator(), ref->evaluator(), g);
   const auto [rms_fine, max_fine] = diff(ref_total->evaluator(), ref->evaluator(), g);

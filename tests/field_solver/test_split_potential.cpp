@@ -28,6 +28,7 @@
 #include "vtk_io.hpp"
 
 using namespace magenc::fem;
+using magenc::GridData;
 
 namespace {
 
@@ -39,8 +40,8 @@ FemSettings coarse_settings(const std::vector<std::string>& sets) {
   return fem_settings_from_config(magenc::load_config(solve_field_schema(), o));
 }
 
-GridSpec plane(const FemSettings& s) {
-  return GridSpec::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
+GridData plane(const FemSettings& s) {
+  return GridData::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
 }
 
 std::unique_ptr<MagnetostaticSolver> solved(std::vector<std::string> sets, const std::string& potential) {
@@ -52,8 +53,8 @@ std::unique_ptr<MagnetostaticSolver> solved(std::vector<std::string> sets, const
 }
 
 // RMS and max of |B_a - B_b| on the grid, relative to the peak |B_b|.
-std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridSpec& g) {
-  const Eigen::Matrix3Xd P = g.points();
+std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridData& g) {
+  const Eigen::Matrix3Xd P = g.points_mm();
   const Eigen::Matrix3Xd A = a.B_T(P), B = b.B_T(P);
   const double peak = B.colwise().norm().maxCoeff();
   const Eigen::VectorXd d = (A - B).colwise().norm();
@@ -89,7 +90,7 @@ TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the sha
   REQUIRE(split->solution().split());
   const auto total = solved(sets, "total");
   const magenc::AnalyticField exact(split->domain().magnet);
-  const GridSpec g = plane(coarse_settings({}));
+  const GridData g = plane(coarse_settings({}));
   const BzErrorStats es = bz_error_on_grid(split->evaluator(), exact, g);
   const BzErrorStats et = bz_error_on_grid(total->evaluator(), exact, g);
   CAPTURE(es.rms_rel(), es.max_rel(), et.rms_rel(), et.max_rel());
@@ -137,7 +138,7 @@ TEST_CASE("split potential with a mu_r = 1000 shaft agrees with the total potent
   const std::vector<std::string> fine = {"mesh.h_zone_mm=0.5", "mesh.h_magnet_mm=0.6"};
   const auto split = solved(sets, "split"), total = solved(sets, "total");
   const auto split_f = solved(with(sets, fine), "split"), total_f = solved(with(sets, fine), "total");
-  const GridSpec g = plane(coarse_settings({}));
+  const GridData g = plane(coarse_settings({}));
   const auto [d_c, dm_c] = diff(split->evaluator(), total->evaluator(), g);
   const auto [d_f, dm_f] = diff(split_f->evaluator(), total_f->evaluator(), g);
   const auto [t_c, tm_c] = diff(total->evaluator(), total_f->evaluator(), g);

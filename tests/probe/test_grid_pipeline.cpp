@@ -59,7 +59,7 @@ TEST_CASE("exact field sampled on a plane grid reproduces the exact spectra", "[
   }
   CHECK_THROWS_AS(make_field_source("grid:" + (dir / "missing.vti").string(), cfg), InputError);
   CHECK_THROWS_AS(make_field_source("grid:", cfg), InputError);
-  CHECK_THROWS_AS(make_field_source("fem:/nonexistent", cfg), InputError);  // not registered in this test
+  CHECK_THROWS_AS(make_field_source("fem:/nonexistent", cfg), InputError);  // fem: is field_solver's (open_field_source)
   std::filesystem::remove_all(dir);
 }
 
