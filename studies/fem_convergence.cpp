@@ -195,14 +195,11 @@ void run(const Config& cfg, StudyOutput& out) {
           "invisible in Bz, visible in the vector error.\n\n" +
           md_table({"outer radius mm", "boundary", "DOFs", "RMS err Bz", "max err Bz", "RMS |dB|"}, tt) + "\n";
   }
-  // 5. Total vs reduced potential with a permeable magnet (no exact field: the
-  //    reference is the reduced solve of the finest mesh).
-  const double mu_p = cfg.real("convergence.potential_mu_r");
-  if (mu_p > 0) {
-    if (mu_p < 1) throw InputError("convergence.potential_mu_r = " + fmt(mu_p, 3) + " must be 0 (skip) or >= 1");
+  // 5./6. Total against a reduced-kind potential on the same meshes, P2; the reference is the
+  //       reduced-kind solve of the finest mesh. Returns the CSV and the table rows.
+  auto potential_comparison = [&](const DomainSpec& dom, const std::string& other) {
     auto solve_at = [&](double h, const std::string& pot) {
-      DomainSpec d = base.domain;
-      d.magnet.mu_r = mu_p;
+      DomainSpec d = dom;
       d.mesh.h_zone_mm = h;
       d.mesh.h_magnet_mm = factor * h;
       SolverOptions o = base.solver;
@@ -213,74 +210,54 @@ void run(const Config& cfg, StudyOutput& out) {
       return s;
     };
     const double h_ref = hs.back();
-    const FemField ref(solve_at(h_ref, "reduced")->solution());
-    std::string pcsv = row({"h_zone_mm", "dofs", "potential", "rms_rel", "max_rel", "iterations"});
-    std::vector<std::vector<std::string>> pt;
+    const FemField ref(solve_at(h_ref, other)->solution());
+    std::string csv = row({"h_zone_mm", "dofs", "potential", "rms_rel", "max_rel", "iterations"});
+    std::vector<std::vector<std::string>> table;
     for (double h : hs) {
       std::vector<std::string> cells = {fmt(h, 2)};
-      for (const std::string pot : {"total", "reduced"}) {
-        if (h == h_ref && pot == "reduced") {
+      for (const std::string pot : {std::string("total"), other}) {
+        if (h == h_ref && pot == other) {
           cells.insert(cells.end(), {"(reference)", ""});
           continue;
         }
         const auto s = solve_at(h, pot);
         const BzErrorStats e = bz_error_on_grid(s->evaluator(), ref, plane);
-        pcsv += row({g(h), std::to_string(s->stats().dofs), pot, g(e.rms_rel()), g(e.max_rel()),
-                     std::to_string(s->stats().iterations)});
+        csv += row({g(h), std::to_string(s->stats().dofs), pot, g(e.rms_rel()), g(e.max_rel()),
+                    std::to_string(s->stats().iterations)});
         if (pot == "total") cells.push_back(std::to_string(s->stats().dofs));
         cells.insert(cells.end(), {fmt_auto(e.rms_rel(), 3), fmt_auto(e.max_rel(), 3)});
       }
-      pt.push_back(cells);
+      table.push_back(cells);
     }
+    return std::make_pair(csv, table);
+  };
+  // 5. Total vs reduced potential with a permeable magnet (no exact field).
+  const double mu_p = cfg.real("convergence.potential_mu_r");
+  if (mu_p > 0) {
+    if (mu_p < 1) throw InputError("convergence.potential_mu_r = " + fmt(mu_p, 3) + " must be 0 (skip) or >= 1");
+    DomainSpec d = base.domain;
+    d.magnet.mu_r = mu_p;
+    const auto [pcsv, pt] = potential_comparison(d, "reduced");
     out.write_text("potential.csv", pcsv);
     md += "## Total vs reduced potential (P2, magnet mu_r = " + fmt(mu_p, 3) + ")\n\nBz on the plane against the reduced-"
-          "potential solve at zone edge " + fmt(h_ref, 2) + " mm (the exact field has no permeability). The reduced "
+          "potential solve at zone edge " + fmt(hs.back(), 2) + " mm (the exact field has no permeability). The reduced "
           "potential takes the magnet's free-space field from the exact solution and solves only the reaction of the "
           "permeable magnet, so only that ~(mu_r - 1) share carries discretization error (fem.potential).\n\n" +
           md_table({"h_zone mm", "DOFs", "total: RMS err", "total: max err", "reduced: RMS err", "reduced: max err"}, pt) +
           "\n";
   }
   // 6. Total vs split potential with a permeable shaft (magnet mu_r = 1, so the
-  //    split carries only the shaft's reaction; reference: the split solve of the finest mesh).
+  //    split carries only the shaft's reaction).
   const double mu_s = cfg.real("convergence.shaft_mu_r");
   if (mu_s > 0) {
     if (mu_s < 1) throw InputError("convergence.shaft_mu_r = " + fmt(mu_s, 3) + " must be 0 (skip) or >= 1");
-    auto solve_at = [&](double h, const std::string& pot) {
-      DomainSpec d = base.domain;
-      d.shaft.enabled = true;
-      d.shaft.mu_r = mu_s;
-      d.mesh.h_zone_mm = h;
-      d.mesh.h_magnet_mm = factor * h;
-      SolverOptions o = base.solver;
-      o.order = 2;
-      o.potential = pot;
-      auto s = std::make_unique<MagnetostaticSolver>(d, o);
-      s->run();
-      return s;
-    };
-    const double h_ref = hs.back();
-    const FemField ref(solve_at(h_ref, "split")->solution());
-    std::string scsv = row({"h_zone_mm", "dofs", "potential", "rms_rel", "max_rel", "iterations"});
-    std::vector<std::vector<std::string>> st;
-    for (double h : hs) {
-      std::vector<std::string> cells = {fmt(h, 2)};
-      for (const std::string pot : {"total", "split"}) {
-        if (h == h_ref && pot == "split") {
-          cells.insert(cells.end(), {"(reference)", ""});
-          continue;
-        }
-        const auto s = solve_at(h, pot);
-        const BzErrorStats e = bz_error_on_grid(s->evaluator(), ref, plane);
-        scsv += row({g(h), std::to_string(s->stats().dofs), pot, g(e.rms_rel()), g(e.max_rel()),
-                     std::to_string(s->stats().iterations)});
-        if (pot == "total") cells.push_back(std::to_string(s->stats().dofs));
-        cells.insert(cells.end(), {fmt_auto(e.rms_rel(), 3), fmt_auto(e.max_rel(), 3)});
-      }
-      st.push_back(cells);
-    }
+    DomainSpec d = base.domain;
+    d.shaft.enabled = true;
+    d.shaft.mu_r = mu_s;
+    const auto [scsv, st] = potential_comparison(d, "split");
     out.write_text("shaft_potential.csv", scsv);
     md += "## Total vs split potential with a shaft (P2, shaft mu_r = " + fmt(mu_s, 4) + ", magnet mu_r = 1)\n\nBz on "
-          "the plane against the split-potential solve at zone edge " + fmt(h_ref, 2) + " mm. The split keeps the total "
+          "the plane against the split-potential solve at zone edge " + fmt(hs.back(), 2) + " mm. The split keeps the total "
           "potential inside the shaft (where H ~ 0) and the reduced potential elsewhere, so only the shaft's reaction "
           "carries discretization error (fem.potential = split, the default with a shaft).\n\n" +
           md_table({"h_zone mm", "DOFs", "total: RMS err", "total: max err", "split: RMS err", "split: max err"}, st) +
