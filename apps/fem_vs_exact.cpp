@@ -10,14 +10,15 @@
 // points of FILE (whitespace-separated rows "x y z ... Bz", mm and T, e.g.
 // GetDP's SimpleTable; '#' comments), against the same exact field.
 // Bad input (unknown key, value out of range): one line, exit 2 (run_main).
-#include <cstdio>
 #include <cstdlib>
 #include <cmath>
+#include <iostream>
 #include "fields/analytic_field.hpp"
 #include "fem_config.hpp"
 #include "validation.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/atomic_output.hpp"
 #include "field_outputs.hpp"
 #include <fstream>
@@ -25,6 +26,12 @@
 #include <optional>
 #include <string>
 #include <vector>
+namespace {
+// Numbers of the printed lines: fixed decimals (magenc::fmt) or significant digits (fmt_sig).
+using magenc::fmt;
+std::string sig(double v, int significant = 6) { return magenc::fmt_sig(v, significant); }
+}  // namespace
+
 int main(int argc, char** argv) {
   // run_main: one-line errors, exit codes, and the Debug builds' FP trap.
   return magenc::run_main("fem_vs_exact", [&]() -> int {
@@ -93,20 +100,25 @@ int main(int argc, char** argv) {
     auto bz = exact.Bz_T(P);
     Eigen::Index im = 0; double em = 0;
     for (Eigen::Index i = 0; i < P.cols(); ++i) if (std::abs(B(2,i)-bz[i]) > em) { em = std::abs(B(2,i)-bz[i]); im = i; }
-    std::printf("max err at (%g,%g,%g): fem %.6f exact %.6f\n", P(0,im), P(1,im), P(2,im), B(2,im), bz[im]);
+    std::cout << "max err at (" << sig(P(0, im)) << "," << sig(P(1, im)) << "," << sig(P(2, im)) << "): fem "
+              << fmt(B(2, im), 6) << " exact " << fmt(bz[im], 6) << "\n";
     for (double x : {0.0, 1.0, 2.4, 4.0}) {
       Eigen::Vector3d q(x, 0, s.plane_z_mm);
-      std::printf("  x=%g fem %.6f exact %.6f\n", x, solver.evaluator().B_T(q)->z(), exact.Bz_T(q));
+      std::cout << "  x=" << sig(x) << " fem " << fmt(solver.evaluator().B_T(q)->z(), 6) << " exact "
+                << fmt(exact.Bz_T(q), 6) << "\n";
     }
   }
   int cnt[8] = {0};
   for (int t = 0; t < solver.mesh().num_tets(); ++t) cnt[solver.mesh().region[t]]++;
-  std::printf("tets per region: magnet %d air %d zone %d shaft %d\n", cnt[1], cnt[2], cnt[3], cnt[4]);
-  std::printf("P%d el=%ld dofs=%ld it=%ld mesh=%.2f asm=%.2f solve=%.2f post=%.2f | peak=%.5f max_rel=%.3e rms_rel=%.3e\n",
-    st.order, st.elements, st.dofs, st.iterations, st.t_mesh_s, st.t_assemble_s, st.t_solve_s, st.t_post_s, e.peak_T, e.max_rel(), e.rms_rel());
-  std::printf("t_total=%.2f peak_rss_mib=%.0f\n", st.t_total_s, magenc::fem::peak_rss_mib());
-  std::printf("grid %ldx%ld: magenc peak=%.5f T rms_rel=%.4e max_rel=%.4e\n", long(g.dims[0]), long(g.dims[1]), e.peak_T,
-              e.rms_rel(), e.max_rel());
+  std::cout << "tets per region: magnet " << cnt[1] << " air " << cnt[2] << " zone " << cnt[3] << " shaft " << cnt[4]
+            << "\n";
+  std::cout << "P" << st.order << " el=" << st.elements << " dofs=" << st.dofs << " it=" << st.iterations
+            << " mesh=" << fmt(st.t_mesh_s, 2) << " asm=" << fmt(st.t_assemble_s, 2) << " solve=" << fmt(st.t_solve_s, 2)
+            << " post=" << fmt(st.t_post_s, 2) << " | peak=" << fmt(e.peak_T, 5) << " max_rel=" << sig(e.max_rel(), 4)
+            << " rms_rel=" << sig(e.rms_rel(), 4) << "\n";
+  std::cout << "t_total=" << fmt(st.t_total_s, 2) << " peak_rss_mib=" << fmt(magenc::fem::peak_rss_mib(), 0) << "\n";
+  std::cout << "grid " << g.dims[0] << "x" << g.dims[1] << ": magenc peak=" << fmt(e.peak_T, 5)
+            << " T rms_rel=" << sig(e.rms_rel(), 5) << " max_rel=" << sig(e.max_rel(), 5) << "\n";
   if (other_bz_T.size() > 0) {
     const Eigen::VectorXd ex = exact.Bz_T(other_p);
     double peak = 0, mx = 0, ss = 0;
@@ -116,8 +128,9 @@ int main(int argc, char** argv) {
       mx = std::max(mx, std::abs(d));
       ss += d * d;
     }
-    std::printf("other (%s, %ld points): peak=%.5f T rms_rel=%.4e max_rel=%.4e\n", other_bz.c_str(), long(ex.size()), peak,
-                std::sqrt(ss / double(ex.size())) / peak, mx / peak);
+    std::cout << "other (" << other_bz << ", " << ex.size() << " points): peak=" << fmt(peak, 5)
+              << " T rms_rel=" << sig(std::sqrt(ss / double(ex.size())) / peak, 5) << " max_rel=" << sig(mx / peak, 5)
+              << "\n";
   }
   return 0;
   });

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <unordered_map>
 
@@ -222,11 +221,9 @@ Eigen::Matrix3Xd FieldEvaluator::B_T(const Eigen::Matrix3Xd& p) const {
       if (bad < 0 || i < bad) bad = static_cast<long>(i);
     }
   }
-  if (bad >= 0) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "point (%g, %g, %g) mm lies outside the FE mesh", p(0, bad), p(1, bad), p(2, bad));
-    throw InputError(buf);
-  }
+  if (bad >= 0)
+    throw InputError("point (" + num(p(0, bad)) + ", " + num(p(1, bad)) + ", " + num(p(2, bad)) +
+                     ") mm lies outside the FE mesh");
   return B;
 }
 

@@ -183,7 +183,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.potential = cfg.str("fem.potential");
   if (o.potential == "reduced" && d.shaft.enabled)
     throw InputError("fem.potential = reduced with shaft.enabled = true is not supported: in the shaft (mu_r = " +
-                     std::to_string(d.shaft.mu_r) +
+                     num(d.shaft.mu_r) +
                      ") H ~ 0 while the source field is not, and the reaction potential cancels it; use "
                      "fem.potential = split (or auto) or total");
   s.write_mesh_vtu = cfg.flag("output.mesh_vtu");

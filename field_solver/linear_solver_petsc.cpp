@@ -5,7 +5,6 @@
 #include <petscksp.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <string>
@@ -364,16 +363,12 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   }
   gather_rss(0, size);
   if (r.iterations < 0) {
-    char buf[320];
     if (r.iterations <= -1000000)
-      std::snprintf(buf, sizeof buf, "CG did not converge: PETSc KSP reason %ld (fem.solver = %s)",
-                    -(r.iterations + 1000000), backend.c_str());
-    else
-      std::snprintf(buf, sizeof buf,
-                    "CG did not converge: relative residual %.3g > fem.tolerance = %.3g after %ld iterations "
-                    "(fem.max_iterations = %d, fem.solver = %s)",
-                    r.residual, tol, -r.iterations - 1, max_iterations, backend.c_str());
-    throw ComputeError(buf);
+      throw ComputeError("CG did not converge: PETSc KSP reason " + std::to_string(-(r.iterations + 1000000)) +
+                         " (fem.solver = " + backend + ")");
+    throw ComputeError("CG did not converge: relative residual " + num(r.residual) + " > fem.tolerance = " + num(tol) +
+                       " after " + std::to_string(-r.iterations - 1) + " iterations (fem.max_iterations = " +
+                       std::to_string(max_iterations) + ", fem.solver = " + backend + ")");
   }
   return r;
 }

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "linear_solver.hpp"
 #include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
@@ -50,7 +51,7 @@ class ProgressPreconditioner {
   template <class Rhs> Eigen::VectorXd solve(const Rhs& b) const {
     const long k = calls_++;
     if (every_ > 0 && k > 0 && k % every_ == 0) {
-      std::fprintf(stderr, "solve_field: CG iteration %ld (%.1f s)\n", k, seconds_since(t0_));
+      std::cerr << "solve_field: CG iteration " << k << " (" << fmt(seconds_since(t0_), 1) << " s)\n";
     }
     const double rel = rhs_norm_ > 0 ? b.norm() / rhs_norm_ : b.norm();
     history_.record(k, rel);
@@ -95,12 +96,9 @@ void run_cg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions
   st.iterations = cg.iterations();
   st.residual = cg.error();
   if (cg.info() != Eigen::Success || !std::isfinite(st.residual) || !psi.allFinite()) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "CG did not converge: relative residual %.3g > fem.tolerance = %.3g after %ld iterations "
-                  "(fem.max_iterations = %d); ",
-                  st.residual, o.tolerance, st.iterations, o.max_iterations);
-    throw ComputeError(buf + cg.preconditioner().history().text());
+    throw ComputeError("CG did not converge: relative residual " + num(st.residual) + " > fem.tolerance = " +
+                       num(o.tolerance) + " after " + std::to_string(st.iterations) + " iterations (fem.max_iterations = " +
+                       std::to_string(o.max_iterations) + "); " + cg.preconditioner().history().text());
   }
 }
 

@@ -39,8 +39,4 @@ ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const Sol
   return c;
 }
 
-double observed_rate(double x_a, double e_a, double x_b, double e_b) {
-  return std::log(e_a / e_b) / std::log(x_b / x_a);
-}
-
 }  // namespace magenc::fem

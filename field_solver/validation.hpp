@@ -32,7 +32,4 @@ struct ExactComparison {
 };
 ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridData& grid);
 
-// Observed rate p of e ~ x^(-p) between two runs (e.g. x = h^-1 or dofs^(1/3)).
-double observed_rate(double x_a, double e_a, double x_b, double e_b);
-
 }  // namespace magenc::fem
