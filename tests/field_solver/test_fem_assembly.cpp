@@ -124,3 +124,23 @@ TEST_CASE("assembly is bitwise independent of the thread count", "[field_solver]
     CHECK(same);
   }
 }
+
+TEST_CASE("FieldEvaluator: a point outside the mesh is one line naming it in num() format", "[field_solver][bad-input]") {
+  const TetMesh& mesh = small_mesh();
+  FeSpace space(mesh, 1);
+  FeSolution sol;
+  sol.order = 1;
+  sol.points_mm = space.dof_points();
+  sol.cell_dofs = space.cell_dofs();
+  sol.psi_Tmm = Eigen::VectorXd::Zero(space.num_dofs());
+  sol.region = mesh.region;
+  sol.mu_r = Eigen::VectorXd::Ones(mesh.num_tets());
+  sol.br_T = Eigen::Matrix3Xd::Zero(3, mesh.num_tets());
+  const FieldEvaluator ev(std::move(sol));
+  Eigen::Matrix3Xd p(3, 3);
+  p.col(0) = Eigen::Vector3d(0, 0, test::kPlaneZ);  // inside
+  p.col(1) = Eigen::Vector3d(100, 0.5, -2.25);      // outside (outer radius 15 mm): the first reported
+  p.col(2) = Eigen::Vector3d(-40, 0, 0);            // outside too
+  REQUIRE(ev.B_T(Eigen::Vector3d(p.col(0))).has_value());
+  CHECK_THROWS_WITH(ev.B_T(p), "point (100, 0.5, -2.25) mm lies outside the FE mesh");
+}
