@@ -9,6 +9,7 @@
 #include "probe/angle_error.hpp"
 #include "fields/magnet.hpp"
 #include "study_test_util.hpp"
+#include "../probe/probe_setup.hpp"
 
 using namespace magenc;
 using namespace magenc::test;
@@ -24,14 +25,7 @@ const std::map<std::string, std::string>& find_row(const std::vector<std::map<st
   return rows.front();
 }
 
-ProbeSetup setup_for(const std::string& array, int steps) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array);
-  s.r0_mm = 2.4;
-  s.plane_z_mm = 4.55;
-  s.steps = steps;
-  return s;
-}
+ProbeSetup setup_for(const std::string& array, int steps) { return probe_setup(array, steps); }
 
 }  // namespace
 
