@@ -34,11 +34,8 @@ TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[
   const StudyRun r = run_study_exe("linear_model", out, "--set sensor.steps=360 --set sweep.points=6");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
-                        "harmonics.png", "coefficients.png", "eps.gp", "eps.dat"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
+                          "harmonics.png", "coefficients.png", "eps.gp", "eps.dat"});
   CHECK(fs::file_size(out / "eps.png") > 1000);
   CHECK_FALSE(leftovers(out));
 
@@ -81,11 +78,8 @@ TEST_CASE("exact_field study: tiny run matches the library and physics.md's qual
                                    "--set study.arrays=two,diff4");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
-                        "harmonics.png", "coefficients_sx.png", "coefficients_dx.png", "coefficients_dz.png"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
+                          "harmonics.png", "coefficients_sx.png", "coefficients_dx.png", "coefficients_dz.png"});
   const auto rows = read_csv(out / "spectra.csv");
   REQUIRE(rows.size() == 2 * (1 + 4 * 6 + 5));
 
