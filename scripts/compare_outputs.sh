@@ -59,7 +59,7 @@ cmd_run() {
   run_one "$bin" "$root" harmonic_provenance_small harmonic_provenance \
     --config studies/harmonic_provenance.toml --set sensor.steps=360 \
     --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic \
-    --set "provenance.fem_variants=coarse P1: config=$coarse fem.order=1" \
+    --set "provenance.fem_variants=[{ label = \"coarse P1\", config = \"$coarse\", set = { fem.order = 1 } }]" \
     --set "provenance.fem_dirs=$field"
   # No FE variants and no directories: the FE section is absent.
   run_one "$bin" "$root" harmonic_provenance_nofe harmonic_provenance \
