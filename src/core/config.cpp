@@ -368,7 +368,9 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
         throw InputError(origin + ": " + s.key + " is not a TOML array of tables (" + std::string(e.description()) +
                          "): allowed " + allowed_range(s));
       }
-      return toml_tables(s, *tbl.get("value"), origin + ": ");
+      const toml::node* value = tbl.get("value");
+      if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
+      return toml_tables(s, *value, origin + ": ");
     }
     throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
                      allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");

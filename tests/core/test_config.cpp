@@ -240,7 +240,7 @@ std::vector<KeySpec> table_keys() {
 }
 }  // namespace
 
-TEST_CASE("table-list keys: [[key]] sections and --set inline arrays give the same tables", "[core][contract]") {
+TEST_CASE("table-list keys: array-of-tables sections and --set inline arrays give the same tables", "[core][contract]") {
   Config c(table_keys());
   REQUIRE(c.tables("study.variants").size() == 1);  // the default
   c.load_toml_string("[study]\nwidth_mm = 2\n\n[[study.variants]]\nlabel = \"coarse P1\"\nconfig = \"meshes/coarse.toml\"\n"

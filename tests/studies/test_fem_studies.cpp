@@ -413,7 +413,7 @@ TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming proven
   }
 }
 
-TEST_CASE("harmonic_provenance study: [[provenance.fem_variants]] tables in a TOML file are read and checked",
+TEST_CASE("harmonic_provenance study: provenance.fem_variants tables in a TOML file are read and checked",
           "[studies][bad-input][cli]") {
   const fs::path dir = temp_out("provenance_variant_files");
   fs::create_directories(dir);
