@@ -2,7 +2,7 @@
 // mesh vertices (ids 0..n_nodes-1), then for P2 one per edge (edge midpoints).
 #pragma once
 #include <Eigen/Core>
-#include <vector>
+#include <unordered_map>
 
 #include "mesh.hpp"
 
@@ -27,10 +27,8 @@ class FeSpace {
   int num_dofs_ = 0;
   Eigen::MatrixXi cell_dofs_;
   Eigen::Matrix3Xd dof_points_;
-  // P2: the edges (a, b), a < b, grouped by a (CSR, b ascending): edge_b_ and edge_dofs_ of
-  // [edge_start_[a], edge_start_[a + 1]).
-  std::vector<long> edge_start_;
-  std::vector<int> edge_b_, edge_dofs_;
+  std::unordered_map<long long, int> edge_dof_;  // key a*n+b (a < b) -> dof
+  long long n_nodes_ = 0;
 };
 
 }  // namespace magenc::fem
