@@ -38,14 +38,21 @@ inline Eigen::Vector4d barycentric(const TetGeometry& g, const Eigen::Vector3d& 
   return {1.0 - l.sum(), l[0], l[1], l[2]};
 }
 
-// Basis values at barycentric point L: N (dofs_per_cell).
-inline void basis_values(int order, const Eigen::Vector4d& L, double* N) {
+// P1/P2 Lagrange basis of a simplex with V vertices at barycentric point L: N[0..V) the vertex
+// functions, then (order 2) N[V + e] = 4 L_a L_b of each edge e = (a, b) of `edges`.
+template <int V, int E, class Bary>
+inline void simplex_basis_values(int order, const Bary& L, const int (&edges)[E][2], double* N) {
   if (order == 1) {
-    for (int i = 0; i < 4; ++i) N[i] = L[i];
+    for (int i = 0; i < V; ++i) N[i] = L[i];
     return;
   }
-  for (int i = 0; i < 4; ++i) N[i] = L[i] * (2.0 * L[i] - 1.0);
-  for (int e = 0; e < 6; ++e) N[4 + e] = 4.0 * L[kTetEdges[e][0]] * L[kTetEdges[e][1]];
+  for (int i = 0; i < V; ++i) N[i] = L[i] * (2.0 * L[i] - 1.0);
+  for (int e = 0; e < E; ++e) N[V + e] = 4.0 * L[edges[e][0]] * L[edges[e][1]];
+}
+
+// Basis values at barycentric point L: N (dofs_per_cell).
+inline void basis_values(int order, const Eigen::Vector4d& L, double* N) {
+  simplex_basis_values<4, 6>(order, L, kTetEdges, N);
 }
 
 // Basis gradients (1/mm) at barycentric point L: G is 3 x dofs_per_cell.
@@ -94,12 +101,7 @@ inline const TriQuadrature& tri_quadrature() {
 // Triangle P1/P2 basis at barycentric point l: vertices 0..2 then edges 01 12 20.
 inline constexpr int kTriEdges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
 inline void tri_basis_values(int order, const Eigen::Vector3d& l, double* N) {
-  if (order == 1) {
-    for (int i = 0; i < 3; ++i) N[i] = l[i];
-    return;
-  }
-  for (int i = 0; i < 3; ++i) N[i] = l[i] * (2.0 * l[i] - 1.0);
-  for (int e = 0; e < 3; ++e) N[3 + e] = 4.0 * l[kTriEdges[e][0]] * l[kTriEdges[e][1]];
+  simplex_basis_values<3, 3>(order, l, kTriEdges, N);
 }
 
 }  // namespace magenc::fem

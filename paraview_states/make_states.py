@@ -104,8 +104,9 @@ def style_bar(lut, view, title, where="Any Location", pos=(0.87, 0.1), length=0.
     return bar
 
 
-def plane_with_isolines(view, data, vmax_mT, z_lift):
-    """plane.vti coloured by Bz [mT] plus black isolines; returns (plane, z_s)."""
+def plane_bz(view, data, vmax_mT):
+    """plane.vti read, Bz in mT (plane_Bz_mT) shown coloured on the symmetric map; returns
+    (plane, bz, its display, lut, z_s)."""
     plane = XMLImageDataReader(registrationName="plane.vti",
                                FileName=[os.path.join(data, "field", "plane.vti")])
     plane.PointArrayStatus = ["Bz", "B"]
@@ -118,6 +119,12 @@ def plane_with_isolines(view, data, vmax_mT, z_lift):
     ColorBy(d, ("POINTS", "Bz_mT"))
     lut = bz_lut(vmax_mT)
     d.LookupTable = lut
+    return plane, bz, d, lut, z_s
+
+
+def plane_with_isolines(view, data, vmax_mT, z_lift):
+    """plane.vti coloured by Bz [mT] plus black isolines; returns (plane, bz, lut, z_s, step)."""
+    plane, bz, _, lut, z_s = plane_bz(view, data, vmax_mT)
 
     step = nice_step(vmax_mT / 5.0)
     n = int(math.floor(vmax_mT / step))
@@ -266,20 +273,9 @@ def make_magnet_field(data, vmax):
     style_bar(blut, view, "|B| [T]", pos=(0.82, 0.5), length=0.38)
 
     # 3. The sensing plane in place, coloured by Bz.
-    plane = XMLImageDataReader(registrationName="plane.vti",
-                               FileName=[os.path.join(data, "field", "plane.vti")])
-    plane.PointArrayStatus = ["Bz", "B"]
-    bz = Calculator(registrationName="plane_Bz_mT", Input=plane)
-    bz.ResultArrayName = "Bz_mT"
-    bz.Function = "Bz*1000"
-    dp = Show(bz, view)
-    ColorBy(dp, ("POINTS", "Bz_mT"))
-    lut = bz_lut(vmax)
-    dp.LookupTable = lut
+    _, _, dp, lut, z_s = plane_bz(view, data, vmax)
     dp.Opacity = 0.85
     style_bar(lut, view, "Bz [mT]", pos=(0.82, 0.05), length=0.38)
-    plane.UpdatePipeline()
-    z_s = plane.GetDataInformation().GetBounds()[4]
 
     text(view, "Mesh cut at y = 0 (regions), stream lines of B (tubes),\n"
                "sensing plane z = %.2f mm coloured by Bz" % z_s, size=13)

@@ -34,17 +34,8 @@ PKGS=(
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
 # Debian 12 conflicts with python3-vtk9 and so would remove libvtk9-dev.
-missing=()
-for p in "${PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "install_deps: installing ${missing[*]}"
-  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. "$(dirname "$0")/apt_packages.sh"
+install_missing_packages install_deps "${PKGS[@]}"
 if [ "${MAGENC_WITH_PARAVIEW:-1}" = 1 ]; then
   "$(dirname "$0")/install_paraview_python.sh"   # paraview, xvfb, xauth + private python3-paraview
 fi

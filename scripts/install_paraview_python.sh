@@ -17,16 +17,8 @@ PREFIX="${MAGENC_PV_PREFIX:-/opt/magenc/paraview-python}"
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
 
-PKGS=(paraview xvfb xauth python3-numpy)
-missing=()
-for p in "${PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "install_paraview_python: installing ${missing[*]}"
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. "$(dirname "$0")/apt_packages.sh"
+install_missing_packages install_paraview_python paraview xvfb xauth python3-numpy
 
 # python3-paraview installed system-wide (a machine without libvtk9-dev): use it.
 if dpkg-query -W -f='${Status}' python3-paraview 2>/dev/null | grep -q "install ok installed"; then

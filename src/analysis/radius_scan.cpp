@@ -185,6 +185,24 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
   }
 }
 
+// eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
+// angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
+void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
+                             std::vector<Eigen::VectorXd>& eps_deg) const {
+  const double theta_deg = 360.0 * m / model_.nodes();
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    const ProbeArray& arr = arrays_[a];
+    double C = 0, S = 0;
+    for (std::size_t k = 0; k < arr.size(); ++k) {
+      const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
+      C += arr.w_cos[k] * Bk;
+      S += arr.w_sin[k] * Bk;
+    }
+    chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
+    eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+  }
+}
+
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                               std::vector<Eigen::VectorXd>& eps_deg) const {
   if (!model_.full_vector())
@@ -220,18 +238,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       }
       Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
     }
-    const double theta_deg = 360.0 * m / N;
-    for (std::size_t a = 0; a < arrays_.size(); ++a) {
-      const ProbeArray& arr = arrays_[a];
-      double C = 0, S = 0;
-      for (std::size_t k = 0; k < arr.size(); ++k) {
-        const double Bk = Bn[static_cast<std::size_t>(slot_[a][k])];
-        C += arr.w_cos[k] * Bk;
-        S += arr.w_sin[k] * Bk;
-      }
-      chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
-    }
+    angles_at(m, Bn, chain, eps_deg);
   }
 }
 
@@ -268,31 +275,26 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       if (j < 0) j += N;
       B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
     }
-    const double theta_deg = 360.0 * m / N;
-    for (std::size_t a = 0; a < arrays_.size(); ++a) {
-      const ProbeArray& arr = arrays_[a];
-      double C = 0, S = 0;
-      for (std::size_t k = 0; k < arr.size(); ++k) {
-        const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
-        C += arr.w_cos[k] * Bk;
-        S += arr.w_sin[k] * Bk;
-      }
-      chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
-    }
+    angles_at(m, B, chain, eps_deg);
   }
 }
+
+namespace {
+void peak_to_peak(const std::vector<Eigen::VectorXd>& e, double* pp_deg) {
+  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+}
+}  // namespace
 
 void FastPipeline::pp(const Mount& m, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(m, e);
-  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+  peak_to_peak(e, pp_deg);
 }
 
 void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(c, e);
-  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+  peak_to_peak(e, pp_deg);
 }
 
 // ---------------------------------------------------------------------------

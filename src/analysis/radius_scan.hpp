@@ -140,6 +140,8 @@ class FastPipeline {
                  std::vector<Eigen::VectorXd>& eps_deg) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                   std::vector<Eigen::VectorXd>& eps_deg) const;
+  void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
+                 std::vector<Eigen::VectorXd>& eps_deg) const;
 };
 
 // Settings of the scan ([radius] keys; [noise] for the noise model).

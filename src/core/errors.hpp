@@ -1,8 +1,10 @@
 // Error types and the common main() wrapper.
 #pragma once
 #include <functional>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace magenc {
 
@@ -22,6 +24,10 @@ class ComputeError : public std::runtime_error {
 
 // A number as it appears in one-line error messages (6 significant digits).
 std::string num(double v);
+
+// Throws InputError "<name> is not a finite number: allowed a finite value" for the first of the named
+// values that is NaN or infinite (the checks of Mount::validate, SignalChain::validate).
+void require_finite(std::initializer_list<std::pair<const char*, double>> named_values);
 
 // Runs body() and turns exceptions into a one-line message on stderr and a
 // non-zero exit code: InputError -> 2, ComputeError -> 3, anything else -> 1.

@@ -154,21 +154,45 @@ Vec3 AnalyticField::B_axial_closed_form_T(double x, double y, double z) const {
 }
 
 double AnalyticField::Bz_axial_closed_form_T(double x, double y, double z) const {
-  const double a = magnet_.radius_mm, b = magnet_.top_z_mm();
-  const double rho = std::hypot(x, y);
-  const double zp = z + b, zm = z - b;
-  const double sp = std::sqrt(zp * zp + (rho + a) * (rho + a)), sm = std::sqrt(zm * zm + (rho + a) * (rho + a));
-  const double kcp = std::sqrt(zp * zp + (a - rho) * (a - rho)) / sp;
-  const double kcm = std::sqrt(zm * zm + (a - rho) * (a - rho)) / sm;
-  const double gamma = (a - rho) / (a + rho);
-  return magnet_.br_T / kPi * a / (a + rho) *
-         (zp / sp * cel(kcp, gamma * gamma, 1.0, gamma) - zm / sm * cel(kcm, gamma * gamma, 1.0, gamma));
+  return B_axial_closed_form_T(x, y, z).z();
 }
 
+namespace {
+// A point at height z against a magnet of radius R and height L: t1, t2 = z -+ L/2 (heights above the
+// bottom and top face planes), a_i = |t_i|, t_i^2.
+struct SlabPoint {
+  double R, L, t1, t2, a1, a2, t1sq, t2sq;
+  SlabPoint(double R_mm, double L_mm, double z) : R(R_mm), L(L_mm), t1(z - 0.5 * L_mm), t2(z + 0.5 * L_mm) {
+    a1 = std::abs(t1);
+    a2 = std::abs(t2);
+    t1sq = t1 * t1;
+    t2sq = t2 * t2;
+  }
+};
+
+// One quadrature node (cos phi', sin phi') of the full kernel seen from (x, y): dx, dy from the node on
+// the curved face, s_i = sqrt(rho^2 + t_i^2), e_i = s_i + a_i, s12 = s1 + s2, q = 1/(s1 s2 s12 e1 e2).
+struct KernelNode {
+  double dx, dy, s1, s2, e1, e2, s12, q;
+};
+[[gnu::always_inline]] inline KernelNode kernel_node(const SlabPoint& p, double x, double y, double c, double s) {
+  KernelNode k;
+  k.dx = x - p.R * c;
+  k.dy = y - p.R * s;
+  const double rho2 = k.dx * k.dx + k.dy * k.dy;
+  k.s1 = std::sqrt(rho2 + p.t1sq);
+  k.s2 = std::sqrt(rho2 + p.t2sq);
+  k.e1 = k.s1 + p.a1;
+  k.e2 = k.s2 + p.a2;
+  k.s12 = k.s1 + k.s2;
+  k.q = 1.0 / (k.s1 * k.s2 * k.s12 * k.e1 * k.e2);
+  return k;
+}
+}  // namespace
+
 double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
-  const double R = magnet_.radius_mm, L = magnet_.height_mm;
-  const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
-  const double t1sq = t1 * t1, t2sq = t2 * t2;
+  const SlabPoint p(magnet_.radius_mm, magnet_.height_mm, z);
+  const double R = p.R, L = p.L, t1sq = p.t1sq, t2sq = p.t2sq;
   const NodeTable& tab = table_for(std::hypot(x, y), z);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
@@ -197,25 +221,19 @@ double AnalyticField::Bz_aligned_T(double x, double y, double z) const {
 // a solenoid's current sheet). The integrands are analytic in the same strip as the diametric ones.
 template <bool kAxial>
 void AnalyticField::B_aligned_parts_T(double x, double y, double z, Vec3& Bd, Vec3& Bax) const {
-  const double R = magnet_.radius_mm, L = magnet_.height_mm;
-  const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
-  const double a1 = std::abs(t1), a2 = std::abs(t2);
-  const double t1sq = t1 * t1, t2sq = t2 * t2;
+  const SlabPoint p(magnet_.radius_mm, magnet_.height_mm, z);
+  const double R = p.R, L = p.L, a1 = p.a1, a2 = p.a2;
   const NodeTable& tab = table_for(std::hypot(x, y), z);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
   double acc_x = 0.0, acc_y = 0.0, acc_z = 0.0, acc_zs = 0.0, acc_ax = 0.0;
-  if (t1 * t2 >= 0) {
+  if (p.t1 * p.t2 >= 0) {
     // Above or below the magnet's slab: g = L*N/D without cancellation.
     const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
 #pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
-      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
-      const double rho2 = dx * dx + dy * dy;
-      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
-      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const auto [dx, dy, s1, s2, e1, e2, s12, q] = kernel_node(p, x, y, cphi[j], sphi[j]);
       const double g = ((a12 + s2) * s12 + a1a12) * q;  // times L below
       const double kz = e1 * e2 * q;                      // 1/(s1 s2 (s1 + s2))
       acc_x += cphi[j] * dx * g;
@@ -236,11 +254,7 @@ void AnalyticField::B_aligned_parts_T(double x, double y, double z, Vec3& Bd, Ve
     // closed form (2-D field of a cos-charged circle, see two_d_dipole_integral).
 #pragma omp simd reduction(+ : acc_x, acc_y, acc_z, acc_zs, acc_ax)
     for (int j = 0; j < n; ++j) {
-      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
-      const double rho2 = dx * dx + dy * dy;
-      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
-      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const auto [dx, dy, s1, s2, e1, e2, s12, q] = kernel_node(p, x, y, cphi[j], sphi[j]);
       const double gr = -(s1 * e1 + s2 * e2) * s12 * q;
       const double kz = e1 * e2 * q;
       acc_x += cphi[j] * dx * gr;
@@ -271,24 +285,18 @@ Vec3 AnalyticField::B_aligned_T(double x, double y, double z) const {
 
 // Bz only, diametric and axial parts (elevation != 0): the nodes of the full kernel, z parts only.
 void AnalyticField::Bz_aligned_parts_T(double x, double y, double z, double& bz_d, double& bz_ax) const {
-  const double R = magnet_.radius_mm, L = magnet_.height_mm;
-  const double t1 = z - 0.5 * L, t2 = z + 0.5 * L;
-  const double a1 = std::abs(t1), a2 = std::abs(t2);
-  const double t1sq = t1 * t1, t2sq = t2 * t2;
+  const SlabPoint p(magnet_.radius_mm, magnet_.height_mm, z);
+  const double R = p.R, L = p.L, a1 = p.a1, a2 = p.a2;
   const NodeTable& tab = table_for(std::hypot(x, y), z);
   const double* __restrict cphi = tab.cos_phi.data();
   const double* __restrict sphi = tab.sin_phi.data();
   const int n = tab.n;
   double acc_z = 0.0, acc_ax = 0.0;
-  if (t1 * t2 >= 0) {
+  if (p.t1 * p.t2 >= 0) {
     const double a12 = a1 + a2, a1a12 = a1 * (a1 + a2);
 #pragma omp simd reduction(+ : acc_z, acc_ax)
     for (int j = 0; j < n; ++j) {
-      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
-      const double rho2 = dx * dx + dy * dy;
-      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
-      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const auto [dx, dy, s1, s2, e1, e2, s12, q] = kernel_node(p, x, y, cphi[j], sphi[j]);
       acc_z += cphi[j] * e1 * e2 * q;
       acc_ax += (R - x * cphi[j] - y * sphi[j]) * ((a12 + s2) * s12 + a1a12) * q;
     }
@@ -296,11 +304,7 @@ void AnalyticField::Bz_aligned_parts_T(double x, double y, double z, double& bz_
   } else {
 #pragma omp simd reduction(+ : acc_z, acc_ax)
     for (int j = 0; j < n; ++j) {
-      const double dx = x - R * cphi[j], dy = y - R * sphi[j];
-      const double rho2 = dx * dx + dy * dy;
-      const double s1 = std::sqrt(rho2 + t1sq), s2 = std::sqrt(rho2 + t2sq);
-      const double e1 = s1 + a1, e2 = s2 + a2, s12 = s1 + s2;
-      const double q = 1.0 / (s1 * s2 * s12 * e1 * e2);
+      const auto [dx, dy, s1, s2, e1, e2, s12, q] = kernel_node(p, x, y, cphi[j], sphi[j]);
       acc_z += cphi[j] * e1 * e2 * q;
       acc_ax -= (R - x * cphi[j] - y * sphi[j]) * (s1 * e1 + s2 * e2) * s12 * q;
     }

@@ -25,19 +25,15 @@ Mount Mount::from_config(const Config& cfg) {
 }
 
 void Mount::validate() const {
-  const std::pair<const char*, double> values[] = {
-      {"mount.sx_mm", sx_mm},
-      {"mount.sy_mm", sy_mm},
-      {"mount.dx_mm", dx_mm},
-      {"mount.dy_mm", dy_mm},
-      {"mount.dz_mm", dz_mm},
-      {"mount.tilt_x_deg", tilt_x_deg},
-      {"mount.tilt_y_deg", tilt_y_deg},
-      {"mount.magnet_tilt_deg", magnet_tilt_deg},
-      {"mount.magnet_tilt_azimuth_deg", magnet_tilt_azimuth_deg}};
-  for (const auto& [name, v] : values)
-    if (!std::isfinite(v))
-      throw InputError(std::string(name) + " is not a finite number: allowed a finite value");
+  require_finite({{"mount.sx_mm", sx_mm},
+                  {"mount.sy_mm", sy_mm},
+                  {"mount.dx_mm", dx_mm},
+                  {"mount.dy_mm", dy_mm},
+                  {"mount.dz_mm", dz_mm},
+                  {"mount.tilt_x_deg", tilt_x_deg},
+                  {"mount.tilt_y_deg", tilt_y_deg},
+                  {"mount.magnet_tilt_deg", magnet_tilt_deg},
+                  {"mount.magnet_tilt_azimuth_deg", magnet_tilt_azimuth_deg}});
   const std::pair<const char*, double> tilts[] = {
       {"mount.tilt_x_deg", tilt_x_deg}, {"mount.tilt_y_deg", tilt_y_deg}, {"mount.magnet_tilt_deg", magnet_tilt_deg}};
   for (const auto& [name, v] : tilts)

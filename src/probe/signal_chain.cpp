@@ -19,12 +19,10 @@ SignalChain SignalChain::from_config(const Config& cfg) {
 }
 
 void SignalChain::validate() const {
-  const std::pair<const char*, double> values[] = {{"sensor.offset_cos_mT", offset_cos_mT},
-                                                   {"sensor.offset_sin_mT", offset_sin_mT},
-                                                   {"sensor.gain_mismatch", gain_mismatch},
-                                                   {"sensor.phase_error_deg", phase_error_deg}};
-  for (const auto& [name, v] : values)
-    if (!std::isfinite(v)) throw InputError(std::string(name) + " is not a finite number: allowed a finite value");
+  require_finite({{"sensor.offset_cos_mT", offset_cos_mT},
+                  {"sensor.offset_sin_mT", offset_sin_mT},
+                  {"sensor.gain_mismatch", gain_mismatch},
+                  {"sensor.phase_error_deg", phase_error_deg}});
   if (!(gain_mismatch > -1.0))
     throw InputError("sensor.gain_mismatch = " + num(gain_mismatch) + " is out of range: allowed (-1, 10]");
   if (!(std::abs(phase_error_deg) < 90.0))

@@ -15,6 +15,17 @@ using namespace magenc;
 namespace {
 Magnet default_magnet() { return Magnet{}; }
 constexpr double kPlaneZ = 2.0 + 2.55;  // z_s of the default magnet
+
+// The surrogate's spectrum against the direct pipeline's: pp, a0 and every a_n, b_n within tol (deg).
+void check_spectra_agree(const Spectrum& sur, const Spectrum& direct, double tol) {
+  CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);
+  CHECK(std::abs(sur.a0_deg - direct.a0_deg) <= tol);
+  for (int n = 1; n <= kHarmonics; ++n) {
+    CAPTURE(n);
+    CHECK(std::abs(sur.a_deg[n] - direct.a_deg[n]) <= tol);
+    CHECK(std::abs(sur.b_deg[n] - direct.b_deg[n]) <= tol);
+  }
+}
 }  // namespace
 
 // Stated tolerance of the surrogate (default order 4) on the default box
@@ -44,13 +55,7 @@ TEST_CASE("surrogate matches the direct pipeline on corners and random samples",
       const Spectrum sur = spectrum_of(eps[a]);
       const double tol = order == 4 ? std::max(0.005, 0.0005 * direct.pp_deg) : std::max(0.02, 0.002 * direct.pp_deg);
       CAPTURE(arrays[a].name, m.sx_mm, m.sy_mm, m.dx_mm, m.dy_mm, m.dz_mm, direct.pp_deg, sur.pp_deg);
-      CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);
-      CHECK(std::abs(sur.a0_deg - direct.a0_deg) <= tol);
-      for (int n = 1; n <= kHarmonics; ++n) {
-        CAPTURE(n);
-        CHECK(std::abs(sur.a_deg[n] - direct.a_deg[n]) <= tol);
-        CHECK(std::abs(sur.b_deg[n] - direct.b_deg[n]) <= tol);
-      }
+      check_spectra_agree(sur, direct, tol);
     }
   }
 }
@@ -162,13 +167,7 @@ TEST_CASE("surrogate with tilts (full vector) matches the direct pipeline on til
       const Spectrum sur = spectrum_of(eps[a]);
       const double tol = std::max(0.005, 0.0005 * direct.pp_deg);
       CAPTURE(arrays[a].name, corner_text(m), m.tilt_x_deg, m.tilt_y_deg, m.magnet_tilt_deg, direct.pp_deg, sur.pp_deg);
-      CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);
-      CHECK(std::abs(sur.a0_deg - direct.a0_deg) <= tol);
-      for (int n = 1; n <= kHarmonics; ++n) {
-        CAPTURE(n);
-        CHECK(std::abs(sur.a_deg[n] - direct.a_deg[n]) <= tol);
-        CHECK(std::abs(sur.b_deg[n] - direct.b_deg[n]) <= tol);
-      }
+      check_spectra_agree(sur, direct, tol);
     }
   }
   // A model without the full vector refuses a tilted mount.
@@ -226,12 +225,7 @@ TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline",
       const Spectrum direct = error_spectrum(field, setup, c.mount);
       const double tol = c.mount.sx_mm == 0 && c.mount.dx_mm == 0 ? 1e-9 : std::max(0.005, 0.0005 * direct.pp_deg);
       CAPTURE(arrays[a].name, c.chain.offset_cos_mT, c.chain.gain_mismatch, c.chain.phase_error_deg, c.mount.sx_mm);
-      CHECK(std::abs(s.back().pp_deg - direct.pp_deg) <= tol);
-      CHECK(std::abs(s.back().a0_deg - direct.a0_deg) <= tol);
-      for (int n = 1; n <= kHarmonics; ++n) {
-        CHECK(std::abs(s.back().a_deg[n] - direct.a_deg[n]) <= tol);
-        CHECK(std::abs(s.back().b_deg[n] - direct.b_deg[n]) <= tol);
-      }
+      check_spectra_agree(s.back(), direct, tol);
     }
     return s;
   };

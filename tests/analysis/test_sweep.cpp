@@ -8,18 +8,12 @@
 #include "report/study_output.hpp"
 #include "analysis/sweep.hpp"
 #include "core/units.hpp"
+#include "../probe/probe_setup.hpp"
 
 using namespace magenc;
 
 namespace {
-ProbeSetup two_setup(int steps = 720) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse("two");
-  s.r0_mm = 2.4;
-  s.plane_z_mm = 4.55;
-  s.steps = steps;
-  return s;
-}
+ProbeSetup two_setup(int steps = 720) { return test::probe_setup("two", steps); }
 }  // namespace
 
 TEST_CASE("linspace hits grid values exactly", "[analysis][closed-form]") {

@@ -28,8 +28,7 @@ TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[apps][contract][c
                                                        "' --field analytic --array two --r0 2.4 --free sx,sy,dx,dy --starts 2");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"fit.json", "fit.csv", "summary.md", "fit.png", "harmonics.png", "config.toml"})
-    CHECK(fs::exists(out / f));
+  check_files_exist(out, {"fit.json", "fit.csv", "summary.md", "fit.png", "harmonics.png", "config.toml"});
   const auto j = nlohmann::json::parse(slurp(out / "fit.json"));
   CHECK(j["parameters"]["sx_mm"]["free"] == true);
   CHECK(j["parameters"]["sx_mm"]["value"].get<double>() == Approx(0.04).margin(0.005));

@@ -12,17 +12,14 @@
 #include "fem_config.hpp"
 #include "linear_solver.hpp"
 #include "magnetostatic_solver.hpp"
+#include "solver_fixtures.hpp"
 
 using namespace magenc::fem;
 
 namespace {
 
 FemSettings coarse_settings(const std::vector<std::string>& sets) {
-  magenc::CommonOptions o;
-  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
-  o.sets = sets;
-  o.sets.insert(o.sets.begin(), "fem.potential=total");  // the system the measured numbers below are of
-  return fem_settings_from_config(magenc::load_config(solve_field_schema(), o));
+  return magenc::fem::test::coarse_settings(sets, "fem.potential=total");  // the system the measured numbers below are of
 }
 
 struct Solved {

@@ -17,44 +17,14 @@
 #include "fem_config.hpp"
 #include "fields/analytic_field.hpp"
 #include "magnetostatic_solver.hpp"
+#include "solver_fixtures.hpp"
 #include "validation.hpp"
 #include "vtk_io.hpp"
 
 using namespace magenc::fem;
 using magenc::GridData;
 
-namespace {
-
-FemSettings coarse_settings(const std::vector<std::string>& sets) {
-  magenc::CommonOptions o;
-  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
-  o.sets = sets;
-  o.sets.insert(o.sets.begin(), "fem.order=2");
-  return fem_settings_from_config(magenc::load_config(solve_field_schema(), o));
-}
-
-// Plane grid of the tests: |x|, |y| <= 3 mm at z_s, 0.25 mm.
-GridData plane(const FemSettings& s) {
-  return GridData::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
-}
-
-std::unique_ptr<MagnetostaticSolver> solved(const std::vector<std::string>& sets) {
-  const FemSettings s = coarse_settings(sets);
-  auto solver = std::make_unique<MagnetostaticSolver>(s.domain, s.solver);
-  solver->run();
-  return solver;
-}
-
-// RMS and max of |B_a - B_b| on the grid, relative to the peak |B_b|.
-std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridData& g) {
-  const Eigen::Matrix3Xd P = g.points_mm();
-  const Eigen::Matrix3Xd A = a.B_T(P), B = b.B_T(P);
-  const double peak = B.colwise().norm().maxCoeff();
-  const Eigen::VectorXd d = (A - B).colwise().norm();
-  return {std::sqrt(d.squaredNorm() / static_cast<double>(d.size())) / peak, d.maxCoeff() / peak};
-}
-
-}  // namespace
+using namespace magenc::fem::test;  // coarse_settings, plane, solved, diff (solver_fixtures.hpp)
 
 TEST_CASE("reduced potential, mu_r = 1: the FE field is the exact field", "[field_solver][physics]") {
   const auto s = solved({"magnet.mu_r=1", "fem.potential=reduced"});
@@ -71,14 +41,10 @@ TEST_CASE("reduced potential, mu_r = 1: the FE field is the exact field", "[fiel
 
 TEST_CASE("reduced potential, mu_r = 1.05: discretization error shrinks to the reaction's share", "[field_solver][physics][convergence]") {
   const std::vector<std::string> fine = {"magnet.mu_r=1.05", "mesh.h_zone_mm=0.4", "mesh.h_magnet_mm=0.5"};
-  auto with = [](std::vector<std::string> v, const std::string& pot) {
-    v.push_back("fem.potential=" + pot);
-    return v;
-  };
-  const auto ref = solved(with(fine, "reduced"));
-  const auto ref_total = solved(with(fine, "total"));
-  const auto red = solved(with({"magnet.mu_r=1.05"}, "reduced"));
-  const auto tot = solved(with({"magnet.mu_r=1.05"}, "total"));
+  const auto ref = solved(fine, "reduced");
+  const auto ref_total = solved(fine, "total");
+  const auto red = solved({"magnet.mu_r=1.05"}, "reduced");
+  const auto tot = solved({"magnet.mu_r=1.05"}, "total");
   const GridData g = plane(coarse_settings({}));
   const auto [rms_red, max_red] = diff(red->evaluator(), ref->evaluator(), g);
   const auto [rms_tot, max_tot] = diff(tot->evaluator(), ref->evaluator(), g);

@@ -24,49 +24,19 @@
 #include "fe_solution.hpp"
 #include "magnetostatic_solver.hpp"
 #include "reduced_potential.hpp"
+#include "solver_fixtures.hpp"
 #include "validation.hpp"
 #include "vtk_io.hpp"
 
 using namespace magenc::fem;
 using magenc::GridData;
 
+using namespace magenc::fem::test;  // coarse_settings, plane, with, solved, diff (solver_fixtures.hpp)
+
 namespace {
-
-FemSettings coarse_settings(const std::vector<std::string>& sets) {
-  magenc::CommonOptions o;
-  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
-  o.sets = sets;
-  o.sets.insert(o.sets.begin(), "fem.order=2");
-  return fem_settings_from_config(magenc::load_config(solve_field_schema(), o));
-}
-
-GridData plane(const FemSettings& s) {
-  return GridData::from_range({-3, -3, s.plane_z_mm}, {3, 3, s.plane_z_mm}, {0.25, 0.25, 1});
-}
-
-std::unique_ptr<MagnetostaticSolver> solved(std::vector<std::string> sets, const std::string& potential) {
-  sets.push_back("fem.potential=" + potential);
-  const FemSettings s = coarse_settings(sets);
-  auto solver = std::make_unique<MagnetostaticSolver>(s.domain, s.solver);
-  solver->run();
-  return solver;
-}
-
-// RMS and max of |B_a - B_b| on the grid, relative to the peak |B_b|.
-std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvaluator& b, const GridData& g) {
-  const Eigen::Matrix3Xd P = g.points_mm();
-  const Eigen::Matrix3Xd A = a.B_T(P), B = b.B_T(P);
-  const double peak = B.colwise().norm().maxCoeff();
-  const Eigen::VectorXd d = (A - B).colwise().norm();
-  return {std::sqrt(d.squaredNorm() / static_cast<double>(d.size())) / peak, d.maxCoeff() / peak};
-}
 
 const std::vector<std::string> kShaft = {"shaft.enabled=true", "shaft.radius_mm=3", "shaft.length_mm=8",
                                          "shaft.gap_mm=1"};
-std::vector<std::string> with(std::vector<std::string> v, const std::vector<std::string>& more) {
-  v.insert(v.end(), more.begin(), more.end());
-  return v;
-}
 
 }  // namespace
 

@@ -30,6 +30,7 @@
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
 #include "../probe/spectrum_compare.hpp"
+#include "../studies/study_test_util.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;
@@ -367,18 +368,9 @@ TEST_CASE("error_spectrum --field table: and table_to_vti", "[fields][cli]") {
   REQUIRE(run_cmd(bin + "/error_spectrum --field table:" + (dir / "plane.tsv").string() + " --dx 0.1 --out " +
                       (dir / "table.csv").string(), dir).code == 0);
   REQUIRE(run_cmd(bin + "/error_spectrum --field analytic --dx 0.1 --out " + (dir / "exact.csv").string(), dir).code == 0);
+  // Column col of the first row of an error_spectrum CSV (throws when missing: the test fails).
   auto column = [&](const std::string& file, const std::string& col) {
-    std::ifstream in(dir / file);
-    std::string header, row;
-    std::getline(in, header);
-    std::getline(in, row);
-    std::vector<std::string> h, r;
-    std::stringstream hs(header), rs(row);
-    for (std::string s; std::getline(hs, s, ',');) h.push_back(s);
-    for (std::string s; std::getline(rs, s, ',');) r.push_back(s);
-    for (std::size_t i = 0; i < h.size(); ++i)
-      if (h[i] == col) return r[i];
-    return std::string("?");
+    return test::read_csv(dir / file).at(0).at(col);
   };
   CHECK(column("table.csv", "field") == "table");
   CHECK(std::abs(std::stod(column("table.csv", "c1_deg")) - std::stod(column("exact.csv", "c1_deg"))) < 1e-5);

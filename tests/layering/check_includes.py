@@ -31,7 +31,9 @@ Exit 0 when clean; 1 with one line per offending include otherwise.
 import os
 import re
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from checker_selftest import repo_root, run_self_test  # noqa: E402 (tests/checker_selftest.py)
 
 # Rank of each layer; an include must not go to a higher rank.
 RANK = {
@@ -113,13 +115,6 @@ def check(root):
     return problems
 
 
-def write(root, rel, text):
-    path = os.path.join(root, rel)
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text)
-
-
 def self_test():
     """The checker must pass a clean tree and name each kind of violation."""
     clean = {
@@ -150,35 +145,18 @@ def self_test():
                                            "resolves to no file"),
         "unknown header": ("src/io/bad.cpp", '#include "io/missing.hpp"\n', "resolves to no file"),
     }
-    failures = 0
-    with tempfile.TemporaryDirectory() as tmp:
-        root = os.path.join(tmp, "clean")
-        for rel, text in clean.items():
-            write(root, rel, text)
+
+    def clean_failure(root):
         problems = check(root)
-        if problems:
-            print("self-test FAILED: the clean tree is reported:\n  " + "\n  ".join(problems))
-            failures += 1
-        for i, (what, (rel, text, expected)) in enumerate(violating.items()):
-            root = os.path.join(tmp, f"bad{i}")
-            for r, t in clean.items():
-                write(root, r, t)
-            write(root, rel, text)
-            problems = check(root)
-            if len(problems) != 1 or rel + ":1:" not in problems[0] or expected not in problems[0]:
-                print(f"self-test FAILED: {what}: expected one problem at {rel}:1 containing '{expected}', got "
-                      f"{problems}")
-                failures += 1
-            else:
-                print(f"self-test ok: {what}: {problems[0]}")
-    print("self-test: " + ("all cases behave" if failures == 0 else f"{failures} case(s) misbehave"))
-    return 1 if failures else 0
+        return "the clean tree is reported:\n  " + "\n  ".join(problems) if problems else None
+
+    return run_self_test(check, clean, violating, clean_failure, at=lambda rel: rel + ":1:")
 
 
 def main(argv):
     if len(argv) > 1 and argv[1] == "--self-test":
         return self_test()
-    root = os.path.abspath(argv[1] if len(argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
+    root = repo_root(argv, __file__)
     problems = check(root)
     for p in problems:
         print(p)

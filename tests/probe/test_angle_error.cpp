@@ -11,18 +11,14 @@
 #include "probe/angle_error.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "probe_setup.hpp"
 
 using namespace magenc;
 
 namespace {
 
 ProbeSetup setup_for(const std::string& array, double r0_mm = 2.4, int steps = 3600) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array);
-  s.r0_mm = r0_mm;
-  s.plane_z_mm = 4.55;  // L/2 + h of the study magnet
-  s.steps = steps;
-  return s;
+  return test::probe_setup(array, steps, r0_mm);
 }
 
 Mount mount(double sx, double sy, double dx, double dy, double dz = 0) { return Mount{sx, sy, dx, dy, dz}; }

@@ -11,18 +11,15 @@
 #include "fields/analytic_field.hpp"
 #include "fields/grid_field.hpp"
 #include "probe/angle_error.hpp"
+#include "probe_setup.hpp"
 
 using namespace magenc;
 
 namespace {
 
 ProbeSetup setup_for(const std::string& array, int steps = 3600) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array);
-  s.r0_mm = 2.4;
-  s.plane_z_mm = 4.55;  // L/2 + h of the study magnet
+  ProbeSetup s = test::probe_setup(array, steps);
   s.magnet_height_mm = 4.0;
-  s.steps = steps;
   return s;
 }
 

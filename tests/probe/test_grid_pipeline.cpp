@@ -15,6 +15,7 @@
 #include "fields/field_factory.hpp"
 #include "analysis/provenance.hpp"
 #include "spectrum_compare.hpp"
+#include "../studies/study_test_util.hpp"
 
 using namespace magenc;
 
@@ -99,19 +100,8 @@ TEST_CASE("error_spectrum --field grid: runs and refuses points outside the grid
   };
   REQUIRE(run(grid + " --interp linear --dx 0.1", "grid.csv") == 0);
   REQUIRE(run(" --field analytic --dx 0.1", "exact.csv") == 0);
-  auto c1 = [&](const std::string& f) {
-    std::ifstream in(dir / f);
-    std::string header, row;
-    std::getline(in, header);
-    std::getline(in, row);
-    std::vector<std::string> h, r;
-    std::stringstream hs(header), rs(row);
-    for (std::string s; std::getline(hs, s, ',');) h.push_back(s);
-    for (std::string s; std::getline(rs, s, ',');) r.push_back(s);
-    for (std::size_t i = 0; i < h.size(); ++i)
-      if (h[i] == "c1_deg") return std::stod(r[i]);
-    return -1.0;
-  };
+  // c1_deg of the first row of an error_spectrum CSV (throws when missing: the test fails).
+  auto c1 = [&](const std::string& f) { return std::stod(test::read_csv(dir / f).at(0).at("c1_deg")); };
   CHECK(c1("grid.csv") == Approx(c1("exact.csv")).epsilon(1e-3));
   CHECK(run(grid + " --dx 0.1 --r0 3.5", "bad.csv") != 0);
   std::ifstream err(dir / "err.txt");

@@ -20,19 +20,13 @@
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 #include "core/units.hpp"
+#include "probe_setup.hpp"
 
 using namespace magenc;
 
 namespace {
 
-ProbeSetup two_setup(double r0_mm = 2.4) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse("two");
-  s.r0_mm = r0_mm;
-  s.plane_z_mm = 4.55;
-  s.steps = 3600;
-  return s;
-}
+ProbeSetup two_setup(double r0_mm = 2.4) { return test::probe_setup("two", 3600, r0_mm); }
 
 Spectrum linear_spectrum(double sx, double sy, double dx, double dy, double dz = 0.0) {
   return error_spectrum(LinearField(), two_setup(), Mount{sx, sy, dx, dy, dz});

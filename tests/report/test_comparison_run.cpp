@@ -20,19 +20,13 @@
 #include "core/errors.hpp"
 #include "analysis/fem_comparison.hpp"
 #include "analysis/sweep.hpp"
+#include "../probe/probe_setup.hpp"
 
 using namespace magenc;
 
 namespace {
 
-ProbeSetup setup_of(const std::string& array) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array);
-  s.r0_mm = 2.4;
-  s.plane_z_mm = 4.55;
-  s.steps = 128;
-  return s;
-}
+ProbeSetup setup_of(const std::string& array) { return test::probe_setup(array, 128); }
 
 Magnet magnet_with_radius(double r_mm) {
   Magnet m;

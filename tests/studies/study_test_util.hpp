@@ -2,9 +2,12 @@
 #pragma once
 #include <sys/wait.h>
 
+#include <catch2/catch.hpp>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 #include <string>
@@ -38,6 +41,14 @@ inline fs::path temp_out(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("magenc_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
+}
+
+// CHECKs that each of `files` exists in out (the missing one named in the failure).
+inline void check_files_exist(const fs::path& out, std::initializer_list<const char*> files) {
+  for (const char* f : files) {
+    INFO(f);
+    CHECK(fs::exists(out / f));
+  }
 }
 
 // Any "<out>.tmp.*" / "<out>.old.*" siblings left behind?

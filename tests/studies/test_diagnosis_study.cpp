@@ -13,8 +13,7 @@ TEST_CASE("diagnosis study: tiny config runs and its round trip covers the truth
                                    "--set roundtrip.all_free_cases=1 --set roundtrip.starts=2");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"summary.md", "coverage.csv", "anomalies.csv", "example_fit.png", "config.toml", "run.json"})
-    CHECK(fs::exists(out / f));
+  check_files_exist(out, {"summary.md", "coverage.csv", "anomalies.csv", "example_fit.png", "config.toml", "run.json"});
   const auto rows = read_csv(out / "coverage.csv");
   REQUIRE(rows.size() >= 3);
   int fitted = 0, within = 0;

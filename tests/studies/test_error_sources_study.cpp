@@ -33,11 +33,8 @@ TEST_CASE("error_sources study: tiny run reproduces physics.md reference values"
                                    "--set sensor.steps=720 --set sweep.points=5 --set study.arrays=two,diff4");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "fits.csv", "harmonics.csv", "summary.md", "config.toml", "run.json",
-                        "harmonics_heatmap.png", "coefficients_tilt_x_deg.png", "coefficients_phase_error_deg.png"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "fits.csv", "harmonics.csv", "summary.md", "config.toml", "run.json",
+                          "harmonics_heatmap.png", "coefficients_tilt_x_deg.png", "coefficients_phase_error_deg.png"});
   CHECK(fs::file_size(out / "harmonics_heatmap.png") > 1000);
   CHECK_FALSE(leftovers(out));
 

@@ -221,12 +221,9 @@ TEST_CASE("real_field study: tiny run on a coarse solve", "[studies][cli]") {
                                        "' --set sensor.steps=360 --set sweep.points=6 --set study.arrays=two,diff4");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "config.toml", "run.json",
-                        "eps.png", "harmonics.png", "coefficients_dx.png", "differences_dx.png",
-                        "coefficients_sy.png"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "config.toml", "run.json",
+                          "eps.png", "harmonics.png", "coefficients_dx.png", "differences_dx.png",
+                          "coefficients_sy.png"});
   CHECK(fs::file_size(out / "differences_dx.png") > 1000);
   // 2 arrays x 3 sources (grid, fem, exact) x (ideal + 4 offsets x 6 points).
   const auto rows = read_csv(out / "spectra.csv");
@@ -263,11 +260,8 @@ TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][cli]") {
                                        "' --set sensor.steps=360 --set dz_sweep.points=5 --set study.arrays=two,diff4");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "eps.png", "coefficients_alone.png",
-                        "coefficients_dx.png", "differences_sxdx.png"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "comparison.csv", "fits.csv", "summary.md", "eps.png", "coefficients_alone.png",
+                          "coefficients_dx.png", "differences_sxdx.png"});
   const auto rows = read_csv(out / "spectra.csv");
   CHECK(rows.size() == 2 * 3 * 4 * 5);  // arrays x sources x cases x dz values
   // dz alone on the exact field: no error at any dz.
@@ -333,11 +327,8 @@ TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coa
       "coarse P2: config=" + coarse + " fem.order=2' --set provenance.fem_dirs='" + dir.string() + "'");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "fem_artefacts.png",
-                        "run.json"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "fem_artefacts.png",
+                          "run.json"});
   const auto rows = read_csv(out / "provenance.csv");
   // exact rows + cases x spacings x modes + 3 FE solutions x (direct + via plane grid) x cases.
   CHECK(rows.size() == 3 + 3 * 2 * 2 + 3 * 2 * 3);

@@ -12,23 +12,13 @@
 #include <sstream>
 #include <string>
 
+#include "study_test_util.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
-struct Run {
-  int code;
-  std::string err;
-};
-Run run_radius(const std::string& args, const fs::path& out) {
-  const fs::path err = out.string() + ".stderr";
-  const std::string cmd = std::string(MAGENC_BIN_DIR) + "/radius --out " + out.string() + " " + args + " >/dev/null 2>" +
-                          err.string();
-  const int rc = std::system(cmd.c_str());
-  std::ifstream f(err);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
-}
+using Run = magenc::test::StudyRun;
+Run run_radius(const std::string& args, const fs::path& out) { return magenc::test::run_study_exe("radius", out, args); }
 std::string tiny() {
   return "--set radius.fem_dir= --set radius.r0_min_mm=1.0 --set radius.r0_max_mm=3.0 --set radius.r0_step_mm=0.5 "
          "--set radius.samples=300 --set radius.validate_radii=2 --set radius.validate_samples=1 --set sensor.steps=720";
@@ -48,10 +38,9 @@ TEST_CASE("radius study: tiny configuration", "[studies][cli][slow]") {
   const Run r = run_radius(tiny(), out);
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"radius.csv", "radius_spectra.csv", "radius_recommendation.csv", "radius_validation.csv",
-                        "summary.md", "config.toml", "bz_profile.png", "percentiles_analytic.png",
-                        "harmonics_analytic_ring8.png", "total_p99.png"})
-    CHECK(fs::exists(out / f));
+  magenc::test::check_files_exist(out, {"radius.csv", "radius_spectra.csv", "radius_recommendation.csv",
+                                        "radius_validation.csv", "summary.md", "config.toml", "bz_profile.png",
+                                        "percentiles_analytic.png", "harmonics_analytic_ring8.png", "total_p99.png"});
   std::ifstream csv(out / "radius.csv");
   std::string header, line;
   std::getline(csv, header);

@@ -9,6 +9,7 @@
 #include "probe/angle_error.hpp"
 #include "fields/magnet.hpp"
 #include "study_test_util.hpp"
+#include "../probe/probe_setup.hpp"
 
 using namespace magenc;
 using namespace magenc::test;
@@ -24,14 +25,7 @@ const std::map<std::string, std::string>& find_row(const std::vector<std::map<st
   return rows.front();
 }
 
-ProbeSetup setup_for(const std::string& array, int steps) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array);
-  s.r0_mm = 2.4;
-  s.plane_z_mm = 4.55;
-  s.steps = steps;
-  return s;
-}
+ProbeSetup setup_for(const std::string& array, int steps) { return probe_setup(array, steps); }
 
 }  // namespace
 
@@ -40,11 +34,8 @@ TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[
   const StudyRun r = run_study_exe("linear_model", out, "--set sensor.steps=360 --set sweep.points=6");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
-                        "harmonics.png", "coefficients.png", "eps.gp", "eps.dat"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
+                          "harmonics.png", "coefficients.png", "eps.gp", "eps.dat"});
   CHECK(fs::file_size(out / "eps.png") > 1000);
   CHECK_FALSE(leftovers(out));
 
@@ -87,11 +78,8 @@ TEST_CASE("exact_field study: tiny run matches the library and physics.md's qual
                                    "--set study.arrays=two,diff4");
   INFO(r.err);
   REQUIRE(r.code == 0);
-  for (const char* f : {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
-                        "harmonics.png", "coefficients_sx.png", "coefficients_dx.png", "coefficients_dz.png"}) {
-    INFO(f);
-    CHECK(fs::exists(out / f));
-  }
+  check_files_exist(out, {"spectra.csv", "fits.csv", "summary.md", "config.toml", "run.json", "eps.png",
+                          "harmonics.png", "coefficients_sx.png", "coefficients_dx.png", "coefficients_dz.png"});
   const auto rows = read_csv(out / "spectra.csv");
   REQUIRE(rows.size() == 2 * (1 + 4 * 6 + 5));
 

@@ -21,7 +21,9 @@ Exit 0 when clean; 1 with one line per problem otherwise.
 import os
 import re
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from checker_selftest import repo_root, run_self_test  # noqa: E402 (tests/checker_selftest.py)
 
 LAYERS = ["core", "fields", "probe", "io", "analysis", "report", "field_solver", "apps", "studies"]
 KINDS = ["physics", "closed-form", "convergence", "cross-check", "contract", "bad-input", "regression",
@@ -152,13 +154,6 @@ def check(root):
     return problems, count
 
 
-def write(root, rel, text):
-    path = os.path.join(root, rel)
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-
-
 def self_test():
     readme = "# tests\n\n| tag | meaning |\n| --- | --- |\n" + "".join(
         f"| `[{t}]` | x |\n" for t in LAYERS + KINDS)
@@ -187,35 +182,20 @@ def self_test():
         "undocumented tag": ("tests/README.md", readme.replace("| `[slow]` | x |\n", ""), "[slow] of the checker"),
         "documented unknown tag": ("tests/README.md", readme + "| `[fem]` | x |\n", "documents tag [fem]"),
     }
-    failures = 0
-    with tempfile.TemporaryDirectory() as tmp:
-        root = os.path.join(tmp, "clean")
-        for rel, text in clean.items():
-            write(root, rel, text)
+
+    def clean_failure(root):
         problems, count = check(root)
         if problems or count != 3:
-            print(f"self-test FAILED: the clean tree gives {count} test cases (expected 3) and problems {problems}")
-            failures += 1
-        for i, (what, (rel, text, expected)) in enumerate(violating.items()):
-            root = os.path.join(tmp, f"bad{i}")
-            for r, t in clean.items():
-                write(root, r, t)
-            write(root, rel, text)
-            problems, _ = check(root)
-            if len(problems) != 1 or not problems[0].startswith(rel) or expected not in problems[0]:
-                print(f"self-test FAILED: {what}: expected one problem in {rel} containing '{expected}', got "
-                      f"{problems}")
-                failures += 1
-            else:
-                print(f"self-test ok: {what}: {problems[0]}")
-    print("self-test: " + ("all cases behave" if failures == 0 else f"{failures} case(s) misbehave"))
-    return 1 if failures else 0
+            return f"the clean tree gives {count} test cases (expected 3) and problems {problems}"
+        return None
+
+    return run_self_test(lambda root: check(root)[0], clean, violating, clean_failure, at=lambda rel: rel)
 
 
 def main(argv):
     if len(argv) > 1 and argv[1] == "--self-test":
         return self_test()
-    root = os.path.abspath(argv[1] if len(argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
+    root = repo_root(argv, __file__)
     problems, count = check(root)
     for p in problems:
         print(p)
