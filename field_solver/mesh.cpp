@@ -5,6 +5,8 @@
 #include <array>
 #include <vector>
 
+#include "core/errors.hpp"
+
 namespace magenc::fem {
 
 std::vector<int> face_partners(const Eigen::Matrix4Xi& tets, int num_nodes) {
@@ -24,7 +26,11 @@ std::vector<int> face_partners(const Eigen::Matrix4Xi& tets, int num_nodes) {
   };
   std::vector<long> start(static_cast<size_t>(num_nodes) + 1, 0);
   for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 4; ++k) ++start[static_cast<size_t>(sorted_face(t, k)[0]) + 1];
+    for (int k = 0; k < 4; ++k) {
+      const auto v = sorted_face(t, k);
+      if (v[0] < 0 || v[2] >= num_nodes) throw ComputeError("mesh: a tet refers to a vertex that does not exist");
+      ++start[static_cast<size_t>(v[0]) + 1];
+    }
   for (int i = 0; i < num_nodes; ++i) start[static_cast<size_t>(i) + 1] += start[static_cast<size_t>(i)];
   std::vector<Entry> entries(static_cast<size_t>(4) * static_cast<size_t>(nt));
   {
