@@ -3,7 +3,6 @@
 #include <cmath>
 #include <fstream>
 #include <set>
-#include <sstream>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -14,8 +13,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kForm = "expected 'LABEL: config=FILE key=value ...' entries separated by ';'";
-
 bool settable(const std::string& key) {
   for (const char* p : {"mesh.", "fem.", "grid."})
     if (key.rfind(p, 0) == 0) return true;
@@ -24,27 +21,18 @@ bool settable(const std::string& key) {
 
 }  // namespace
 
-std::vector<FemVariantSpec> parse_fem_variants(const std::string& text, const std::string& key) {
+std::vector<FemVariantSpec> parse_fem_variants(const ConfigTables& tables, const std::string& key) {
   std::vector<FemVariantSpec> out;
   std::set<std::string> labels;
-  std::stringstream entries(text);
-  for (std::string entry; std::getline(entries, entry, ';');) {
-    entry = trim(entry);
-    if (entry.empty()) continue;
-    const auto colon = entry.find(':');
-    if (colon == std::string::npos) throw InputError(key + ": '" + entry + "' has no label: " + kForm);
+  for (const auto& t : tables) {
     FemVariantSpec v;
-    v.label = trim(entry.substr(0, colon));
-    if (v.label.empty() || v.label.find(',') != std::string::npos)
-      throw InputError(key + ": '" + entry + "': the label before ':' must be non-empty and without ','; " + kForm);
-    if (!labels.insert(v.label).second) throw InputError(key + ": label '" + v.label + "' is used twice");
-    std::stringstream settings(entry.substr(colon + 1));
-    for (std::string s; settings >> s;) {
-      const auto eq = s.find('=');
-      if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
-        throw InputError(key + ": '" + v.label + "': setting '" + s + "' is not NAME=VALUE (config=FILE or a mesh.*, fem.*, grid.* key)");
-      v.settings.push_back(s);
-    }
+    v.label = t.text("label");
+    if (v.label.find(',') != std::string::npos)
+      throw InputError(key + ": label '" + v.label + "' contains ',': allowed a label without ',' (it is a CSV cell)");
+    if (!labels.insert(v.label).second)
+      throw InputError(key + ": label '" + v.label + "' is used twice: allowed one table per label");
+    v.config = t.text("config");
+    v.settings = t.settings("set");
     out.push_back(std::move(v));
   }
   return out;
@@ -68,38 +56,35 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
   // (c4 on meshes/coarse.toml: 7.5e-8 deg at the default 1e-8, 4.9e-10 deg at 1e-10). A variant may set it.
   cfg.set_value("fem.tolerance", 1e-10);
   try {
-    for (const auto& s : variant.settings) {
-      const auto eq = s.find('=');
-      const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-      if (name == "config") {
-        fs::path file = value;
-        if (file.is_relative())
-          for (const auto& d : search_dirs)
-            if (fs::is_regular_file(d / value)) {
-              file = d / value;
-              break;
-            }
-        if (!fs::is_regular_file(file)) {
-          std::string dirs;
-          for (const auto& d : search_dirs) dirs += (dirs.empty() ? "" : ", ") + d.string();
-          throw InputError("config file '" + value + "' not found" +
-                           (file.is_relative() && !dirs.empty() ? " (looked in " + dirs + ")" : ""));
-        }
-        cfg.load_toml_file(file.string());
-      } else if (settable(name)) {
-        std::string keys;
-        bool known = false;
-        for (const auto& k : cfg.schema())
-          if (settable(k.key)) {
-            keys += (keys.empty() ? "" : ", ") + k.key;
-            known = known || k.key == name;
+    if (const std::string& value = variant.config; !value.empty()) {
+      fs::path file = value;
+      if (file.is_relative())
+        for (const auto& d : search_dirs)
+          if (fs::is_regular_file(d / value)) {
+            file = d / value;
+            break;
           }
-        if (!known) throw InputError("unknown key '" + name + "': allowed config=FILE and " + keys);
-        cfg.set(s);
-      } else {
-        throw InputError("'" + name + "' cannot be set per variant: allowed config=FILE and mesh.*, fem.*, grid.* keys "
-                         "(the magnet and sensing plane are the study's, with magnet.mu_r = 1)");
+      if (!fs::is_regular_file(file)) {
+        std::string dirs;
+        for (const auto& d : search_dirs) dirs += (dirs.empty() ? "" : ", ") + d.string();
+        throw InputError("config file '" + value + "' not found" +
+                         (file.is_relative() && !dirs.empty() ? " (looked in " + dirs + ")" : ""));
       }
+      cfg.load_toml_file(file.string());
+    }
+    for (const auto& [name, value] : variant.settings) {
+      if (!settable(name))
+        throw InputError("set: '" + name + "' cannot be set per variant: allowed mesh.*, fem.*, grid.* keys "
+                         "(the magnet and sensing plane are the study's, with magnet.mu_r = 1)");
+      std::string keys;
+      bool known = false;
+      for (const auto& k : cfg.schema())
+        if (settable(k.key)) {
+          keys += (keys.empty() ? "" : ", ") + k.key;
+          known = known || k.key == name;
+        }
+      if (!known) throw InputError("set: unknown key '" + name + "': allowed " + keys);
+      cfg.set_value(name, std::visit([](const auto& x) { return ConfigValue(x); }, value));
     }
     // A config file may hold any solve_field key: the magnet, the plane and the shaft must stay as above.
     for (const auto& k : fixed)
@@ -112,9 +97,7 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
     if (cfg.flag("shaft.enabled")) throw InputError("enables the shaft: variants are the bare magnet (compared with the exact field)");
     (void)fem_settings_from_config(cfg);  // geometry and grids valid
   } catch (const InputError& e) {
-    std::string why = e.what();
-    if (why.rfind("--set: ", 0) == 0) why.erase(0, 7);  // Config::set names its origin --set; here it is the variant
-    throw InputError(where + why);
+    throw InputError(where + e.what());
   }
   return cfg;
 }
@@ -151,7 +134,7 @@ SolvedFemField solve_fem_field(const Config& solve_cfg) {
 std::vector<FemVariant> fem_variants_from_config(const Config& study_cfg, const std::string& key,
                                                  const std::vector<fs::path>& search_dirs) {
   std::vector<FemVariant> out;
-  for (const auto& v : parse_fem_variants(study_cfg.str(key), key))
+  for (const auto& v : parse_fem_variants(study_cfg.tables(key), key))
     out.push_back({v.label, fem_variant_config(v, study_cfg, key, search_dirs)});
   return out;
 }

@@ -1,13 +1,13 @@
 // FE variants solved inside a study: what solve_field does, without files.
 // A variant is a label plus solve_field settings applied on top of the
-// defaults, written in a study's config as one string (a declared string key):
-//   "coarse P1: config=meshes/coarse.toml fem.order=1; medium P2: config=meshes/coarse.toml mesh.h_zone_mm=0.4"
-// entries separated by ';', LABEL before ':', settings separated by blanks and
-// applied in order: config=FILE loads a TOML file of solve_field keys
-// (meshes/*.toml), key=value sets one mesh.*, fem.* or grid.* key. The magnet
-// and sensing plane are the study's, with magnet.mu_r = 1, so the solution can
-// be compared with the exact field (which has no permeability).
-// Sample: build/bin/harmonic_provenance --set 'provenance.fem_variants=P1: config=meshes/coarse.toml fem.order=1'
+// defaults, one table of a study's table-list key (core/config.hpp):
+//   [[provenance.fem_variants]]
+//   label = "medium P2"                       # required; names the variant in tables (no ',')
+//   config = "meshes/coarse.toml"             # optional: a TOML file of solve_field keys, loaded first
+//   set = { fem.order = 2, mesh.h_zone_mm = 0.4 }   # optional: mesh.*, fem.*, grid.* keys, applied after config
+// The magnet and sensing plane are the study's, with magnet.mu_r = 1, so the
+// solution can be compared with the exact field (which has no permeability).
+// Sample: build/bin/harmonic_provenance --set 'provenance.fem_variants=[{ label = "P1", config = "meshes/coarse.toml", set = { fem.order = 1 } }]'
 #pragma once
 #include <filesystem>
 #include <memory>
@@ -24,19 +24,19 @@
 namespace magenc::fem {
 
 struct FemVariantSpec {
-  std::string label;                  // e.g. "coarse P1" (no ',' ';' ':')
-  std::vector<std::string> settings;  // in order: "config=FILE" or "section.key=value"
+  std::string label;   // e.g. "coarse P1" (no ',': it is a CSV cell)
+  std::string config;  // a TOML file of solve_field keys ("" for none), applied first
+  std::vector<std::pair<std::string, ConfigScalar>> settings;  // "section.key" = value, applied after config
 };
 
-// Parses the variant list (empty or blank text: none). InputError naming
-// `key` and the expected form for an entry without a label, an empty or
-// duplicate label, a setting that is not NAME=VALUE.
-std::vector<FemVariantSpec> parse_fem_variants(const std::string& text, const std::string& key);
+// The variants of the table-list key `key` (fields checked by Config). InputError
+// naming `key` for a label with ',' or a label used twice.
+std::vector<FemVariantSpec> parse_fem_variants(const ConfigTables& tables, const std::string& key);
 
 // The solve_field Config of one variant: solve_field's defaults, the study's
 // [magnet] keys and sensor.plane_height_mm with magnet.mu_r = 1 and
-// fem.progress_every = 0, then the variant's settings in order. A relative
-// config=FILE is looked up in each of search_dirs in turn. Only mesh.*, fem.*
+// fem.progress_every = 0, then the variant's config file, then its settings. A
+// relative config file is looked up in each of search_dirs in turn. Only mesh.*, fem.*
 // and grid.* may be set (a file that changes the magnet, the plane or enables
 // the shaft is rejected); the settings are validated with
 // fem_settings_from_config. Every error is one InputError line

@@ -176,7 +176,7 @@ FemSources fem_sources_from_config(const Config& cfg) {
   FemSources r;
   const fs::path dir = cfg.str("fem_field.dir");
   r.dir = dir.string();
-  const auto labels = split_list(cfg.str("fem_field.sources"), "fem_field.sources");
+  const auto labels = cfg.strings("fem_field.sources");
   const std::string hint = ": run solve_field first (solve_field --out " + dir.string() + ")";
   if (!fs::is_directory(dir)) throw InputError("fem_field.dir '" + dir.string() + "' is not a directory" + hint);
   FieldOptions opts;

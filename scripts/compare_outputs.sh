@@ -59,7 +59,7 @@ cmd_run() {
   run_one "$bin" "$root" harmonic_provenance_small harmonic_provenance \
     --config studies/harmonic_provenance.toml --set sensor.steps=360 \
     --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic \
-    --set "provenance.fem_variants=coarse P1: config=$coarse fem.order=1" \
+    --set "provenance.fem_variants=[{ label = \"coarse P1\", config = \"$coarse\", set = { fem.order = 1 } }]" \
     --set "provenance.fem_dirs=$field"
   # No FE variants and no directories: the FE section is absent.
   run_one "$bin" "$root" harmonic_provenance_nofe harmonic_provenance \
@@ -104,6 +104,7 @@ cmd_diff() {
     if ! diff <(cd "$da" && ls) <(cd "$db" && ls) >/dev/null; then
       echo "FILES DIFFER in $name:"; diff <(cd "$da" && ls) <(cd "$db" && ls) || true; bad=1
     fi
+    # (diff exits 1 on a difference: "|| true" below keeps set -e from ending the comparison at the first one.)
     for fa in "$da"*; do
       local f; f=$(basename "$fa")
       local fb="$db/$f"
@@ -115,10 +116,10 @@ cmd_diff() {
           continue ;;
         summary.md)
           if diff <(normalized "$fa") <(normalized "$fb") >/dev/null; then same=$((same + 1))
-          else echo "DIFFERS: $name/$f"; diff <(normalized "$fa") <(normalized "$fb") | head -20; bad=1; fi ;;
+          else echo "DIFFERS: $name/$f"; diff <(normalized "$fa") <(normalized "$fb") | head -20 || true; bad=1; fi ;;
         *)
           if cmp -s "$fa" "$fb"; then same=$((same + 1))
-          else echo "DIFFERS: $name/$f"; diff "$fa" "$fb" | head -20; bad=1; fi ;;
+          else echo "DIFFERS: $name/$f"; diff "$fa" "$fb" | head -20 || true; bad=1; fi ;;
       esac
     done
   done

@@ -33,7 +33,7 @@ std::vector<KeySpec> study_keys() {
 void run(const Config& cfg, StudyOutput& out) {
   // 1. Probe setups, one per array (sensor.array is not used: study.arrays lists them).
   std::vector<ProbeSetup> setups;
-  for (const auto& a : split_list(cfg.str("study.arrays"), "study.arrays"))
+  for (const auto& a : cfg.strings("study.arrays"))
     setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
   // 2. Every source alone on every array, cubic fits.
   const ErrorSourcesRun result = run_error_sources(cfg, setups, kStudy);

@@ -41,16 +41,7 @@ std::vector<KeySpec> study_keys() {
 }
 
 std::vector<double> numbers(const Config& cfg, const std::string& key) {
-  std::vector<double> v;
-  if (cfg.str(key).empty()) return v;
-  for (const auto& s : split_list(cfg.str(key), key)) {
-    try {
-      v.push_back(std::stod(s));
-    } catch (...) {
-      throw InputError(key + ": '" + s + "' is not a number");
-    }
-  }
-  return v;
+  return cfg.numbers(key);
 }
 
 std::string row(const std::vector<std::string>& cells) {

@@ -232,17 +232,11 @@ std::vector<ExperimentSpec> anomaly_experiments() {
 
 namespace {
 
-// A comma list that may be empty (empty or blank text: the default).
-std::vector<std::string> optional_list(const std::string& text, const std::string& what) {
-  if (trim(text).empty()) return {};
-  return split_list(text, what);
-}
-
 }  // namespace
 
 DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null) {
   // 1. Inputs.
-  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  const auto arrays = cfg.strings("study.arrays");
   for (const auto& a : arrays) (void)probe_setup_from_config(cfg, a, "study.arrays");  // all checked before any work
   struct Src {
     std::string label;
@@ -260,7 +254,7 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
   // Unknown names: the error names the key (the bad-input matrix found it naming only the parameter).
   const auto parameter_list = [&](const std::string& key) {
     try {
-      auto names = expand_free_names(optional_list(cfg.str(key), key));
+      auto names = expand_free_names(cfg.strings(key));
       for (const auto& n : names) fit_parameter(n);
       return names;
     } catch (const InputError& e) {

@@ -102,14 +102,14 @@ ErrorSourcesRun run_error_sources(const Config& cfg, const std::vector<ProbeSetu
   const FieldSourcePtr field = make_field_source(run.field_spec, cfg);
   run.field = field->name();
   run.setups = setups;
-  for (const auto& name : split_list(cfg.str("study.sources"), "study.sources")) {
+  for (const auto& name : cfg.strings("study.sources")) {
     const ErrorSource& src = find_error_source(name, "study.sources");
     if (src.changes_field && run.field_spec != "analytic")
       throw InputError("study.sources: " + src.swept + " changes the magnet, which study.field = '" + run.field_spec +
                        "' cannot follow: allowed analytic (or drop " + src.swept + ")");
     run.sources.push_back(&src);
   }
-  run.coefs = split_list(cfg.str("sweep.coefs"), "sweep.coefs");
+  run.coefs = cfg.strings("sweep.coefs");
   check_coef_names(run.coefs, "sweep.coefs");
   const int points = static_cast<int>(cfg.integer("sweep.points"));
   // 2. Each source alone on each array; cubic fits.

@@ -58,7 +58,7 @@ ComparisonInputs comparison_inputs_from_config(const Config& cfg, FemSources fem
   in.solve_mu_r = fem.mu_r;
   in.exact = std::make_shared<const AnalyticField>(Magnet::from_config(cfg));
   in.base = Mount::from_config(cfg);
-  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  const auto arrays = cfg.strings("study.arrays");
   ProbeArray::parse(cfg.str("sensor.array"));  // unused here (study.arrays), but still checked
   for (const auto& a : arrays) in.setups.push_back(probe_setup_from_config(cfg, a, "study.arrays"));
   in.dir = fem.dir;

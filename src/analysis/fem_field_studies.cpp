@@ -58,8 +58,8 @@ RealFieldResult run_real_field(const Config& cfg, const std::string& study, FemS
   // 1. Inputs: the FEM sources (opened by the caller), the exact field, the arrays.
   r.inputs = comparison_inputs_from_config(cfg, std::move(fem));
   r.options = OffsetSweepOptions::from_config(cfg);
-  const auto acc_arrays = split_list(cfg.str("acceptance.arrays"), "acceptance.arrays");
-  const auto acc_coefs = split_list(cfg.str("acceptance.coefs"), "acceptance.coefs");
+  const auto acc_arrays = cfg.strings("acceptance.arrays");
+  const auto acc_coefs = cfg.strings("acceptance.coefs");
   check_coef_names(acc_coefs, "acceptance.coefs");
   for (const auto& o : r.options.offsets)
     if (o == "dz_mm") throw InputError("sweep.offsets: dz_mm is the airgap study's (plane.vti has no dz)");
@@ -85,7 +85,7 @@ AirgapResult run_airgap(const Config& cfg, const std::string& study, FemSources 
   AirgapResult r;
   // 1. Inputs.
   r.inputs = comparison_inputs_from_config(cfg, std::move(fem));
-  const auto coefs = split_list(cfg.str("dz_sweep.coefs"), "dz_sweep.coefs");
+  const auto coefs = cfg.strings("dz_sweep.coefs");
   check_coef_names(coefs, "dz_sweep.coefs");
   if (!(cfg.real("dz_sweep.max_mm") > cfg.real("dz_sweep.min_mm")))
     throw InputError("dz_sweep.max_mm must be > dz_sweep.min_mm");

@@ -34,8 +34,8 @@ std::vector<KeySpec> dz_sweep_keys(const std::string& start_note) {
 
 OffsetSweepOptions OffsetSweepOptions::from_config(const Config& cfg) {
   OffsetSweepOptions o;
-  o.offsets = split_list(cfg.str("sweep.offsets"), "sweep.offsets");
-  o.coefs = split_list(cfg.str("sweep.coefs"), "sweep.coefs");
+  o.offsets = cfg.strings("sweep.offsets");
+  o.coefs = cfg.strings("sweep.coefs");
   check_coef_names(o.coefs, "sweep.coefs");
   for (const auto& name : o.offsets) with_offset(Mount{}, name, 0.0);  // validates the names
   o.reference_mm = cfg.real("sweep.reference_mm");
@@ -102,7 +102,7 @@ ExactFieldResult run_exact_field(const Config& cfg, const std::string& study) {
   const LinearField linear;
   r.field = field->name();
   r.base = Mount::from_config(cfg);
-  const auto arrays = split_list(cfg.str("study.arrays"), "study.arrays");
+  const auto arrays = cfg.strings("study.arrays");
   r.options = OffsetSweepOptions::from_config(cfg);
   const auto& o = r.options;
   const double residual_dx_mm = cfg.real("dz_sweep.residual_dx_mm");

@@ -16,27 +16,13 @@ namespace {
 // A grid spacing in a variant name: 6 significant digits ("0.05").
 std::string h_text(double h) { return fmt_sig(h, 6); }
 
-// Positive numbers of a comma list (mm); InputError naming `what` otherwise.
-std::vector<double> parse_positive_numbers(const std::string& text, const std::string& what) {
-  std::vector<double> v;
-  for (const auto& s : split_list(text, what)) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(s, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != s.size() || !(x > 0)) throw InputError(what + ": '" + s + "' is not a positive number (mm)");
-    v.push_back(x);
-  }
-  return v;
-}
-
+// The default variants (as studies/harmonic_provenance.toml lists them), one TOML inline array.
 const char* kDefaultVariants =
-    "coarse P1: config=meshes/coarse.toml fem.order=1; coarse P2: config=meshes/coarse.toml fem.order=2; "
-    "medium P2: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5; "
-    "medium P2 D16: config=meshes/coarse.toml fem.order=2 mesh.h_zone_mm=0.4 mesh.h_magnet_mm=0.5 mesh.symmetry_order=16";
+    "[{ label = \"coarse P1\", config = \"meshes/coarse.toml\", set = { fem.order = 1 } }, "
+    "{ label = \"coarse P2\", config = \"meshes/coarse.toml\", set = { fem.order = 2 } }, "
+    "{ label = \"medium P2\", config = \"meshes/coarse.toml\", set = { fem.order = 2, mesh.h_zone_mm = 0.4, mesh.h_magnet_mm = 0.5 } }, "
+    "{ label = \"medium P2 D16\", config = \"meshes/coarse.toml\", "
+    "set = { fem.order = 2, mesh.h_zone_mm = 0.4, mesh.h_magnet_mm = 0.5, mesh.symmetry_order = 16 } }]";
 
 }  // namespace
 
@@ -46,10 +32,14 @@ std::vector<KeySpec> provenance_keys() {
       string_list_key("provenance.interps", {"nearest", "linear", "cubic"}, {}, "interpolation modes"),
       real_key("provenance.half_width_mm", 3.5, 0, 100, "mm", "plane grids span [-w, w] in x and y", true),
       real_key("provenance.offset_mm", 0.1, 0, 10, "mm", "size of the sx and dx cases", true),
-      string_key(kFemVariantsKey, kDefaultVariants, {},
-                 "FE variants solved here with magnet.mu_r = 1: 'LABEL: config=FILE key=value ...' entries separated by "
-                 "';' (config=FILE: a TOML file of solve_field keys, relative to the working directory or the magenc "
-                 "source tree; key=value: a mesh.*, fem.* or grid.* key); empty: none"),
+      table_list_key(kFemVariantsKey,
+                     {required(string_key("label", "", {}, "the variant's name in tables and plots (no ',')")),
+                      string_key("config", "", {}, "a TOML file of solve_field keys (relative: to the working directory "
+                                                   "or the magenc source tree)"),
+                      settings_field("set", "mesh.*, fem.*, grid.* keys, applied after config")},
+                     kDefaultVariants,
+                     "FE variants solved here with magnet.mu_r = 1, each a table { label, config, set } "
+                     "([[provenance.fem_variants]] sections; --set: an inline array [{ ... }, ...]); empty array: none"),
       string_list_key("provenance.fem_dirs", {}, {}, "solve_field output directories to include (may be empty)", 0),
       string_key("provenance.fem_grid_interp", "cubic", {"none", "nearest", "linear", "cubic"},
                  "also evaluate each FE solution through its plane grid (plane.vti) with this interpolation; none: directly only"),
@@ -61,9 +51,9 @@ ProvenanceOptions ProvenanceOptions::from_config(const Config& cfg) {
   ProvenanceOptions o;
   o.setup = probe_setup_from_config(cfg, cfg.str("sensor.array"));
   o.spacings_text = cfg.str("provenance.spacings_mm");
-  o.spacings_mm = parse_positive_numbers(o.spacings_text, "provenance.spacings_mm");
+  o.spacings_mm = cfg.reals("provenance.spacings_mm");
   o.interps_text = cfg.str("provenance.interps");
-  for (const auto& m : split_list(o.interps_text, "provenance.interps"))
+  for (const auto& m : cfg.strings("provenance.interps"))
     o.modes.push_back(parse_interp(m, "provenance.interps"));
   o.half_width_mm = cfg.real("provenance.half_width_mm");
   o.offset_mm = cfg.real("provenance.offset_mm");
@@ -72,8 +62,7 @@ ProvenanceOptions ProvenanceOptions::from_config(const Config& cfg) {
   o.cases = {{"ideal", base},
              {"sx=" + fmt(o.offset_mm, 2), with_offset(base, "sx_mm", o.offset_mm)},
              {"dx=" + fmt(o.offset_mm, 2), with_offset(base, "dx_mm", o.offset_mm)}};
-  if (!cfg.str("provenance.fem_dirs").empty())
-    o.fem_dirs = split_list(cfg.str("provenance.fem_dirs"), "provenance.fem_dirs");
+  o.fem_dirs = cfg.strings("provenance.fem_dirs");
   o.grid_interp = cfg.str("provenance.fem_grid_interp");
   return o;
 }

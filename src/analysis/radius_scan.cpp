@@ -25,18 +25,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::vector<std::string> split_commas(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream is(text);
-  while (std::getline(is, item, ',')) {
-    const auto b = item.find_first_not_of(" \t");
-    const auto e = item.find_last_not_of(" \t");
-    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
-  }
-  return out;
-}
-
 constexpr int kStencil = 5;  // points per axis of the fit stencil
 
 }  // namespace
@@ -302,8 +290,8 @@ void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
 
 std::vector<KeySpec> RadiusScanOptions::keys() {
   std::vector<KeySpec> k = {
-      string_key("radius.fields", "analytic", {},
-                 "field sources to scan, comma-separated (analytic, linear, grid:FILE.vti, table:FILE, fem:DIR)"),
+      string_list_key("radius.fields", {"analytic"}, {},
+                      "field sources to scan (analytic, linear, grid:FILE.vti, table:FILE, fem:DIR)"),
       string_key("radius.fem_dir", "output/field", {},
                  "add fem:<dir> when <dir>/solve.json exists and no fem: field is listed (empty = never)"),
       string_list_key("radius.arrays", {"two", "diff4", "ring:8"}, {}, "probe arrays to compare"),
@@ -342,8 +330,7 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
 
 RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   RadiusScanOptions o;
-  for (const auto& a : split_commas(cfg.str("radius.arrays"))) o.arrays.push_back(ProbeArray::parse(a, "radius.arrays"));
-  if (o.arrays.empty()) throw InputError("radius.arrays is empty: allowed a comma-separated list of two, diff4, ring:N");
+  for (const auto& a : cfg.strings("radius.arrays")) o.arrays.push_back(ProbeArray::parse(a, "radius.arrays"));
   const double lo = cfg.real("radius.r0_min_mm"), hi = cfg.real("radius.r0_max_mm"),
                step = cfg.real("radius.r0_step_mm");
   if (!(hi >= lo))
@@ -711,8 +698,7 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
 
 std::vector<std::string> radius_field_specs(const Config& cfg, std::vector<std::string>& notes,
                                             const SolveMismatch& solve_mismatch) {
-  std::vector<std::string> specs = split_commas(cfg.str("radius.fields"));
-  if (specs.empty()) throw InputError("radius.fields is empty: allowed a comma-separated list of field specs");
+  std::vector<std::string> specs = cfg.strings("radius.fields");
   const std::string dir = cfg.str("radius.fem_dir");
   const bool has_fem = std::any_of(specs.begin(), specs.end(), [](const std::string& s) { return s.rfind("fem:", 0) == 0; });
   // A listed fem:DIR must be a solve of the configured magnet: it is compared with the analytic field.

@@ -64,19 +64,6 @@ std::vector<double> linspace(double a, double b, int n) {
   return v;
 }
 
-std::vector<std::string> split_list(const std::string& text, const std::string& what) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) {
-    const auto b = item.find_first_not_of(" \t");
-    if (b == std::string::npos) continue;
-    const auto e = item.find_last_not_of(" \t");
-    out.push_back(item.substr(b, e - b + 1));
-  }
-  if (out.empty()) throw InputError(what + " = '" + text + "': expected a comma-separated list");
-  return out;
-}
-
 void check_coef_names(const std::vector<std::string>& coefs, const std::string& what) {
   const auto& allowed = spectrum_columns();
   for (const auto& c : coefs) {

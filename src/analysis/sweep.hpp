@@ -35,10 +35,6 @@ Mount with_offset(Mount base, const std::string& swept, double value_mm);
 // values on the grid (e.g. 0.1 of 0..0.5 in 26 points) come out exact.
 std::vector<double> linspace(double a, double b, int n);
 
-// Parses a comma-separated list ("a0_deg, c3_deg") into trimmed, non-empty
-// items; InputError naming `what` if empty.
-std::vector<std::string> split_list(const std::string& text, const std::string& what);
-
 // Checks that each name is a spectra-table coefficient column (a0_deg, ...,
 // c8_deg, pp_deg); InputError naming `what` and the allowed names otherwise.
 void check_coef_names(const std::vector<std::string>& coefs, const std::string& what);

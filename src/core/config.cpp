@@ -1,6 +1,9 @@
 #include "core/config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -93,6 +96,50 @@ KeySpec string_list_key(std::string key, const std::vector<std::string>& def, st
   return s;
 }
 
+KeySpec table_list_key(std::string key, std::vector<KeySpec> fields, std::string def_toml, std::string help) {
+  KeySpec s;
+  s.key = std::move(key);
+  s.type = KeySpec::Type::TableList;
+  s.fields = std::move(fields);
+  s.default_value = std::move(def_toml);
+  s.min_elements = 0;
+  s.help = std::move(help);
+  return s;
+}
+
+KeySpec settings_field(std::string name, std::string help) {
+  KeySpec s;
+  s.key = std::move(name);
+  s.type = KeySpec::Type::Settings;
+  s.help = std::move(help);
+  return s;
+}
+
+KeySpec required(KeySpec field) {
+  field.required = true;
+  return field;
+}
+
+bool ConfigTable::has(const std::string& field) const {
+  for (const auto& e : entries)
+    if (e.field == field) return true;
+  return false;
+}
+
+std::string ConfigTable::text(const std::string& field) const {
+  for (const auto& e : entries)
+    if (e.field == field && e.key.empty())
+      if (auto p = std::get_if<std::string>(&e.value)) return *p;
+  return "";
+}
+
+std::vector<std::pair<std::string, ConfigScalar>> ConfigTable::settings(const std::string& field) const {
+  std::vector<std::pair<std::string, ConfigScalar>> out;
+  for (const auto& e : entries)
+    if (e.field == field && !e.key.empty()) out.emplace_back(e.key, e.value);
+  return out;
+}
+
 namespace {
 
 bool is_list(KeySpec::Type t) {
@@ -107,6 +154,15 @@ KeySpec::Type element_type(KeySpec::Type t) {
   return t;
 }
 
+// A scalar value as a ConfigScalar (lists and tables: 0.0; callers pass scalars).
+ConfigScalar as_scalar(const ConfigValue& v) {
+  return std::visit([](const auto& x) -> ConfigScalar {
+    using T = std::decay_t<decltype(x)>;
+    if constexpr (std::is_same_v<T, ConfigList> || std::is_same_v<T, ConfigTables>) return ConfigScalar(0.0);
+    else return ConfigScalar(x);
+  }, v);
+}
+
 std::string scalar_text(const ConfigScalar& v) {
   if (auto d = std::get_if<double>(&v)) return fmt_sig(*d, 12);
   if (auto i = std::get_if<long>(&v)) return std::to_string(*i);
@@ -114,6 +170,7 @@ std::string scalar_text(const ConfigScalar& v) {
   return std::get<bool>(v) ? "true" : "false";
 }
 
+// Text of a scalar or list value (lists: comma-separated); not for tables.
 std::string value_text(const ConfigValue& v) {
   if (auto l = std::get_if<ConfigList>(&v)) {
     std::string t;
@@ -121,9 +178,103 @@ std::string value_text(const ConfigValue& v) {
     return t;
   }
   return std::visit([](const auto& x) -> std::string {
-    if constexpr (std::is_same_v<std::decay_t<decltype(x)>, ConfigList>) return "";
+    using T = std::decay_t<decltype(x)>;
+    if constexpr (std::is_same_v<T, ConfigList> || std::is_same_v<T, ConfigTables>) return "";
     else return scalar_text(ConfigScalar(x));
   }, v);
+}
+
+// A string as a TOML basic string or JSON string (the escapes both share).
+std::string quoted(const std::string& text) {
+  std::string q = "\"";
+  for (const unsigned char c : text) {
+    if (c == '"' || c == '\\') q += '\\', q += static_cast<char>(c);
+    else if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      q += buf;
+    } else q += static_cast<char>(c);
+  }
+  return q + '"';
+}
+
+// A real as TOML (and JSON) writes it: 12 significant digits, always with a '.', 'e' or "nan"/"inf".
+std::string real_text(double d) {
+  std::string t = fmt_sig(d, 12);
+  if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
+  return t;
+}
+
+std::string scalar_toml(const ConfigScalar& v) {
+  if (auto s = std::get_if<std::string>(&v)) return quoted(*s);
+  if (auto d = std::get_if<double>(&v)) return real_text(*d);
+  return scalar_text(v);
+}
+
+// A dotted key as TOML: bare components where allowed, else quoted.
+std::string dotted_key_toml(const std::string& key) {
+  std::string out;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    bool bare = !part.empty();
+    for (const char c : part) bare = bare && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-');
+    out += (start ? "." : "") + (bare ? part : quoted(part));
+    if (dot == std::string::npos) return out;
+    start = dot + 1;
+  }
+}
+
+// Tables as one TOML inline array: [{ label = "a", set = { fem.order = 1 } }, ...]; `sep` between tables.
+std::string tables_toml(const ConfigTables& tables, const std::string& open, const std::string& sep,
+                        const std::string& close) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    out += (i ? sep : open) + "{ ";
+    const auto& entries = tables[i].entries;
+    for (std::size_t j = 0; j < entries.size();) {
+      const ConfigTableEntry& e = entries[j];
+      out += (j ? ", " : "") + dotted_key_toml(e.field) + " = ";
+      if (e.key.empty()) {
+        out += scalar_toml(e.value);
+        ++j;
+        continue;
+      }
+      out += "{ ";
+      for (std::size_t k = j; j < entries.size() && entries[j].field == e.field && !entries[j].key.empty(); ++j)
+        out += (j == k ? "" : ", ") + dotted_key_toml(entries[j].key) + " = " + scalar_toml(entries[j].value);
+      out += " }";
+    }
+    out += " }";
+  }
+  return out + (tables.empty() ? "" : close) + "]";
+}
+
+// Tables as a JSON array of objects (Settings fields as objects of their dotted keys).
+std::string tables_json(const ConfigTables& tables) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    out += std::string(i ? ", " : "") + "{";
+    const auto& entries = tables[i].entries;
+    for (std::size_t j = 0; j < entries.size();) {
+      const ConfigTableEntry& e = entries[j];
+      out += (j ? ", " : "") + quoted(e.field) + ": ";
+      if (e.key.empty()) {
+        out += std::holds_alternative<double>(e.value) ? fmt_sig(std::get<double>(e.value), 12) : scalar_toml(e.value);
+        ++j;
+        continue;
+      }
+      out += "{";
+      for (std::size_t k = j; j < entries.size() && entries[j].field == e.field && !entries[j].key.empty(); ++j)
+        out += (j == k ? "" : ", ") + quoted(entries[j].key) + ": " +
+               (std::holds_alternative<double>(entries[j].value) ? fmt_sig(std::get<double>(entries[j].value), 12)
+                                                                  : scalar_toml(entries[j].value));
+      out += "}";
+    }
+    out += "}";
+  }
+  return out + "]";
 }
 
 // A TOML node as a configuration scalar; nullopt for arrays and tables.
@@ -138,6 +289,66 @@ std::optional<ConfigScalar> toml_scalar(const toml::node& node) {
 // Bounds of TOML text before toml++ parses it (defined below).
 void check_toml_bounds(const std::string& text, const std::string& origin);
 
+// Calls leaf(dotted key, node) for every node of tbl that is not a table, and for the tables
+// stop(dotted key) names (the tables of a table-list key written as [key] instead of [[key]]).
+void walk_table(const toml::table& tbl, const std::string& prefix,
+                const std::function<void(const std::string&, const toml::node&)>& leaf,
+                const std::function<bool(const std::string&)>& stop = {}) {
+  for (const auto& [k, node] : tbl) {
+    std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (auto sub = node.as_table(); sub && !(stop && stop(key))) walk_table(*sub, key, leaf, stop);
+    else leaf(key, node);
+  }
+}
+
+const KeySpec* field_spec(const KeySpec& s, const std::string& name) {
+  for (const auto& f : s.fields)
+    if (f.key == name) return &f;
+  return nullptr;
+}
+
+// The one-line error of element i (0-based) of n of a table-list key.
+[[noreturn]] void table_fail(const KeySpec& s, const std::string& where, std::size_t i, std::size_t n,
+                             const std::string& why) {
+  throw InputError(where + s.key + " element " + std::to_string(i + 1) + " of " + std::to_string(n) + ": " + why +
+                   ": allowed " + allowed_range(s));
+}
+
+// A TOML array of tables as the tables of table-list key s (structure only: check_tables checks the fields).
+ConfigTables toml_tables(const KeySpec& s, const toml::node& node, const std::string& where) {
+  const toml::array* a = node.as_array();
+  if (!a)
+    throw InputError(where + s.key + " must be an array of tables ([[" + s.key + "]] sections or = [{ ... }]): allowed " +
+                     allowed_range(s));
+  ConfigTables out;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    const auto fail = [&](const std::string& why) { table_fail(s, where, i, a->size(), why); };
+    const toml::table* t = a->get(i)->as_table();
+    if (!t) fail(a->get(i)->as_array() ? "is an array, not a table" : "is not a table");
+    ConfigTable table;
+    for (const auto& [k, value] : *t) {
+      const std::string name(k.str());
+      const KeySpec* f = field_spec(s, name);
+      if (!f) fail("unknown field '" + name + "'");
+      if (f->type == KeySpec::Type::Settings) {
+        const toml::table* settings = value.as_table();
+        if (!settings) fail(name + " is not a table of key = value");
+        walk_table(*settings, "", [&](const std::string& key, const toml::node& x) {
+          const auto v = toml_scalar(x);
+          if (!v) fail(name + " key " + key + " is an array: allowed a number, string or boolean");
+          table.entries.push_back({name, key, *v});
+        });
+      } else {
+        const auto v = toml_scalar(value);
+        if (!v) fail(name + " is an array or table");
+        table.entries.push_back({name, "", *v});
+      }
+    }
+    out.push_back(std::move(table));
+  }
+  return out;
+}
+
 // Parse textual value per spec type (for defaults and --set).
 ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
   std::string t = trim(raw);
@@ -145,6 +356,25 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
                      allowed_range(s));
   };
+  if (s.type == KeySpec::Type::TableList) {
+    if (t.empty()) return ConfigTables{};
+    if (t.front() == '[') {
+      check_toml_bounds(t, origin);
+      toml::table tbl;
+      try {
+        const FpTrapPause parsing_input;  // strtod of 1e999 raises FE_OVERFLOW: input, not a bug (fp_trap.hpp)
+        tbl = toml::parse("value = " + t, origin);
+      } catch (const toml::parse_error& e) {
+        throw InputError(origin + ": " + s.key + " is not a TOML array of tables (" + std::string(e.description()) +
+                         "): allowed " + allowed_range(s));
+      }
+      const toml::node* value = tbl.get("value");
+      if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
+      return toml_tables(s, *value, origin + ": ");
+    }
+    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
+                     allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");
+  }
   if (is_list(s.type)) {
     ConfigList elements;
     if (!t.empty() && t.front() == '[') {
@@ -180,10 +410,7 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     }
     for (std::size_t i = 0; i < parts.size(); ++i) {
       try {
-        elements.push_back(std::visit([](const auto& x) -> ConfigScalar {
-          if constexpr (std::is_same_v<std::decay_t<decltype(x)>, ConfigList>) return ConfigScalar(0.0);
-          else return ConfigScalar(x);
-        }, parse_text(e, parts[i], origin)));
+        elements.push_back(as_scalar(parse_text(e, parts[i], origin)));
       } catch (const InputError&) {
         throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
                          std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
@@ -231,7 +458,9 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     case KeySpec::Type::RealList:
     case KeySpec::Type::IntList:
     case KeySpec::Type::StringList:
-      break;  // handled above
+    case KeySpec::Type::TableList:
+    case KeySpec::Type::Settings:
+      break;  // handled above (Settings: only a field of a TableList)
   }
   return fail();
 }
@@ -239,6 +468,19 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
 }  // namespace
 
 std::string allowed_range(const KeySpec& s) {
+  if (s.type == KeySpec::Type::TableList) {
+    std::string r = "an array of tables {";
+    for (std::size_t i = 0; i < s.fields.size(); ++i) {
+      const KeySpec& f = s.fields[i];
+      r += (i ? ", " : "") + f.key + " = " +
+           (f.type == KeySpec::Type::Settings ? "{ key = value, ... }"
+            : f.type == KeySpec::Type::String && f.choices.empty() ? "a non-empty string"
+                                                                   : allowed_range(f)) +
+           (f.required ? " (required)" : "");
+    }
+    return r + "}";
+  }
+  if (s.type == KeySpec::Type::Settings) return "{ key = value, ... }";
   if (is_list(s.type)) {
     KeySpec e = s;
     e.type = element_type(s.type);
@@ -270,6 +512,8 @@ std::string allowed_range(const KeySpec& s) {
     case KeySpec::Type::RealList:
     case KeySpec::Type::IntList:
     case KeySpec::Type::StringList:
+    case KeySpec::Type::TableList:
+    case KeySpec::Type::Settings:
       break;  // handled above
   }
   return "";
@@ -293,52 +537,11 @@ const KeySpec& Config::spec(const std::string& key) const {
 
 bool Config::has(const std::string& key) const { return values_.count(key) > 0; }
 
-void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::string& origin) {
-  const std::string where = origin.empty() ? "" : origin + ": ";
-  if (is_list(s.type)) {
-    const ConfigList* l = std::get_if<ConfigList>(&v);
-    if (!l) {
-      // A scalar in a TOML file: a string is the comma-separated form, anything else is not a list.
-      if (auto text = std::get_if<std::string>(&v)) return assign_checked(s, parse_text(s, *text, origin), origin);
-      throw InputError(where + s.key + " must be an array: allowed " + allowed_range(s));
-    }
-    if (l->size() < s.min_elements)
-      throw InputError(where + s.key + " has " + std::to_string(l->size()) + " elements: allowed " + allowed_range(s));
-    KeySpec e = s;
-    e.type = element_type(s.type);
-    ConfigList checked;
-    const ConfigValue before = values_.at(s.key);  // each element is checked through values_[s.key]
-    struct Restore {
-      std::map<std::string, ConfigValue>& values;
-      const std::string& key;
-      const ConfigValue& before;
-      bool done = false;
-      ~Restore() {
-        if (!done) values[key] = before;
-      }
-    } restore{values_, s.key, before};
-    for (std::size_t i = 0; i < l->size(); ++i) {
-      const ConfigScalar& x = (*l)[i];
-      const std::string shown = std::holds_alternative<std::string>(x) ? "'" + std::get<std::string>(x) + "'"
-                                                                      : scalar_text(x);
-      const std::string element = s.key + " element " + std::to_string(i + 1) + " of " + std::to_string(l->size());
-      if (e.type == KeySpec::Type::String && std::holds_alternative<std::string>(x) &&
-          trim(std::get<std::string>(x)).empty())
-        throw InputError(where + element + " is empty: allowed " + allowed_range(s));
-      try {
-        std::visit([&](const auto& y) { assign_checked(e, ConfigValue(y), ""); }, x);
-      } catch (const InputError&) {
-        throw InputError(where + element + " = " + shown + " is not valid: allowed " + allowed_range(s));
-      }
-      checked.push_back(std::visit([](const auto& y) -> ConfigScalar {
-        if constexpr (std::is_same_v<std::decay_t<decltype(y)>, ConfigList>) return ConfigScalar(0.0);
-        else return ConfigScalar(y);
-      }, values_.at(s.key)));
-    }
-    values_[s.key] = checked;
-    restore.done = true;
-    return;
-  }
+namespace {
+
+// A scalar value of scalar key s, checked (range, choices, type) and normalized (an integral
+// double of an Int key becomes a long, an integer of a Real key a double).
+ConfigValue checked_scalar(const KeySpec& s, const ConfigValue& v, const std::string& where) {
   auto range_fail = [&](const std::string& shown) {
     throw InputError(where + s.key + " = " + shown + " is out of range: allowed " + allowed_range(s));
   };
@@ -351,8 +554,7 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       const bool ok = std::isfinite(d) && (s.min_exclusive ? d > s.min : d >= s.min) &&
                       (s.max_exclusive ? d < s.max : d <= s.max);
       if (!ok) range_fail(fmt_sig(d, 12));
-      values_[s.key] = d;
-      return;
+      return d;
     }
     case KeySpec::Type::Int: {
       long i;
@@ -364,8 +566,7 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       } else throw InputError(where + s.key + " must be an integer: allowed " + allowed_range(s));
       if (static_cast<double>(i) < s.min || static_cast<double>(i) > s.max)
         range_fail(std::to_string(i));
-      values_[s.key] = i;
-      return;
+      return i;
     }
     case KeySpec::Type::String: {
       auto p = std::get_if<std::string>(&v);
@@ -375,20 +576,100 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
         for (const auto& c : s.choices) ok = ok || c == *p;
         if (!ok) range_fail("'" + *p + "'");
       }
-      values_[s.key] = *p;
-      return;
+      return *p;
     }
     case KeySpec::Type::Bool: {
       auto p = std::get_if<bool>(&v);
       if (!p) throw InputError(where + s.key + " must be true or false");
-      values_[s.key] = *p;
+      return *p;
+    }
+    default:
+      throw std::logic_error("checked_scalar: not a scalar key: " + s.key);
+  }
+}
+
+// The tables of table-list key s, checked: declared fields only, required ones present, scalar
+// fields valid (non-empty text for a free String), Settings values finite; entries sorted by field and key.
+ConfigTables checked_tables(const KeySpec& s, ConfigTables tables, const std::string& where) {
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const auto fail = [&](const std::string& why) { table_fail(s, where, i, tables.size(), why); };
+    auto& entries = tables[i].entries;
+    std::stable_sort(entries.begin(), entries.end(), [](const ConfigTableEntry& a, const ConfigTableEntry& b) {
+      return a.field != b.field ? a.field < b.field : a.key < b.key;
+    });
+    for (std::size_t j = 0; j < entries.size(); ++j) {
+      ConfigTableEntry& e = entries[j];
+      const KeySpec* f = field_spec(s, e.field);
+      if (!f) fail("unknown field '" + e.field + "'");
+      if (j > 0 && entries[j - 1].field == e.field && entries[j - 1].key == e.key)
+        fail(e.field + (e.key.empty() ? "" : " key " + e.key) + " is given twice");
+      if (f->type == KeySpec::Type::Settings) {
+        if (e.key.empty() || e.key.front() == '.' || e.key.back() == '.' || e.key.find("..") != std::string::npos)
+          fail(e.field + " is not a table of key = value");
+        if (auto d = std::get_if<double>(&e.value); d && !std::isfinite(*d))
+          fail(e.field + " key " + e.key + " = " + fmt_sig(*d, 6) + " is not finite");
+        continue;
+      }
+      if (!e.key.empty()) fail(e.field + " is not a table");
+      if (f->type == KeySpec::Type::String && f->choices.empty())
+        if (auto p = std::get_if<std::string>(&e.value); p && trim(*p).empty()) fail(e.field + " is empty");
+      try {
+        e.value = as_scalar(checked_scalar(*f, ConfigValue(std::visit([](const auto& y) { return ConfigValue(y); },
+                                                                      e.value)), ""));
+      } catch (const InputError& err) {
+        std::string why = err.what();  // "label must be a string: allowed a string": the fields are named below
+        if (const auto cut = why.find(": allowed "); cut != std::string::npos) why.erase(cut);
+        fail("field " + why);
+      }
+    }
+    for (const auto& f : s.fields)
+      if (f.required && !tables[i].has(f.key)) fail("has no " + f.key);
+  }
+  return tables;
+}
+
+}  // namespace
+
+void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::string& origin) {
+  const std::string where = origin.empty() ? "" : origin + ": ";
+  if (s.type == KeySpec::Type::TableList) {
+    if (auto t = std::get_if<ConfigTables>(&v)) {
+      values_[s.key] = checked_tables(s, *t, where);
       return;
     }
-    case KeySpec::Type::RealList:
-    case KeySpec::Type::IntList:
-    case KeySpec::Type::StringList:
-      break;  // handled above
+    throw InputError(where + s.key + " must be an array of tables ([[" + s.key + "]] sections or = [{ ... }]): allowed " +
+                     allowed_range(s));
   }
+  if (is_list(s.type)) {
+    const ConfigList* l = std::get_if<ConfigList>(&v);
+    if (!l) {
+      // A scalar in a TOML file: a string is the comma-separated form, anything else is not a list.
+      if (auto text = std::get_if<std::string>(&v)) return assign_checked(s, parse_text(s, *text, origin), origin);
+      throw InputError(where + s.key + " must be an array: allowed " + allowed_range(s));
+    }
+    if (l->size() < s.min_elements)
+      throw InputError(where + s.key + " has " + std::to_string(l->size()) + " elements: allowed " + allowed_range(s));
+    KeySpec e = s;
+    e.type = element_type(s.type);
+    ConfigList checked;
+    for (std::size_t i = 0; i < l->size(); ++i) {
+      const ConfigScalar& x = (*l)[i];
+      const std::string shown = std::holds_alternative<std::string>(x) ? "'" + std::get<std::string>(x) + "'"
+                                                                      : scalar_text(x);
+      const std::string element = s.key + " element " + std::to_string(i + 1) + " of " + std::to_string(l->size());
+      if (e.type == KeySpec::Type::String && std::holds_alternative<std::string>(x) &&
+          trim(std::get<std::string>(x)).empty())
+        throw InputError(where + element + " is empty: allowed " + allowed_range(s));
+      try {
+        checked.push_back(as_scalar(checked_scalar(e, std::visit([](const auto& y) { return ConfigValue(y); }, x), "")));
+      } catch (const InputError&) {
+        throw InputError(where + element + " = " + shown + " is not valid: allowed " + allowed_range(s));
+      }
+    }
+    values_[s.key] = checked;
+    return;
+  }
+  values_[s.key] = checked_scalar(s, v, where);
 }
 
 void Config::set_value(const std::string& key, const ConfigValue& value) {
@@ -403,17 +684,6 @@ void Config::set(const std::string& assignment) {
   const KeySpec& s = spec(key);
   assign_checked(s, parse_text(s, assignment.substr(eq + 1), "--set"), "--set");
 }
-
-namespace {
-void walk_table(const toml::table& tbl, const std::string& prefix,
-                const std::function<void(const std::string&, const toml::node&)>& leaf) {
-  for (const auto& [k, node] : tbl) {
-    std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (auto sub = node.as_table()) walk_table(*sub, key, leaf);
-    else leaf(key, node);
-  }
-}
-}  // namespace
 
 namespace {
 // toml++ parses recursively: a 50,000-level dotted header ([a.a.a...]) or deeply nested inline
@@ -478,10 +748,17 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
     os << origin << ": malformed TOML at line " << e.source().begin.line << ": " << e.description();
     throw InputError(os.str());
   }
+  const auto table_list = [&](const std::string& key) {
+    for (const auto& s : schema_)
+      if (s.key == key) return s.type == KeySpec::Type::TableList;
+    return false;
+  };
   walk_table(tbl, "", [&](const std::string& key, const toml::node& node) {
     const KeySpec& s = spec(key);
     ConfigValue v;
-    if (auto x = toml_scalar(node)) {
+    if (s.type == KeySpec::Type::TableList) {
+      v = toml_tables(s, node, origin + ": ");
+    } else if (auto x = toml_scalar(node)) {
       v = std::visit([](const auto& y) { return ConfigValue(y); }, *x);
     } else if (auto a = node.as_array(); a && is_list(s.type)) {
       ConfigList elements;
@@ -497,7 +774,7 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
       throw InputError(origin + ": " + key + " has an unsupported TOML type: allowed " + allowed_range(s));
     }
     assign_checked(s, v, origin);
-  });
+  }, table_list);
 }
 
 void Config::load_toml_file(const std::string& path) {
@@ -531,6 +808,11 @@ std::string Config::str(const std::string& key) const {
   if (std::holds_alternative<ConfigList>(v)) return value_text(v);
   throw std::logic_error("config key is not a string: " + key);
 }
+ConfigTables Config::tables(const std::string& key) const {
+  const auto& v = values_.at(spec(key).key);
+  if (auto t = std::get_if<ConfigTables>(&v)) return *t;
+  throw std::logic_error("config key is not a table list: " + key);
+}
 namespace {
 // The elements of a list value as T (a list key of the matching type: right_type).
 template <class T>
@@ -550,6 +832,12 @@ std::vector<double> Config::reals(const std::string& key) const {
 std::vector<long> Config::integers(const std::string& key) const {
   const KeySpec& s = spec(key);
   return elements_of<long>(values_.at(s.key), s.type == KeySpec::Type::IntList, key, "integers");
+}
+std::vector<double> Config::numbers(const std::string& key) const {
+  const KeySpec& s = spec(key);
+  if (s.type == KeySpec::Type::RealList) return reals(key);
+  const auto ints = elements_of<long>(values_.at(s.key), s.type == KeySpec::Type::IntList, key, "numbers");
+  return std::vector<double>(ints.begin(), ints.end());
 }
 std::vector<std::string> Config::strings(const std::string& key) const {
   const KeySpec& s = spec(key);
@@ -581,13 +869,11 @@ std::string Config::to_toml() const {
       const std::string name = dot == std::string::npos ? s.key : s.key.substr(dot + 1);
       const auto& v = values_.at(s.key);
       os << name << " = ";
-      if (auto str = std::get_if<std::string>(&v)) os << '"' << *str << '"';
-      else if (std::holds_alternative<ConfigList>(v)) os << '"' << value_text(v) << '"';
-      else if (auto d = std::get_if<double>(&v)) {
-        std::string t = fmt_sig(*d, 12);
-        if (t.find_first_of(".eEn") == std::string::npos) t += ".0";
-        os << t;
-      } else os << value_text(v);
+      if (auto str = std::get_if<std::string>(&v)) os << quoted(*str);
+      else if (std::holds_alternative<ConfigList>(v)) os << quoted(value_text(v));
+      else if (auto t = std::get_if<ConfigTables>(&v)) os << tables_toml(*t, "\n  ", ",\n  ", ",\n");
+      else if (auto d = std::get_if<double>(&v)) os << real_text(*d);
+      else os << value_text(v);
       os << "\n";
     }
     os << "\n";
@@ -603,8 +889,9 @@ std::string Config::to_json() const {
     const auto& v = values_.at(s.key);
     os << (first ? "" : ", ") << '"' << s.key << "\": ";
     first = false;
-    if (auto str = std::get_if<std::string>(&v)) os << '"' << *str << '"';
-    else if (std::holds_alternative<ConfigList>(v)) os << '"' << value_text(v) << '"';
+    if (auto str = std::get_if<std::string>(&v)) os << quoted(*str);
+    else if (std::holds_alternative<ConfigList>(v)) os << quoted(value_text(v));
+    else if (auto t = std::get_if<ConfigTables>(&v)) os << tables_json(*t);
     else os << value_text(v);
   }
   os << "}";

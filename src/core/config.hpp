@@ -7,7 +7,15 @@
 // `--set 'convergence.orders=[1, 2]'`) or, for compatibility with earlier
 // configurations, comma-separated text (`orders = "1,2"`, `--set convergence.orders=1,2`);
 // every element is checked like a scalar key of its type, and an error names the
-// element (1-based) and the count.
+// element (1-based) and the count. Readers take the elements with reals(), integers(),
+// numbers() or strings(); no reader splits text.
+// Table-list keys (TableList) are TOML arrays of tables with declared fields, e.g.
+//   [[provenance.fem_variants]]
+//   label = "coarse P1"
+//   config = "meshes/coarse.toml"
+//   set = { fem.order = 1 }          # a Settings field: a table of key = scalar (dotted keys flattened)
+// and on the command line the same as an inline array, `--set 'key=[{label = "P1", set = {fem.order = 1}}]'`
+// (empty text or [] for none). Readers take them with tables().
 #pragma once
 #include <map>
 #include <optional>
@@ -18,7 +26,7 @@
 namespace magenc {
 
 struct KeySpec {
-  enum class Type { Real, Int, String, Bool, RealList, IntList, StringList };
+  enum class Type { Real, Int, String, Bool, RealList, IntList, StringList, TableList, Settings };
   std::string key;        // dotted "section.name", e.g. "magnet.radius_mm"
   Type type = Type::Real;
   std::string default_value;  // textual default, parsed like a --set value
@@ -28,6 +36,8 @@ struct KeySpec {
   bool max_exclusive = false;
   std::vector<std::string> choices;  // String, StringList: allowed values (empty = any non-empty text)
   std::size_t min_elements = 1;      // lists: fewest elements (0: may be empty)
+  std::vector<KeySpec> fields;       // TableList: the fields of each table (scalar keys and Settings)
+  bool required = false;             // a TableList field every table must have
   std::string unit;                  // "mm", "deg", "T", "" for none
   std::string help;
 };
@@ -47,9 +57,32 @@ KeySpec int_list_key(std::string key, const std::vector<long>& def, long min, lo
 KeySpec string_list_key(std::string key, const std::vector<std::string>& def, std::vector<std::string> choices,
                         std::string help, std::size_t min_elements = 1);
 
+// Table-list keys: an array of tables (the value is the TOML text of an inline array, "" for none).
+// `fields`: scalar fields (real_key, int_key, string_key, bool_key; `required` ones must be present)
+// and Settings fields (settings_field: a table of key = scalar, nested tables flattened to dotted keys).
+KeySpec table_list_key(std::string key, std::vector<KeySpec> fields, std::string def_toml, std::string help);
+KeySpec settings_field(std::string name, std::string help);
+KeySpec required(KeySpec field);
+
 using ConfigScalar = std::variant<double, long, std::string, bool>;
 using ConfigList = std::vector<ConfigScalar>;
-using ConfigValue = std::variant<double, long, std::string, bool, ConfigList>;
+
+// One table of a table-list key; entries sorted by field, then key.
+struct ConfigTableEntry {
+  std::string field;  // the field's name ("label", "set")
+  std::string key;    // a Settings field's dotted key ("fem.order"); empty for scalar fields
+  ConfigScalar value;
+};
+struct ConfigTable {
+  std::vector<ConfigTableEntry> entries;
+  bool has(const std::string& field) const;
+  // A String field's text ("" when absent).
+  std::string text(const std::string& field) const;
+  // A Settings field's key = value pairs (empty when absent).
+  std::vector<std::pair<std::string, ConfigScalar>> settings(const std::string& field) const;
+};
+using ConfigTables = std::vector<ConfigTable>;
+using ConfigValue = std::variant<double, long, std::string, bool, ConfigList, ConfigTables>;
 
 class Config {
  public:
@@ -68,10 +101,13 @@ class Config {
   // A String key's value; for a list key its elements as comma-separated text (as earlier
   // configurations wrote them, and as config.toml echoes them).
   std::string str(const std::string& key) const;
-  // Elements of a list key.
+  // Elements of a list key (checked when set: readers do no parsing of their own).
   std::vector<double> reals(const std::string& key) const;
   std::vector<long> integers(const std::string& key) const;
+  std::vector<double> numbers(const std::string& key) const;  // a RealList or an IntList as doubles
   std::vector<std::string> strings(const std::string& key) const;
+  // Tables of a table-list key (fields checked when set).
+  ConfigTables tables(const std::string& key) const;
   bool flag(const std::string& key) const;
   bool has(const std::string& key) const;
 

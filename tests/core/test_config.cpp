@@ -174,3 +174,159 @@ TEST_CASE("list keys: bad elements name the key the element and the allowed rang
   CHECK(c.reals("convergence.h_mm") == std::vector<double>{0.8, 0.55});
   CHECK(c.strings("study.arrays") == std::vector<std::string>{"two", "diff4", "ring:8"});
 }
+
+TEST_CASE("list keys: numbers() reads real and integer lists and the readers get elements not text", "[core][contract]") {
+  Config c(list_keys());
+  CHECK(c.numbers("convergence.h_mm") == std::vector<double>{0.8, 0.55});
+  CHECK(c.numbers("convergence.orders") == std::vector<double>{1.0, 2.0});
+  c.set("convergence.orders=[2]");
+  CHECK(c.numbers("convergence.orders") == std::vector<double>{2.0});
+  // Comma text is trimmed per element; a quoted element is the text inside the quotes.
+  c.set("study.arrays= two ,  'ring:6' ");
+  CHECK(c.strings("study.arrays") == std::vector<std::string>{"two", "ring:6"});
+  // The typed accessors are for list keys of their type only (a programming error otherwise).
+  CHECK_THROWS_AS(c.numbers("study.arrays"), std::logic_error);
+  CHECK_THROWS_AS(c.strings("convergence.h_mm"), std::logic_error);
+}
+
+TEST_CASE("list keys: empty mixed nested non-finite and wrong-type elements and empty comma items are refused",
+          "[core][bad-input]") {
+  Config c(list_keys());
+  const std::string numbers = "an array of 1 or more numbers, each (0, 100] mm";
+  const std::string strings = "an array of 1 or more non-empty strings";
+  auto toml = [](const std::string& text) { return [text](Config& x) { x.load_toml_string(text, "f.toml"); }; };
+  auto set = [](const std::string& text) { return [text](Config& x) { x.set(text); }; };
+  struct Case {
+    std::function<void(Config&)> f;
+    std::string says, range;
+  };
+  for (const auto& [f, says, range] : std::vector<Case>{
+           {toml("[convergence]\nh_mm = []\n"), "convergence.h_mm has 0 elements", numbers},
+           {set("convergence.h_mm=[]"), "--set: convergence.h_mm has 0 elements", numbers},
+           {toml("[study]\narrays = []\n"), "study.arrays has 0 elements", strings},
+           {toml("[convergence]\nh_mm = [0.4, \"a\"]\n"), "convergence.h_mm element 2 of 2 = 'a'", numbers},
+           {toml("[study]\narrays = [\"two\", true]\n"), "study.arrays element 2 of 2 = true", strings},
+           {set("convergence.h_mm=[0.4, true]"), "convergence.h_mm element 2 of 2 = true", numbers},
+           {toml("[study]\narrays = [[\"two\"]]\n"), "study.arrays element 1 of 1 is an array or table", strings},
+           {set("convergence.h_mm=[0.4, [0.3]]"), "convergence.h_mm element 2 of 2 is an array or table", numbers},
+           {toml("[study]\narrays = [{ a = 1 }]\n"), "study.arrays element 1 of 1 is an array or table", strings},
+           {toml("[convergence]\nh_mm = [inf]\n"), "convergence.h_mm element 1 of 1 = inf", numbers},
+           {toml("[convergence]\nh_mm = [0.4, -nan]\n"), "convergence.h_mm element 2 of 2", numbers},
+           {set("convergence.h_mm=0.4,1e999"), "convergence.h_mm element 2 of 2 = '1e999'", numbers},
+           {toml("[convergence]\norders = [\"1\"]\n"), "convergence.orders element 1 of 1 = '1'", "integer in [1, 2]"},
+           {toml("[convergence]\norders = [1e300]\n"), "convergence.orders element 1 of 1", "integer in [1, 2]"},
+           {set("convergence.h_mm=0.4,,0.3"), "convergence.h_mm element 2 of 3 = ''", numbers},
+           {set("study.arrays=two,,diff4"), "study.arrays element 2 of 3 is empty", strings},
+           {set("study.arrays=two, "), "study.arrays element 2 of 2 is empty", strings},
+           {toml("[study]\narrays = \"two,,diff4\"\n"), "f.toml: study.arrays element 2 of 3 is empty", strings},
+       }) {
+    const std::string e = error_of(c, f);
+    INFO(e);
+    CHECK_THAT(e, Catch::Contains(says) && Catch::Contains(range));
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  CHECK(c.reals("convergence.h_mm") == std::vector<double>{0.8, 0.55});
+  CHECK(c.strings("study.arrays") == std::vector<std::string>{"two", "diff4", "ring:8"});
+}
+
+namespace {
+// A table-list key like provenance.fem_variants: label (required), config, set (key = value).
+std::vector<KeySpec> table_keys() {
+  return {real_key("study.width_mm", 1, 0, 10, "mm", "a scalar beside the tables", true),
+          table_list_key("study.variants",
+                         {required(string_key("label", "", {}, "name")), string_key("config", "", {}, "file"),
+                          int_key("repeat", 1, 1, 5, "repeats"), settings_field("set", "keys")},
+                         "[{ label = \"a\", set = { fem.order = 1 } }]", "variants")};
+}
+}  // namespace
+
+TEST_CASE("table-list keys: array-of-tables sections and --set inline arrays give the same tables", "[core][contract]") {
+  Config c(table_keys());
+  REQUIRE(c.tables("study.variants").size() == 1);  // the default
+  c.load_toml_string("[study]\nwidth_mm = 2\n\n[[study.variants]]\nlabel = \"coarse P1\"\nconfig = \"meshes/coarse.toml\"\n"
+                     "set = { fem.order = 1, \"mesh.h_zone_mm\" = 0.4, mesh = { symmetric = true }, fem.solver = \"petsc\" }\n\n"
+                     "[[study.variants]]\nlabel = \"bare\"\nrepeat = 3\n");
+  const ConfigTables t = c.tables("study.variants");
+  REQUIRE(t.size() == 2);
+  CHECK(t[0].text("label") == "coarse P1");
+  CHECK(t[0].text("config") == "meshes/coarse.toml");
+  const auto s = t[0].settings("set");
+  REQUIRE(s.size() == 4);  // dotted, quoted-dotted and nested keys are all "section.key"
+  CHECK(s[0].first == "fem.order");
+  CHECK(std::get<long>(s[0].second) == 1);
+  CHECK(s[1].first == "fem.solver");
+  CHECK(std::get<std::string>(s[1].second) == "petsc");
+  CHECK(s[2].first == "mesh.h_zone_mm");
+  CHECK(std::get<double>(s[2].second) == 0.4);
+  CHECK(s[3].first == "mesh.symmetric");
+  CHECK(std::get<bool>(s[3].second));
+  CHECK(t[1].text("label") == "bare");
+  CHECK_FALSE(t[1].has("config"));
+  CHECK(t[1].settings("set").empty());
+  CHECK(c.real("study.width_mm") == 2.0);
+  // The echoed TOML reads back to the same tables; the JSON is valid.
+  Config d(table_keys());
+  d.load_toml_string(c.to_toml());
+  const ConfigTables u = d.tables("study.variants");
+  REQUIRE(u.size() == 2);
+  CHECK(u[0].settings("set") == s);
+  CHECK(u[1].text("label") == "bare");
+  CHECK(c.to_json().find("\"study.variants\": [{\"config\": \"meshes/coarse.toml\", \"label\": \"coarse P1\", "
+                         "\"set\": {\"fem.order\": 1, \"fem.solver\": \"petsc\", \"mesh.h_zone_mm\": 0.4, "
+                         "\"mesh.symmetric\": true}}, {\"label\": \"bare\", \"repeat\": 3}]") != std::string::npos);
+  // --set: the same as an inline array; empty text or [] for none.
+  c.set("study.variants=[{ label = \"x\", set = { fem.order = 2 } }]");
+  REQUIRE(c.tables("study.variants").size() == 1);
+  CHECK(c.tables("study.variants")[0].text("label") == "x");
+  c.set("study.variants=[]");
+  CHECK(c.tables("study.variants").empty());
+  c.set("study.variants=");
+  CHECK(c.tables("study.variants").empty());
+  d.load_toml_string("[study]\nvariants = []\n");
+  CHECK(d.tables("study.variants").empty());
+}
+
+TEST_CASE("table-list keys: bad tables are one line naming the key the element and the allowed fields",
+          "[core][bad-input]") {
+  Config c(table_keys());
+  const std::string fields = "an array of tables {label = a non-empty string (required)";
+  auto toml = [](const std::string& text) { return [text](Config& x) { x.load_toml_string(text, "f.toml"); }; };
+  auto set = [](const std::string& text) { return [text](Config& x) { x.set(text); }; };
+  struct Case {
+    std::function<void(Config&)> f;
+    std::string says;
+  };
+  for (const auto& [f, says] : std::vector<Case>{
+           {toml("[[study.variants]]\nconfig = \"a.toml\"\n"), "f.toml: study.variants element 1 of 1: has no label"},
+           {toml("[[study.variants]]\nlabel = \"a\"\n[[study.variants]]\nlabel = \"b\"\nbogus = 1\n"),
+            "study.variants element 2 of 2: unknown field 'bogus'"},
+           {toml("[[study.variants]]\nlabel = 1\n"), "study.variants element 1 of 1: field label must be a string"},
+           {toml("[[study.variants]]\nlabel = \"\"\n"), "study.variants element 1 of 1: label is empty"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nrepeat = 9\n"), "field repeat = 9 is out of range"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nrepeat = 2.5\n"), "field repeat must be an integer"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nconfig = [\"x\"]\n"), "config is an array or table"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nset = \"fem.order=1\"\n"), "set is not a table of key = value"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nset = { fem.order = [1, 2] }\n"), "set key fem.order is an array"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nset = { fem.h = nan }\n"), "set key fem.h = nan is not finite"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nset = { fem.h = inf }\n"), "set key fem.h = inf is not finite"},
+           {toml("[[study.variants]]\nlabel = \"a\"\nset = { \"fem.order\" = 1, fem = { order = 2 } }\n"),
+            "set key fem.order is given twice"},
+           {toml("[study]\nvariants = \"a: config=x fem.order=1\"\n"), "f.toml: study.variants must be an array of tables"},
+           {toml("[study.variants]\nlabel = \"a\"\n"), "f.toml: study.variants must be an array of tables"},
+           {toml("[study]\nvariants = [\"a\"]\n"), "study.variants element 1 of 1: is not a table"},
+           {toml("[study]\nvariants = [[{ label = \"a\" }]]\n"), "study.variants element 1 of 1: is an array, not a table"},
+           {set("study.variants=a: config=meshes/coarse.toml fem.order=1"),
+            "--set: study.variants = 'a: config=meshes/coarse.toml fem.order=1' is not a TOML array of tables"},
+           {set("study.variants=[{ label = \"a\""), "--set: study.variants is not a TOML array of tables"},
+           {set("study.variants=[{ set = { fem.order = 1 } }]"), "--set: study.variants element 1 of 1: has no label"},
+           {set("study.variants=[1, 2]"), "--set: study.variants element 1 of 2: is not a table"},
+       }) {
+    const std::string e = error_of(c, f);
+    INFO(e);
+    CHECK_THAT(e, Catch::Contains(says) && Catch::Contains(fields));
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  // A refused value leaves the previous one in place.
+  REQUIRE(c.tables("study.variants").size() == 1);
+  CHECK(c.tables("study.variants")[0].text("label") == "a");
+}

@@ -16,6 +16,7 @@
 // on this mesh it is dominated by artefacts.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "study_test_util.hpp"
@@ -323,8 +324,9 @@ TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coa
   const StudyRun r = run_study_exe(
       "harmonic_provenance", out,
       "--set sensor.steps=360 --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic "
-      "--set 'provenance.fem_variants=coarse P1: config=" + coarse + " fem.order=1; "
-      "coarse P2: config=" + coarse + " fem.order=2' --set provenance.fem_dirs='" + dir.string() + "'");
+      "--set 'provenance.fem_variants=[{ label = \"coarse P1\", config = \"" + coarse + "\", set = { fem.order = 1 } }, "
+      "{ label = \"coarse P2\", config = \"" + coarse + "\", set = { fem.order = 2 } }]' "
+      "--set provenance.fem_dirs='" + dir.string() + "'");
   INFO(r.err);
   REQUIRE(r.code == 0);
   check_files_exist(out, {"provenance.csv", "summary.md", "artefacts_vs_h.png", "ideal_harmonics.png", "fem_artefacts.png",
@@ -376,9 +378,22 @@ TEST_CASE("harmonic_provenance study: FE variants solved in-process beside a coa
 TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming provenance.fem_variants, exit 2, no output",
           "[studies][bad-input][cli]") {
   const std::string coarse = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
-  for (const std::string& bad : std::vector<std::string>{"no label here", ": fem.order=1", "a: fem.order", "a: fem.order=3", "a: mesh.bogus=1",
-                                "a: magnet.mu_r=1.05", "a: config=/nonexistent/mesh.toml", "a: fem.order=1; a: fem.order=2",
-                                "a: config=" + coarse + " mesh.h_zone_mm=-1"}) {
+  // --set: the inline-array form; the old 'LABEL: key=value; ...' text is refused with the form to use.
+  for (const std::string& bad : std::vector<std::string>{
+           "a: config=" + coarse + " fem.order=1",                          // the retired mini-language
+           "[{ config = \"" + coarse + "\" }]",                             // no label
+           "[{ label = \"a\", order = 1 }]",                                // unknown field
+           "[{ label = 1 }]",                                               // wrong type
+           "[{ label = \"a\" }, { label = \"a\" }]",                        // duplicate label
+           "[{ label = \"a,b\" }]",                                         // a CSV cell
+           "[{ label = \"a\", set = \"fem.order=1\" }]",                    // set is a table
+           "[{ label = \"a\", set = { fem.order = 3 } }]",                  // out of range
+           "[{ label = \"a\", set = { fem.order = \"2\" } }]",              // wrong value type
+           "[{ label = \"a\", set = { mesh.h_zone_mm = nan } }]",           // non-finite
+           "[{ label = \"a\", set = { mesh.bogus = 1 } }]",                 // unknown solve_field key
+           "[{ label = \"a\", set = { magnet.mu_r = 1.05 } }]",             // not settable per variant
+           "[{ label = \"a\", config = \"/nonexistent/mesh.toml\" }]",     // missing file
+           "[{ label = \"a\", config = \"" + coarse + "\", set = { mesh.h_zone_mm = -1 } }]"}) {
     const fs::path out = temp_out("provenance_badvariant");
     const StudyRun r = run_study_exe("harmonic_provenance", out,
                                      "--set sensor.steps=360 --set provenance.spacings_mm=0.2 "
@@ -390,6 +405,50 @@ TEST_CASE("harmonic_provenance study: a bad FE variant is one line naming proven
     CHECK_FALSE(fs::exists(out));
     CHECK_FALSE(leftovers(out));
   }
+}
+
+TEST_CASE("harmonic_provenance study: provenance.fem_variants tables in a TOML file are read and checked",
+          "[studies][bad-input][cli]") {
+  const fs::path dir = temp_out("provenance_variant_files");
+  fs::create_directories(dir);
+  const std::string head = "[sensor]\nsteps = 360\n[provenance]\nspacings_mm = [0.2]\ninterps = [\"nearest\"]\n"
+                           "fem_grid_interp = \"none\"\n";
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << head << text;
+    return (dir / name).string();
+  };
+  // Good: one small variant (P1 on the coarse mesh, coarser zone) from [[...]] sections.
+  const std::string good = write("good.toml", "\n[[provenance.fem_variants]]\nlabel = \"tiny P1\"\n"
+                                              "config = \"meshes/coarse.toml\"\nset = { fem.order = 1 }\n");
+  const fs::path out = dir / "out";
+  const StudyRun ok = run_study_exe("harmonic_provenance", out, "--config " + good);
+  INFO(ok.err);
+  REQUIRE(ok.code == 0);
+  const auto rows = read_csv(out / "provenance.csv");
+  CHECK(std::count_if(rows.begin(), rows.end(), [](const auto& row) {
+          return row.at("source") == "fem" && row.at("variant") == "tiny P1";
+        }) == 3);
+  // The echoed config.toml holds the tables and runs again as --config.
+  const std::string echoed = slurp(out / "config.toml");
+  CHECK(echoed.find("label = \"tiny P1\"") != std::string::npos);
+  CHECK(echoed.find("set = { fem.order = 1 }") != std::string::npos);
+  // Bad: each one line naming the key, exit 2, no output.
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"nolabel.toml", "\n[[provenance.fem_variants]]\nconfig = \"meshes/coarse.toml\"\n"},
+           {"unknown.toml", "\n[[provenance.fem_variants]]\nlabel = \"a\"\nmesh = \"coarse\"\n"},
+           {"type.toml", "\n[[provenance.fem_variants]]\nlabel = \"a\"\nset = { fem.order = true }\n"},
+           {"twice.toml", "\n[[provenance.fem_variants]]\nlabel = \"a\"\n[[provenance.fem_variants]]\nlabel = \"a\"\n"},
+           {"oldform.toml", "fem_variants = \"coarse P1: config=meshes/coarse.toml fem.order=1\"\n"},
+           {"onetable.toml", "\n[provenance.fem_variants]\nlabel = \"a\"\n"}}) {
+    const fs::path bad_out = dir / ("out_" + name);
+    const StudyRun r = run_study_exe("harmonic_provenance", bad_out, "--config " + write(name, text));
+    INFO(name << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find("provenance.fem_variants") != std::string::npos);
+    CHECK_FALSE(fs::exists(bad_out));
+  }
+  fs::remove_all(dir);
 }
 
 TEST_CASE("FEM-driven studies: a missing field directory exits non-zero, one line naming solve_field, no output",
