@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 
 #include "element.hpp"
+#include "mesh.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 
@@ -101,27 +101,11 @@ PointLocator::PointLocator(const Eigen::Matrix3Xd& nodes, const Eigen::MatrixXi&
   tets_ = cells.topRows(4);
   // 1. Face neighbours.
   neighbour_.setConstant(4, nt, -1);
-  static const int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  struct Hash {
-    size_t operator()(const std::array<int, 3>& k) const {
-      return (static_cast<size_t>(k[0]) * 73856093u) ^ (static_cast<size_t>(k[1]) * 19349663u) ^
-             (static_cast<size_t>(k[2]) * 83492791u);
-    }
-  };
-  std::unordered_map<std::array<int, 3>, std::pair<int, int>, Hash> open;
-  open.reserve(static_cast<size_t>(nt) * 2);
+  const std::vector<int> partner = face_partners(tets_, static_cast<int>(nodes.cols()));
   for (int t = 0; t < nt; ++t)
     for (int k = 0; k < 4; ++k) {
-      std::array<int, 3> f{tets_(kFace[k][0], t), tets_(kFace[k][1], t), tets_(kFace[k][2], t)};
-      std::sort(f.begin(), f.end());
-      auto it = open.find(f);
-      if (it == open.end()) {
-        open.emplace(f, std::make_pair(t, k));
-      } else {
-        neighbour_(k, t) = it->second.first;
-        neighbour_(it->second.second, it->second.first) = t;
-        open.erase(it);
-      }
+      const int q = partner[static_cast<size_t>(4 * t + k)];
+      if (q >= 0) neighbour_(k, t) = q / 4;
     }
   // 2. Bucket grid of centroids (about 2 cells per bucket).
   Eigen::Matrix3Xd cen(3, nt);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <mutex>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -306,7 +307,7 @@ void MagnetostaticSolver::solve() {
   K_ = SparseMatrix();  // release memory before post-processing
 }
 
-// 5. Solution object, point locator and B at cell centroids.
+// 5. Solution object (recovered gradient) and point locator; B at cell centroids on demand (B_cell()).
 void MagnetostaticSolver::compute_cell_fields() {
   FeSolution s;
   s.order = options_.order;
@@ -322,9 +323,24 @@ void MagnetostaticSolver::compute_cell_fields() {
     s.interface_phi_s_Tmm = interface_phi_s_;
   }
   if (options_.recovery) s.recover_gradient();
+  {
+    const std::lock_guard<std::mutex> lock(B_cell_mutex_);
+    B_cell_ready_ = false;
+    B_cell_ = Eigen::Matrix3Xd();
+  }
   evaluator_ = std::make_unique<FieldEvaluator>(std::move(s));
-  B_cell_ = evaluator_->B_cell_centroids();
-  if (!B_cell_.allFinite()) throw ComputeError("B contains NaN or Inf");
+}
+
+const Eigen::Matrix3Xd& MagnetostaticSolver::B_cell() const {
+  if (!evaluator_) throw ComputeError("B at cell centroids asked for before the solve ran");
+  const std::lock_guard<std::mutex> lock(B_cell_mutex_);
+  if (!B_cell_ready_) {
+    Eigen::Matrix3Xd B = evaluator_->B_cell_centroids();
+    if (!B.allFinite()) throw ComputeError("B at the cell centroids contains NaN or Inf");
+    B_cell_ = std::move(B);
+    B_cell_ready_ = true;
+  }
+  return B_cell_;
 }
 
 }  // namespace magenc::fem

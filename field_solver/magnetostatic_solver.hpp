@@ -17,6 +17,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -94,8 +95,9 @@ class MagnetostaticSolver {
   const FeSolution& solution() const { return evaluator_->solution(); }
   // Point evaluation of B (valid after run()).
   const FieldEvaluator& evaluator() const { return *evaluator_; }
-  // B (T) at cell centroids, 3 x n_cells (valid after run()).
-  const Eigen::Matrix3Xd& B_cell() const { return B_cell_; }
+  // B (T) at cell centroids, 3 x n_cells (valid after run()): computed on the first call (only
+  // mesh.vtu and tests need it); throws ComputeError if it is not finite.
+  const Eigen::Matrix3Xd& B_cell() const;
 
  private:
   void make_mesh();
@@ -121,7 +123,9 @@ class MagnetostaticSolver {
   Eigen::VectorXd f_;                      // load Int Br . grad v (T*mm^2)
   Eigen::VectorXd psi_;                    // solution psi at dofs (T*mm)
   std::unique_ptr<FieldEvaluator> evaluator_;
-  Eigen::Matrix3Xd B_cell_;                // B at centroids (T)
+  mutable std::mutex B_cell_mutex_;        // guards the lazy B_cell_
+  mutable bool B_cell_ready_ = false;      // B_cell_ holds this run's B at centroids
+  mutable Eigen::Matrix3Xd B_cell_;        // B at centroids (T), on the first B_cell() call
   SolveStats stats_;
 };
 

@@ -52,6 +52,11 @@ struct TetMesh {
   int num_tets() const { return static_cast<int>(tets.cols()); }
 };
 
+// For every face of tets (face 4 t + k: the one opposite vertex k of tet t), the face of another
+// tet with the same three vertices, or -1 when no other tet has them (a boundary face). Faces with
+// the same vertices pair up in the order of their index; the odd one of three or more gets -2.
+std::vector<int> face_partners(const Eigen::Matrix4Xi& tets, int num_nodes);
+
 // Fills boundary_faces with the faces that belong to exactly one tet and makes
 // every tet positively oriented (det of its edge matrix > 0).
 void finalize_mesh(TetMesh& mesh);

@@ -28,10 +28,13 @@ namespace {
 constexpr double kCoarseTolDeg = 0.15;
 
 // solve_field on meshes/coarse.toml, order 2, mu_r = 1, plus `extra` settings, into temp_out(name).
+// fem.tolerance 1e-10, as harmonic_provenance's in-process variants (fem_variant_config), which the
+// provenance test compares with this solve to 1e-6 deg.
 fs::path solve_coarse_config(const std::string& name, const std::string& extra) {
   const fs::path d = temp_out(name);
   const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config '" + MAGENC_SOURCE_DIR +
                           "/meshes/coarse.toml' --set fem.order=2 --set magnet.mu_r=1 --set fem.potential=total "
+                          "--set fem.tolerance=1e-10 "
                           "--set output.mesh_vtu=true " + extra + " --out '" +
                           d.string() + "' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("solve_field failed: " + cmd);
