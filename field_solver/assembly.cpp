@@ -3,84 +3,211 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "element.hpp"
 
 namespace magenc::fem {
 
+void cell_stiffness(const TetMesh& mesh, int order, int t, double mu_r, Eigen::Matrix<double, 10, 10>& Ke) {
+  Eigen::Matrix<double, 3, 10> G;
+  const TetGeometry g = tet_geometry(mesh.nodes, mesh.tets.col(t));
+  Ke.setZero();
+  if (order == 1) {
+    // Constant gradients: K = V mu G^T G.
+    basis_gradients(1, g, Eigen::Vector4d::Constant(0.25), G);
+    Ke.topLeftCorner<4, 4>() = g.volume_mm3 * G.leftCols<4>().transpose() * G.leftCols<4>();
+  } else {
+    for (const auto& L : tet_quadrature_points()) {
+      basis_gradients(2, g, L, G);
+      Ke.noalias() += (kTetQuadratureWeight * g.volume_mm3) * G.transpose() * G;
+    }
+  }
+  Ke *= mu_r;
+}
+
+int robin_face_matrix(const TetMesh& mesh, const FeSpace& space, Eigen::Index f, int dofs[6],
+                      Eigen::Matrix<double, 6, 6>& Me) {
+  const int order = space.order();
+  const auto& q = tri_quadrature();
+  const int nf = order == 1 ? 3 : 6;
+  int v[3];
+  for (int k = 0; k < 3; ++k) dofs[k] = v[k] = mesh.boundary_faces(k, f);
+  if (order == 2)
+    for (int e = 0; e < 3; ++e) dofs[3 + e] = space.edge_dof(v[kTriEdges[e][0]], v[kTriEdges[e][1]]);
+  const Eigen::Vector3d x0 = mesh.nodes.col(v[0]), x1 = mesh.nodes.col(v[1]), x2 = mesh.nodes.col(v[2]);
+  const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
+  Me.setZero();
+  double N[6];
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::Vector3d& l = q.points[k];
+    const double r = (l[0] * x0 + l[1] * x1 + l[2] * x2).norm();
+    tri_basis_values(order, l, N);
+    const double w = q.weights[k] * area * 2.0 / r;
+    for (int i = 0; i < nf; ++i)
+      for (int j = 0; j < nf; ++j) Me(i, j) += w * N[i] * N[j];
+  }
+  return nf;
+}
+
+namespace {
+
+// Position of column c in CSR row r (columns sorted); -1 if absent.
+inline long long find_entry(const int* outer, const int* inner, int r, int c) {
+  const int* b = inner + outer[r];
+  const int* e = inner + outer[r + 1];
+  const int* it = std::lower_bound(b, e, c);
+  return it != e && *it == c ? static_cast<long long>(it - inner) : -1;
+}
+
+}  // namespace
+
 SparseMatrix assemble_stiffness(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r_cell,
-                                bool robin, int threads) {
-  using Triplet = Eigen::Triplet<double>;
+                                bool robin, int threads, int chunk_cells) {
   const int nt = mesh.num_tets();
   const int order = space.order();
   const int nd = space.dofs_per_cell();
+  const int n = space.num_dofs();
+  const Eigen::MatrixXi& cd = space.cell_dofs();
   threads = std::max(1, threads);
-  std::vector<std::vector<Triplet>> local(static_cast<size_t>(threads));
-  // 1. Element matrices, thread-local triplets; static schedule gives each thread
-  //    one contiguous block of elements in thread order.
+
+  // 1. dof -> (cell, local index) adjacency by counting sort, cells ascending per dof.
+  //    Entry value t * nd + i (int: nt * nd is checked).
+  std::vector<long long> adj_ptr(static_cast<size_t>(n) + 1, 0);
+  for (int t = 0; t < nt; ++t)
+    for (int i = 0; i < nd; ++i) ++adj_ptr[static_cast<size_t>(cd(i, t)) + 1];
+  for (int d = 0; d < n; ++d) adj_ptr[d + 1] += adj_ptr[d];
+  if (static_cast<long long>(nt) * nd > std::numeric_limits<int>::max())
+    throw std::runtime_error("assemble_stiffness: mesh too large for 32-bit element-entry indices");
+  std::vector<int> adj(static_cast<size_t>(adj_ptr[n]));
+  {
+    std::vector<long long> fill(adj_ptr.begin(), adj_ptr.end() - 1);
+    for (int t = 0; t < nt; ++t)
+      for (int i = 0; i < nd; ++i) adj[static_cast<size_t>(fill[static_cast<size_t>(cd(i, t))]++)] = t * nd + i;
+  }
+
+  // 2. CSR pattern: row r holds the sorted union of the dofs of the cells around r
+  //    (the pattern setFromTriplets produced; boundary faces are faces of cells, so
+  //    the Robin term adds no entries). Parallel over rows; the result does not
+  //    depend on the thread count.
+  SparseMatrix K(n, n);
+  int* outer = K.outerIndexPtr();
+  outer[0] = 0;
+  std::vector<int> row_len(static_cast<size_t>(n), 0);
 #pragma omp parallel num_threads(threads)
   {
-    auto& trip = local[static_cast<size_t>(omp_get_thread_num())];
-    Eigen::Matrix<double, 3, 10> G;
-    Eigen::Matrix<double, 10, 10> Ke;
+    std::vector<int> mark(static_cast<size_t>(n), -1);
 #pragma omp for schedule(static)
-    for (int t = 0; t < nt; ++t) {
-      if (trip.empty()) trip.reserve(static_cast<size_t>(nt / threads + 1) * nd * nd);
-      const TetGeometry g = tet_geometry(mesh.nodes, mesh.tets.col(t));
-      Ke.setZero();
-      if (order == 1) {
-        // Constant gradients: K = V mu G^T G.
-        basis_gradients(1, g, Eigen::Vector4d::Constant(0.25), G);
-        Ke.topLeftCorner<4, 4>() = g.volume_mm3 * G.leftCols<4>().transpose() * G.leftCols<4>();
-      } else {
-        for (const auto& L : tet_quadrature_points()) {
-          basis_gradients(2, g, L, G);
-          Ke.noalias() += (kTetQuadratureWeight * g.volume_mm3) * G.transpose() * G;
+    for (int r = 0; r < n; ++r) {
+      int len = 0;
+      for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
+        const int t = adj[static_cast<size_t>(a)] / nd;
+        for (int j = 0; j < nd; ++j) {
+          const int c = cd(j, t);
+          if (mark[static_cast<size_t>(c)] != r) {
+            mark[static_cast<size_t>(c)] = r;
+            ++len;
+          }
         }
       }
-      Ke *= mu_r_cell[t];
-      for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j) trip.emplace_back(space.cell_dofs()(i, t), space.cell_dofs()(j, t), Ke(i, j));
+      row_len[static_cast<size_t>(r)] = len;
     }
   }
-  // 2. Merge in thread order (= element order), freeing each block once copied.
-  size_t total = 0;
-  for (const auto& v : local) total += v.size();
-  std::vector<Triplet> all;
-  all.reserve(total + (robin ? static_cast<size_t>(mesh.boundary_faces.cols()) * 36 : 0));
-  for (auto& v : local) {
-    all.insert(all.end(), v.begin(), v.end());
-    std::vector<Triplet>().swap(v);
+  long long nnz = 0;
+  for (int r = 0; r < n; ++r) {
+    nnz += row_len[static_cast<size_t>(r)];
+    if (nnz > std::numeric_limits<int>::max())
+      throw std::runtime_error("assemble_stiffness: matrix too large for 32-bit sparse indices");
+    outer[r + 1] = static_cast<int>(nnz);
   }
-  // 3. Robin term on the truncation sphere: Int (2/r) N_i N_j dS (mu_r = 1 in air).
-  if (robin) {
-    const auto& q = tri_quadrature();
-    const int nf = order == 1 ? 3 : 6;
-    for (Eigen::Index f = 0; f < mesh.boundary_faces.cols(); ++f) {
-      int v[3];
-      int dofs[6];
-      for (int k = 0; k < 3; ++k) dofs[k] = v[k] = mesh.boundary_faces(k, f);
-      if (order == 2)
-        for (int e = 0; e < 3; ++e) dofs[3 + e] = space.edge_dof(v[kTriEdges[e][0]], v[kTriEdges[e][1]]);
-      const Eigen::Vector3d x0 = mesh.nodes.col(v[0]), x1 = mesh.nodes.col(v[1]), x2 = mesh.nodes.col(v[2]);
-      const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
-      Eigen::Matrix<double, 6, 6> Me = Eigen::Matrix<double, 6, 6>::Zero();
-      double N[6];
-      for (int k = 0; k < 6; ++k) {
-        const Eigen::Vector3d& l = q.points[k];
-        const double r = (l[0] * x0 + l[1] * x1 + l[2] * x2).norm();
-        tri_basis_values(order, l, N);
-        const double w = q.weights[k] * area * 2.0 / r;
-        for (int i = 0; i < nf; ++i)
-          for (int j = 0; j < nf; ++j) Me(i, j) += w * N[i] * N[j];
+  std::vector<int>().swap(row_len);
+  K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  int* inner = K.innerIndexPtr();
+  double* val = K.valuePtr();
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<int> mark(static_cast<size_t>(n), -1);
+#pragma omp for schedule(static)
+    for (int r = 0; r < n; ++r) {
+      int k = outer[r];
+      for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
+        const int t = adj[static_cast<size_t>(a)] / nd;
+        for (int j = 0; j < nd; ++j) {
+          const int c = cd(j, t);
+          if (mark[static_cast<size_t>(c)] != r) {
+            mark[static_cast<size_t>(c)] = r;
+            inner[k++] = c;
+          }
+        }
       }
-      for (int i = 0; i < nf; ++i)
-        for (int j = 0; j < nf; ++j) all.emplace_back(dofs[i], dofs[j], Me(i, j));
+      std::sort(inner + outer[r], inner + outer[r + 1]);
+      // -0.0 is the exact additive identity (-0.0 + x == x bitwise for every x,
+      // +0.0 and -0.0 included): each entry becomes its first contribution, then
+      // the later ones are added in order, as setFromTriplets summed duplicates.
+      std::fill(val + outer[r], val + outer[r + 1], -0.0);
     }
   }
-  // 4. One merge: duplicates summed in list order (deterministic).
-  SparseMatrix K(space.num_dofs(), space.num_dofs());
-  K.setFromTriplets(all.begin(), all.end());
+
+  // 3. Element matrices in chunks of cells, computed in parallel into a buffer, then
+  //    scattered row-wise: each thread owns a contiguous block of rows and adds, per
+  //    row, the contributions of the chunk's cells in ascending cell order (cursor
+  //    into the row's adjacency). Every entry is thus summed in element order, for
+  //    any thread count.
+  const int kChunk = std::max(1, chunk_cells);
+  const size_t ke_size = static_cast<size_t>(nd) * nd;
+  std::vector<double> buf(static_cast<size_t>(std::min(kChunk, std::max(nt, 1))) * ke_size);
+  std::vector<long long> cursor(adj_ptr.begin(), adj_ptr.end() - 1);
+#pragma omp parallel num_threads(threads)
+  {
+    Eigen::Matrix<double, 10, 10> Ke;
+    std::vector<int> pos(static_cast<size_t>(n), 0);
+    for (int c0 = 0; c0 < nt; c0 += kChunk) {
+      const int c1 = std::min(nt, c0 + kChunk);
+#pragma omp for schedule(static)
+      for (int t = c0; t < c1; ++t) {
+        cell_stiffness(mesh, order, t, mu_r_cell[t], Ke);
+        double* out = buf.data() + static_cast<size_t>(t - c0) * ke_size;
+        for (int i = 0; i < nd; ++i)
+          for (int j = 0; j < nd; ++j) out[i * nd + j] = Ke(i, j);
+      }  // implicit barrier: the chunk's element matrices are complete
+#pragma omp for schedule(static)
+      for (int r = 0; r < n; ++r) {
+        long long a = cursor[static_cast<size_t>(r)];
+        const long long a_end = adj_ptr[static_cast<size_t>(r) + 1];
+        if (a == a_end || adj[static_cast<size_t>(a)] / nd >= c1) continue;
+        for (int k = outer[r]; k < outer[r + 1]; ++k) pos[static_cast<size_t>(inner[k])] = k;
+        for (; a < a_end; ++a) {
+          const int e = adj[static_cast<size_t>(a)];
+          const int t = e / nd;
+          if (t >= c1) break;
+          const int i = e - t * nd;
+          const double* row = buf.data() + static_cast<size_t>(t - c0) * ke_size + static_cast<size_t>(i) * nd;
+          for (int j = 0; j < nd; ++j) val[pos[static_cast<size_t>(cd(j, t))]] += row[j];
+        }
+        cursor[static_cast<size_t>(r)] = a;
+      }  // implicit barrier: the buffer may be overwritten by the next chunk
+    }
+  }
+
+  // 4. Robin term on the truncation sphere: Int (2/r) N_i N_j dS (mu_r = 1 in air),
+  //    added after all cells, in face order.
+  if (robin) {
+    int dofs[6];
+    Eigen::Matrix<double, 6, 6> Me;
+    for (Eigen::Index f = 0; f < mesh.boundary_faces.cols(); ++f) {
+      const int nf = robin_face_matrix(mesh, space, f, dofs, Me);
+      for (int i = 0; i < nf; ++i)
+        for (int j = 0; j < nf; ++j) {
+          const long long k = dofs[i] < 0 || dofs[j] < 0 ? -1 : find_entry(outer, inner, dofs[i], dofs[j]);
+          if (k < 0)
+            throw std::logic_error("assemble_stiffness: boundary face " + std::to_string(f) +
+                                   " is not a face of a cell");
+          val[k] += Me(i, j);
+        }
+    }
+  }
   return K;
 }
 
