@@ -53,10 +53,6 @@ void ensure_petsc() {
   // PETSc's own SIGSEGV/SIGFPE handlers would mask the Debug builds' FP trap
   // and run_main's reporting; options still come from PETSC_OPTIONS.
   PetscOptionsSetValue(nullptr, "-no_signal_handler", "true");
-  // Started without a launcher (no mpirun/srun environment): an Open MPI singleton that does not
-  // start its helper daemon (0.35 -> 0.26 s from start to exit of a solve_field that stops at once).
-  if (!std::getenv("OMPI_COMM_WORLD_SIZE") && !std::getenv("PMIX_RANK") && !std::getenv("PMI_RANK"))
-    setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
   {
     MAGENC_IGNORE_THIRD_PARTY_LEAKS;
     check(PetscInitializeNoArguments(), "PetscInitialize");
