@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -95,99 +96,131 @@ SparseMatrix assemble_stiffness(const TetMesh& mesh, const FeSpace& space, const
   SparseMatrix K(n, n);
   int* outer = K.outerIndexPtr();
   outer[0] = 0;
-  std::vector<int> row_len(static_cast<size_t>(n), 0);
+  // One pass: thread k handles the rows [n k / T, n (k+1) / T) into its own column
+  // buffer (row lengths into outer[r + 1]), then the buffers are concatenated.
+  std::vector<std::vector<int>> cols(static_cast<size_t>(threads));
+  // off[a * nd + j]: position, within row r's columns, of column cd(j, t) for the
+  // adjacency entry a = (t, i) of row r; fills while the row's dofs are in cache.
+  std::vector<std::uint16_t> off(adj.size() * static_cast<size_t>(nd));
+  bool row_too_long = false;
+  int blocks = 1;
 #pragma omp parallel num_threads(threads)
   {
+    const int tid = omp_get_thread_num();
+    const int nth = omp_get_num_threads();
+#pragma omp single
+    blocks = nth;
+    const int r0 = static_cast<int>(static_cast<long long>(n) * tid / nth);
+    const int r1 = static_cast<int>(static_cast<long long>(n) * (tid + 1) / nth);
+    std::vector<int>& out = cols[static_cast<size_t>(tid)];
+    out.reserve(static_cast<size_t>(adj_ptr[r1] - adj_ptr[r0]) * 4);
     std::vector<int> mark(static_cast<size_t>(n), -1);
-#pragma omp for schedule(static)
-    for (int r = 0; r < n; ++r) {
+    std::vector<int> pos(static_cast<size_t>(n), 0);
+    std::vector<int> row(static_cast<size_t>(nd) * 64);
+    for (int r = r0; r < r1; ++r) {
+      const size_t cap = static_cast<size_t>(adj_ptr[r + 1] - adj_ptr[r]) * nd;
+      if (row.size() < cap) row.resize(cap);
       int len = 0;
       for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
         const int t = adj[static_cast<size_t>(a)] / nd;
-        for (int j = 0; j < nd; ++j) {
-          const int c = cd(j, t);
-          if (mark[static_cast<size_t>(c)] != r) {
-            mark[static_cast<size_t>(c)] = r;
-            ++len;
-          }
+        const int* dofs = &cd(0, t);
+        for (int j = 0; j < nd; ++j) {  // branchless de-duplication
+          const int c = dofs[j];
+          row[static_cast<size_t>(len)] = c;
+          len += mark[static_cast<size_t>(c)] != r;
+          mark[static_cast<size_t>(c)] = r;
         }
       }
-      row_len[static_cast<size_t>(r)] = len;
+      std::sort(row.begin(), row.begin() + len);
+      if (len > 65535) row_too_long = true;
+      for (int k = 0; k < len; ++k) pos[static_cast<size_t>(row[static_cast<size_t>(k)])] = k;
+      for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
+        const int* dofs = &cd(0, adj[static_cast<size_t>(a)] / nd);
+        std::uint16_t* o = off.data() + static_cast<size_t>(a) * nd;
+        for (int j = 0; j < nd; ++j) o[j] = static_cast<std::uint16_t>(pos[static_cast<size_t>(dofs[j])]);
+      }
+      out.insert(out.end(), row.begin(), row.begin() + len);
+      outer[r + 1] = len;
     }
   }
+  if (row_too_long) throw std::runtime_error("assemble_stiffness: a matrix row has more than 65535 entries");
   long long nnz = 0;
   for (int r = 0; r < n; ++r) {
-    nnz += row_len[static_cast<size_t>(r)];
+    nnz += outer[r + 1];
     if (nnz > std::numeric_limits<int>::max())
       throw std::runtime_error("assemble_stiffness: matrix too large for 32-bit sparse indices");
     outer[r + 1] = static_cast<int>(nnz);
   }
-  std::vector<int>().swap(row_len);
   K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
   int* inner = K.innerIndexPtr();
   double* val = K.valuePtr();
-#pragma omp parallel num_threads(threads)
-  {
-    std::vector<int> mark(static_cast<size_t>(n), -1);
-#pragma omp for schedule(static)
-    for (int r = 0; r < n; ++r) {
-      int k = outer[r];
-      for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
-        const int t = adj[static_cast<size_t>(a)] / nd;
-        for (int j = 0; j < nd; ++j) {
-          const int c = cd(j, t);
-          if (mark[static_cast<size_t>(c)] != r) {
-            mark[static_cast<size_t>(c)] = r;
-            inner[k++] = c;
-          }
-        }
-      }
-      std::sort(inner + outer[r], inner + outer[r + 1]);
-      // -0.0 is the exact additive identity (-0.0 + x == x bitwise for every x,
-      // +0.0 and -0.0 included): each entry becomes its first contribution, then
-      // the later ones are added in order, as setFromTriplets summed duplicates.
-      std::fill(val + outer[r], val + outer[r + 1], -0.0);
-    }
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+  for (int b = 0; b < blocks; ++b) {
+    const int r0 = static_cast<int>(static_cast<long long>(n) * b / blocks);
+    std::vector<int>& in = cols[static_cast<size_t>(b)];
+    std::copy(in.begin(), in.end(), inner + outer[r0]);
+    std::vector<int>().swap(in);
+    // -0.0 is the exact additive identity (-0.0 + x == x bitwise for every x,
+    // +0.0 and -0.0 included): each entry becomes its first contribution, then
+    // the later ones are added in order, as setFromTriplets summed duplicates.
+    const int r1 = static_cast<int>(static_cast<long long>(n) * (b + 1) / blocks);
+    std::fill(val + outer[r0], val + outer[r1], -0.0);
   }
 
   // 3. Element matrices in chunks of cells, computed in parallel into a buffer, then
-  //    scattered row-wise: each thread owns a contiguous block of rows and adds, per
-  //    row, the contributions of the chunk's cells in ascending cell order (cursor
-  //    into the row's adjacency). Every entry is thus summed in element order, for
-  //    any thread count.
+  //    scattered row-wise: the rows touched by the chunk are split among the threads
+  //    (each row has one owner) and each adds the contributions of the chunk's cells
+  //    in ascending cell order (a cursor into the row's adjacency). Every entry is
+  //    thus summed in element order, for any thread count.
   const int kChunk = std::max(1, chunk_cells);
   const size_t ke_size = static_cast<size_t>(nd) * nd;
   std::vector<double> buf(static_cast<size_t>(std::min(kChunk, std::max(nt, 1))) * ke_size);
   std::vector<long long> cursor(adj_ptr.begin(), adj_ptr.end() - 1);
+  std::vector<int> stamp(static_cast<size_t>(n), -1);
+  std::vector<int> touched;  // rows with a cell in the current chunk (any order: rows are independent)
+  touched.reserve(static_cast<size_t>(std::min(n, kChunk * nd)));
 #pragma omp parallel num_threads(threads)
   {
     Eigen::Matrix<double, 10, 10> Ke;
-    std::vector<int> pos(static_cast<size_t>(n), 0);
     for (int c0 = 0; c0 < nt; c0 += kChunk) {
       const int c1 = std::min(nt, c0 + kChunk);
+#pragma omp single nowait
+      {
+        touched.clear();
+        for (int t = c0; t < c1; ++t)
+          for (int i = 0; i < nd; ++i) {
+            const int r = cd(i, t);
+            if (stamp[static_cast<size_t>(r)] != c0) {
+              stamp[static_cast<size_t>(r)] = c0;
+              touched.push_back(r);
+            }
+          }
+      }
 #pragma omp for schedule(static)
       for (int t = c0; t < c1; ++t) {
         cell_stiffness(mesh, order, t, mu_r_cell[t], Ke);
         double* out = buf.data() + static_cast<size_t>(t - c0) * ke_size;
         for (int i = 0; i < nd; ++i)
           for (int j = 0; j < nd; ++j) out[i * nd + j] = Ke(i, j);
-      }  // implicit barrier: the chunk's element matrices are complete
+      }  // implicit barrier: the chunk's element matrices and row list are complete
+      const int n_touched = static_cast<int>(touched.size());
 #pragma omp for schedule(static)
-      for (int r = 0; r < n; ++r) {
+      for (int q = 0; q < n_touched; ++q) {
+        const int r = touched[static_cast<size_t>(q)];
         long long a = cursor[static_cast<size_t>(r)];
         const long long a_end = adj_ptr[static_cast<size_t>(r) + 1];
-        if (a == a_end || adj[static_cast<size_t>(a)] / nd >= c1) continue;
-        for (int k = outer[r]; k < outer[r + 1]; ++k) pos[static_cast<size_t>(inner[k])] = k;
+        double* vr = val + outer[r];
         for (; a < a_end; ++a) {
           const int e = adj[static_cast<size_t>(a)];
           const int t = e / nd;
           if (t >= c1) break;
           const int i = e - t * nd;
           const double* row = buf.data() + static_cast<size_t>(t - c0) * ke_size + static_cast<size_t>(i) * nd;
-          for (int j = 0; j < nd; ++j) val[pos[static_cast<size_t>(cd(j, t))]] += row[j];
+          const std::uint16_t* o = off.data() + static_cast<size_t>(a) * nd;
+          for (int j = 0; j < nd; ++j) vr[o[j]] += row[j];
         }
         cursor[static_cast<size_t>(r)] = a;
-      }  // implicit barrier: the buffer may be overwritten by the next chunk
+      }  // implicit barrier: the buffer and row list may be overwritten by the next chunk
     }
   }
 

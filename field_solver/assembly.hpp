@@ -23,7 +23,7 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 // chunk_cells (>= 1) only sets the buffer size (chunk_cells * dofs_per_cell^2
 // doubles); tests vary it to cross chunk boundaries.
 SparseMatrix assemble_stiffness(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r_cell,
-                                bool robin, int threads, int chunk_cells = 32768);
+                                bool robin, int threads, int chunk_cells = 131072);
 
 // Element stiffness of cell t, Int mu_r grad N_i . grad N_j dV, in the top-left
 // dofs_per_cell block of Ke (local order of FeSpace::cell_dofs).

@@ -97,7 +97,7 @@ TEST_CASE("stiffness assembly equals an element-order std::map reference exactly
   FeSpace space(mesh, order);
   const Eigen::VectorXd mu = varied_mu(mesh);
   const auto ref = reference_assembly(mesh, space, mu, robin);
-  // One chunk (the default 32768 cells), and many: chunk boundaries inside every row's cells.
+  // One chunk (as with the default, larger than this mesh), and many: chunk boundaries inside rows.
   const int chunk = GENERATE(32768, 1000, 7);
   CAPTURE(chunk);
   const SparseMatrix K = assemble_stiffness(mesh, space, mu, robin, 2, chunk);
