@@ -24,7 +24,6 @@
 // Bz and theta_deg (src/io/probe_paths_vtk.hpp; ParaView's probe_paths.pvsm).
 // Example: error_spectrum --field analytic --array two --r0 2.4 --dx 0.1
 #include <CLI/CLI.hpp>
-#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -32,6 +31,7 @@
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
@@ -138,11 +138,7 @@ int run(int argc, char** argv) {
     row.r0_mm = setup.r0_mm;
     row.mount = mount;
     if (any_tilt) {  // the tilts of each case, as extra columns after the standard ones
-      auto g10 = [](double v) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%.10g", v);
-        return std::string(buf);
-      };
+      auto g10 = [](double v) { return magenc::fmt_sig(v, 10); };
       row.extra = {{"tilt_x_deg", g10(mount.tilt_x_deg)},
                    {"tilt_y_deg", g10(mount.tilt_y_deg)},
                    {"magnet_tilt_deg", g10(mount.magnet_tilt_deg)},

@@ -4,11 +4,12 @@
 // Distributed: mpirun -n N solve_field ... (fem.solver = petsc-hypre, the
 // default when built with PETSc) solves the linear systems across N ranks.
 #include <CLI/CLI.hpp>
-#include <cstdio>
+#include <iostream>
 
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "fem_config.hpp"
 #include "linear_solver.hpp"
 #include "field_outputs.hpp"
@@ -44,10 +45,9 @@ int main(int argc, char** argv) {
     const auto& st = solver.stats();
     const std::string solved =
         st.solved_dofs != st.dofs ? " (" + std::to_string(st.solved_dofs) + " solved on the symmetry quadrant)" : "";
-    std::fprintf(stderr,
-                 "solve_field: P%d, %ld elements, %ld dofs%s, %ld CG iterations (residual %.2e), %.2f s; wrote %s\n",
-                 st.order, st.elements, st.dofs, solved.c_str(), st.iterations, st.residual, st.t_total_s,
-                 out.final_path().c_str());
+    std::cerr << "solve_field: P" << st.order << ", " << st.elements << " elements, " << st.dofs << " dofs" << solved << ", "
+              << st.iterations << " CG iterations (residual " << magenc::fmt_sig(st.residual, 3) << "), " << magenc::fmt(st.t_total_s, 2)
+              << " s; wrote " << out.final_path().string() << "\n";
     return 0;
   });
 }

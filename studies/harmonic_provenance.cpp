@@ -15,10 +15,11 @@
 // src/analysis/provenance.* (the FE solves field_solver/fem_variant.*), the
 // outputs src/report/provenance_report.*.
 //   harmonic_provenance [--config studies/harmonic_provenance.toml] [--out DIR]
-#include <cstdio>
+#include <iostream>
 #include <filesystem>
 
 #include "analysis/provenance.hpp"
+#include "core/format.hpp"
 #include "fem_variant.hpp"
 #include "report/provenance_report.hpp"
 #include "report/study_output.hpp"
@@ -40,9 +41,8 @@ void run(const Config& cfg, StudyOutput& out) {
   ProvenanceRun run = run_grid_provenance(cfg, options);
   for (const auto& v : variants) {
     const fem::SolvedFemField s = fem::solve_fem_field(v.solve_cfg);
-    std::fprintf(stderr, "harmonic_provenance: %s: P%d, %ld tets, %ld dofs, %ld CG iterations, %.2f s\n",
-                 v.label.c_str(), s.facts.order, s.facts.elements, s.facts.dofs, s.facts.iterations,
-                 s.facts.t_total_s);
+    std::cerr << "harmonic_provenance: " << v.label << ": P" << s.facts.order << ", " << s.facts.elements << " tets, "
+              << s.facts.dofs << " dofs, " << s.facts.iterations << " CG iterations, " << fmt(s.facts.t_total_s, 2) << " s\n";
     add_fe_solution(run, {v.label, "solved here", s.facts}, *s.field, options.via_grid() ? &s.plane : nullptr);
   }
   for (const auto& dir : options.fem_dirs) {

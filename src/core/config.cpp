@@ -289,6 +289,19 @@ std::optional<ConfigScalar> toml_scalar(const toml::node& node) {
 // Bounds of TOML text before toml++ parses it (defined below).
 void check_toml_bounds(const std::string& text, const std::string& origin);
 
+// A --set value written in TOML (an inline array or array of tables) as the table {value = TEXT};
+// a parse error is the InputError whose text message(description) builds from the parser's description.
+template <class Message>
+toml::table parse_inline_toml(const std::string& text, const std::string& origin, Message&& message) {
+  check_toml_bounds(text, origin);
+  try {
+    const FpTrapPause parsing_input;  // strtod of 1e999 raises FE_OVERFLOW: input, not a bug (fp_trap.hpp)
+    return toml::parse("value = " + text, origin);
+  } catch (const toml::parse_error& e) {
+    throw InputError(message(std::string(e.description())));
+  }
+}
+
 // Calls leaf(dotted key, node) for every node of tbl that is not a table, and for the tables
 // stop(dotted key) names (the tables of a table-list key written as [key] instead of [[key]]).
 void walk_table(const toml::table& tbl, const std::string& prefix,
@@ -359,15 +372,9 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
   if (s.type == KeySpec::Type::TableList) {
     if (t.empty()) return ConfigTables{};
     if (t.front() == '[') {
-      check_toml_bounds(t, origin);
-      toml::table tbl;
-      try {
-        const FpTrapPause parsing_input;  // strtod of 1e999 raises FE_OVERFLOW: input, not a bug (fp_trap.hpp)
-        tbl = toml::parse("value = " + t, origin);
-      } catch (const toml::parse_error& e) {
-        throw InputError(origin + ": " + s.key + " is not a TOML array of tables (" + std::string(e.description()) +
-                         "): allowed " + allowed_range(s));
-      }
+      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+        return origin + ": " + s.key + " is not a TOML array of tables (" + why + "): allowed " + allowed_range(s);
+      });
       const toml::node* value = tbl.get("value");
       if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
       return toml_tables(s, *value, origin + ": ");
@@ -379,15 +386,9 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     ConfigList elements;
     if (!t.empty() && t.front() == '[') {
       // A TOML array, as in a file: --set 'key=[1, 2]'.
-      check_toml_bounds(t, origin);
-      toml::table tbl;
-      try {
-        const FpTrapPause parsing_input;  // strtod of 1e999 raises FE_OVERFLOW: input, not a bug (fp_trap.hpp)
-        tbl = toml::parse("value = " + t, origin);
-      } catch (const toml::parse_error& e) {
-        throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" +
-                         std::string(e.description()) + "): allowed " + allowed_range(s));
-      }
+      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+        return origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" + why + "): allowed " + allowed_range(s);
+      });
       const toml::array* a = tbl["value"].as_array();
       if (!a) return fail();
       for (std::size_t i = 0; i < a->size(); ++i) {

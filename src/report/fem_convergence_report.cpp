@@ -91,24 +91,30 @@ std::vector<std::vector<std::string>> potential_table(const PotentialComparison&
   return table;
 }
 
-std::string reduced_md(const PotentialComparison& pc) {
-  return "## Total vs reduced potential (P2, magnet mu_r = " + fmt(pc.mu_r, 3) + ")\n\nBz on the plane against the reduced-"
-         "potential solve at zone edge " + fmt(pc.h_ref_mm, 2) + " mm (the exact field has no permeability). The reduced "
-         "potential takes the magnet's free-space field from the exact solution and solves only the reaction of the "
-         "permeable magnet, so only that ~(mu_r - 1) share carries discretization error (fem.potential).\n\n" +
-         md_table({"h_zone mm", "DOFs", "total: RMS err", "total: max err", "reduced: RMS err", "reduced: max err"},
+// One "total vs <other> potential" section: heading, what the other formulation does, the error table.
+std::string potential_md(const PotentialComparison& pc, const std::string& heading, const std::string& other,
+                         const std::string& explanation) {
+  return "## " + heading + "\n\nBz on the plane against the " + other + "-potential solve at zone edge " +
+         fmt(pc.h_ref_mm, 2) + " mm" + explanation + "\n\n" +
+         md_table({"h_zone mm", "DOFs", "total: RMS err", "total: max err", other + ": RMS err", other + ": max err"},
                   potential_table(pc)) +
          "\n";
 }
 
+std::string reduced_md(const PotentialComparison& pc) {
+  return potential_md(pc, "Total vs reduced potential (P2, magnet mu_r = " + fmt(pc.mu_r, 3) + ")", "reduced",
+                      " (the exact field has no permeability). The reduced potential takes the magnet's free-space "
+                      "field from the exact solution and solves only the reaction of the permeable magnet, so only "
+                      "that ~(mu_r - 1) share carries discretization error (fem.potential).");
+}
+
 std::string shaft_md(const PotentialComparison& pc) {
-  return "## Total vs split potential with a shaft (P2, shaft mu_r = " + fmt(pc.mu_r, 4) + ", magnet mu_r = 1)\n\nBz on "
-         "the plane against the split-potential solve at zone edge " + fmt(pc.h_ref_mm, 2) + " mm. The split keeps the total "
-         "potential inside the shaft (where H ~ 0) and the reduced potential elsewhere, so only the shaft's reaction "
-         "carries discretization error (fem.potential = split, the default with a shaft).\n\n" +
-         md_table({"h_zone mm", "DOFs", "total: RMS err", "total: max err", "split: RMS err", "split: max err"},
-                  potential_table(pc)) +
-         "\n";
+  return potential_md(pc,
+                      "Total vs split potential with a shaft (P2, shaft mu_r = " + fmt(pc.mu_r, 4) + ", magnet mu_r = 1)",
+                      "split",
+                      ". The split keeps the total potential inside the shaft (where H ~ 0) and the reduced potential "
+                      "elsewhere, so only the shaft's reaction carries discretization error (fem.potential = split, the "
+                      "default with a shaft).");
 }
 
 }  // namespace
