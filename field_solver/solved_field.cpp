@@ -135,11 +135,12 @@ std::string SolvedFieldDir::description() const {
   try {
     const nlohmann::json j = read_record(record_file());
     if (j.is_null() || j.empty()) return "";
-    s << "order " << j.value("order", 0) << ", " << j.value("elements", 0L) << " tetrahedra, "
-      << j.value("dofs", 0L) << " dofs";
+    const long big = 1L << 50;
+    s << "order " << json_integer(j, "order", 0, false, 0, 2) << ", " << json_integer(j, "elements", 0, false, 0, big)
+      << " tetrahedra, " << json_integer(j, "dofs", 0, false, 0, big) << " dofs";
     if (j.contains("domain")) {
       const auto& d = j["domain"];
-      s << ", " << d.value("segments", 0) << " segments on the curved face, h_zone " << fmt(d.value("h_zone_mm", 0.0), 3)
+      s << ", " << json_integer(d, "segments", 0, false, 0, 1L << 30) << " segments on the curved face, h_zone " << fmt(d.value("h_zone_mm", 0.0), 3)
         << " mm, outer radius " << fmt(d.value("outer_radius_mm", 0.0), 1) << " mm";
     }
     if (j.contains("magnet")) s << ", magnet mu_r " << fmt(j["magnet"].value("mu_r", 0.0), 3);

@@ -22,6 +22,7 @@
 #include "fields/field_table.hpp"
 #include "fields/grid_field.hpp"
 #include "reliability/run_process.hpp"
+#include "solved_field.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define MAGENC_ASAN 1
@@ -101,14 +102,33 @@ TEST_CASE("fuzz regressions: every found input is refused with one line and with
       });
     else if (name.rfind("measured_curve_", 0) == 0)
       r = refused_in_child(e.path(), [](const fs::path& f) { (void)magenc::read_measured_curve(f.string()); });
+    else if (name.rfind("solve_json_", 0) == 0)
+      r = refused_in_child(e.path(), [](const fs::path& f) {
+        // A solve_field directory whose solve.json is this input: the summaries' description (documented
+        // "" when unreadable, never throws) must not crash, then facts() refuses it naming solve.json.
+        const fs::path d = fs::temp_directory_path() / ("magenc_fuzz_reg_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        fs::copy_file(f, d / "solve.json", fs::copy_options::overwrite_existing);
+        const magenc::SolvedFieldDir solved(d);
+        (void)solved.description();
+        try {
+          (void)solved.facts();
+        } catch (const magenc::InputError& e) {
+          // The child reports a refusal naming the input: map "DIR/solve.json" to this file's name.
+          fs::remove_all(d);
+          throw magenc::InputError(f.filename().string() + ": " + e.what());
+        }
+        fs::remove_all(d);
+      });
     else
-      FAIL("tests/fuzz/regressions/" << name << ": no reader for this prefix (vti_, field_table_, measured_curve_)");
+      FAIL("tests/fuzz/regressions/" << name << ": no reader for this prefix (vti_, field_table_, measured_curve_, "
+                                               "solve_json_)");
     ++files;
     INFO(name << ": " << r.second);
     CHECK(r.first == 0);
   }
   WARN(files << " fuzz regression inputs refused");
-  CHECK(files >= 6);
+  CHECK(files >= 7);
 }
 
 // The other side of the .vti pre-checks: every appended layout VTK writes (zlib or none, raw or base64,
