@@ -1,7 +1,7 @@
 // Determinism (issue 13): the same inputs and seed give the same results for 1 and 2 OpenMP threads.
 // - The radius study (seeded Monte Carlo, OpenMP sampling): every CSV byte-identical.
 // - solve_field: if the parallel assembly or reductions summed in a thread-dependent order, the FE
-//   system would differ in the last bits and CG (relative residual 1e-10) could amplify that to
+//   system would differ in the last bits and CG (relative residual fem.tolerance, default 1e-8) could amplify that to
 //   ~1e-10 relative in psi. Stated tolerance: |Bz(1 thread) - Bz(2 threads)| <= 1e-8 * max|Bz| on
 //   plane.vti. Measured: 0 (the assembly merges thread-local work in a fixed order), so the
 //   spectra table of error_spectrum on the two grids is required to be byte-identical.
