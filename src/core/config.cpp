@@ -286,6 +286,19 @@ std::optional<ConfigScalar> toml_scalar(const toml::node& node) {
   return std::nullopt;
 }
 
+// The elements of a TOML array of a list key (a file's or --set's): scalars only.
+ConfigList toml_list(const KeySpec& s, const toml::array& a, const std::string& origin) {
+  ConfigList elements;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    auto e = toml_scalar(*a.get(i));
+    if (!e)
+      throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " + std::to_string(a.size()) +
+                       " is an array or table: allowed " + allowed_range(s));
+    elements.push_back(*e);
+  }
+  return elements;
+}
+
 // Bounds of TOML text before toml++ parses it (defined below).
 void check_toml_bounds(const std::string& text, const std::string& origin);
 
@@ -391,14 +404,7 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
       });
       const toml::array* a = tbl["value"].as_array();
       if (!a) return fail();
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        auto e = toml_scalar(*a->get(i));
-        if (!e)
-          throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
-                           std::to_string(a->size()) + " is an array or table: allowed " + allowed_range(s));
-        elements.push_back(*e);
-      }
-      return elements;
+      return toml_list(s, *a, origin);
     }
     // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
     KeySpec e = s;
@@ -762,15 +768,7 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
     } else if (auto x = toml_scalar(node)) {
       v = std::visit([](const auto& y) { return ConfigValue(y); }, *x);
     } else if (auto a = node.as_array(); a && is_list(s.type)) {
-      ConfigList elements;
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        auto e = toml_scalar(*a->get(i));
-        if (!e)
-          throw InputError(origin + ": " + key + " element " + std::to_string(i + 1) + " of " +
-                           std::to_string(a->size()) + " is an array or table: allowed " + allowed_range(s));
-        elements.push_back(*e);
-      }
-      v = elements;
+      v = toml_list(s, *a, origin);
     } else {
       throw InputError(origin + ": " + key + " has an unsupported TOML type: allowed " + allowed_range(s));
     }
