@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <numeric>
 #include <vector>
 
 #include "core/errors.hpp"
@@ -83,6 +85,84 @@ void finalize_mesh(TetMesh& mesh) {
   mesh.boundary_faces.resize(3, static_cast<Eigen::Index>(faces.size()));
   for (size_t i = 0; i < faces.size(); ++i)
     for (int d = 0; d < 3; ++d) mesh.boundary_faces(d, static_cast<Eigen::Index>(i)) = faces[i][d];
+}
+
+namespace {
+
+// 21 bits of v spread to every third bit (bits 0, 3, 6, ...).
+std::uint64_t spread3(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+}  // namespace
+
+void reorder_for_locality(TetMesh& mesh) {
+  const int nn = mesh.num_nodes(), nt = mesh.num_tets();
+  if (nn == 0) return;
+  // 1. Nodes by Morton code (ties by old id: a stable order).
+  const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
+  const Eigen::Vector3d ext = (hi - lo).cwiseMax(1e-300);
+  std::vector<std::uint64_t> key(static_cast<size_t>(nn));
+  for (int i = 0; i < nn; ++i) {
+    std::uint64_t k = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double u = (mesh.nodes(d, i) - lo[d]) / ext[d];  // in [0, 1]
+      const auto q = static_cast<std::uint64_t>(std::min(std::max(u, 0.0), 1.0) * 2097151.0);
+      k |= spread3(q) << d;
+    }
+    key[static_cast<size_t>(i)] = k;
+  }
+  std::vector<int> order(static_cast<size_t>(nn));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return key[static_cast<size_t>(a)] < key[static_cast<size_t>(b)]; });
+  std::vector<int> new_id(static_cast<size_t>(nn));
+  Eigen::Matrix3Xd nodes(3, nn);
+  for (int i = 0; i < nn; ++i) {
+    new_id[static_cast<size_t>(order[static_cast<size_t>(i)])] = i;
+    nodes.col(i) = mesh.nodes.col(order[static_cast<size_t>(i)]);
+  }
+  mesh.nodes.swap(nodes);
+  // 2. Tets by smallest new vertex id: a stable counting sort.
+  std::vector<int> first(static_cast<size_t>(nt));
+  std::vector<int> start(static_cast<size_t>(nn) + 1, 0);
+  for (int t = 0; t < nt; ++t) {
+    int m = nn;
+    for (int k = 0; k < 4; ++k) {
+      const int v = mesh.tets(k, t);
+      if (v < 0 || v >= nn) throw ComputeError("mesh: a tet refers to a vertex that does not exist");
+      m = std::min(m, new_id[static_cast<size_t>(v)]);
+    }
+    first[static_cast<size_t>(t)] = m;
+    ++start[static_cast<size_t>(m) + 1];
+  }
+  for (int i = 0; i < nn; ++i) start[static_cast<size_t>(i) + 1] += start[static_cast<size_t>(i)];
+  Eigen::Matrix4Xi tets(4, nt);
+  Eigen::VectorXi region(nt);
+  for (int t = 0; t < nt; ++t) {
+    const int s = start[static_cast<size_t>(first[static_cast<size_t>(t)])]++;
+    for (int k = 0; k < 4; ++k) tets(k, s) = new_id[static_cast<size_t>(mesh.tets(k, t))];
+    region[s] = mesh.region[t];
+  }
+  mesh.tets.swap(tets);
+  mesh.region.swap(region);
+  // 3. Boundary faces: renumbered, then sorted (same rule as finalize_mesh).
+  std::vector<std::array<int, 3>> faces(static_cast<size_t>(mesh.boundary_faces.cols()));
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (int d = 0; d < 3; ++d) {
+      const int v = mesh.boundary_faces(d, static_cast<Eigen::Index>(f));
+      if (v < 0 || v >= nn) throw ComputeError("mesh: a boundary face refers to a vertex that does not exist");
+      faces[f][static_cast<size_t>(d)] = new_id[static_cast<size_t>(v)];
+    }
+  std::sort(faces.begin(), faces.end());
+  for (size_t f = 0; f < faces.size(); ++f)
+    for (int d = 0; d < 3; ++d) mesh.boundary_faces(d, static_cast<Eigen::Index>(f)) = faces[f][static_cast<size_t>(d)];
 }
 
 }  // namespace magenc::fem

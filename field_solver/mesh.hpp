@@ -57,6 +57,14 @@ struct TetMesh {
 // the same vertices pair up in the order of their index; the odd one of three or more gets -2.
 std::vector<int> face_partners(const Eigen::Matrix4Xi& tets, int num_nodes);
 
+// Renumbers nodes and tets for memory locality (the mesh itself is unchanged): nodes in the
+// order of their Morton (Z-order) code over the bounding box, tets by their smallest new
+// vertex id (ties in their previous order); tets keep their local vertex order, and
+// boundary_faces are renumbered and sorted as finalize_mesh sorts them. Neighbouring
+// nodes get nearby ids, so the gathers and scatters of assembly, sparse products and
+// point location touch few cache lines. Deterministic.
+void reorder_for_locality(TetMesh& mesh);
+
 // Fills boundary_faces with the faces that belong to exactly one tet and makes
 // every tet positively oriented (det of its edge matrix > 0).
 void finalize_mesh(TetMesh& mesh);
