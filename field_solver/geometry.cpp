@@ -319,11 +319,16 @@ TetMesh mesh_quadrant(const DomainSpec& spec) {
     for (int k = 0; k < 3; ++k)
       if (q.nodes.col(q.boundary_faces(k, f)).norm() < 0.5 * spec.mesh.outer_radius_mm)
         throw ComputeError("symmetric mesh: the wedge copies do not conform (a boundary face inside the domain)");
+  reorder_for_locality(q);
   return q;
 }
 
 TetMesh mesh_domain(const DomainSpec& spec) {
-  if (!spec.mesh.symmetric) return tetrahedralize_plc(build_plc(spec), spec.mesh.mesher);
+  if (!spec.mesh.symmetric) {
+    TetMesh m = tetrahedralize_plc(build_plc(spec), spec.mesh.mesher);
+    reorder_for_locality(m);
+    return m;
+  }
   return mirror_quadrant_mesh(mesh_quadrant(spec));
 }
 

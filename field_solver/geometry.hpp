@@ -112,12 +112,13 @@ double polygon_radius(double R_mm, int segments, bool equal_area);
 Plc build_plc(const DomainSpec& spec);
 
 // Mesh the domain: build_plc + tetrahedralize_plc; with mesh.symmetric the
-// PLC cut to one quadrant, meshed and mirrored into the other three.
+// PLC cut to one quadrant, meshed and mirrored into the other three. Nodes and
+// tets are numbered for locality (reorder_for_locality).
 TetMesh mesh_domain(const DomainSpec& spec);
 
 // The quadrant x >= 0, y >= 0 of the domain, meshed (snap_quadrant_mesh:
-// boundary_faces = the outer boundary only). mesh_domain with mesh.symmetric
-// is its mirror image.
+// boundary_faces = the outer boundary only; numbered by reorder_for_locality).
+// mesh_domain with mesh.symmetric is its mirror image.
 TetMesh mesh_quadrant(const DomainSpec& spec);
 
 }  // namespace magenc::fem

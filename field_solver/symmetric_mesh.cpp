@@ -372,6 +372,7 @@ TetMesh mirror_quadrant_mesh(const TetMesh& quad_in) {
       for (int k = 0; k < 3; ++k) all = all && m.nodes(d, m.boundary_faces(k, f)) == 0.0;
       if (all) throw ComputeError("symmetric mesh: a face on a symmetry plane has no mirror partner (non-conforming cut)");
     }
+  reorder_for_locality(m);
   return m;
 }
 

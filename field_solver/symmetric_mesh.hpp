@@ -50,7 +50,8 @@ void snap_quadrant_mesh(TetMesh& quadrant);
 // Reflects a mesh of the quadrant (all nodes x >= 0, y >= 0 up to 1e-9 of the
 // domain size; nodes that close to a plane are snapped onto it) across x = 0
 // and y = 0. Nodes on a symmetry plane are shared, so the result is
-// conforming; finalize_mesh recomputes orientation and the outer boundary.
+// conforming; finalize_mesh recomputes orientation and the outer boundary, and
+// reorder_for_locality numbers nodes and tets for memory locality.
 // Throws ComputeError if a face on a symmetry plane has no partner (the
 // boundary would then contain symmetry-plane faces).
 TetMesh mirror_quadrant_mesh(const TetMesh& quadrant);

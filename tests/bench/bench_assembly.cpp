@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   using namespace magenc;
   int threads = 1, repeat = 5, order = 2;
   bool reorder = false;
+  int chunk = 0;  // 0: assemble_stiffness's default
   Config cfg(fem::solve_field_schema());
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
       repeat = std::atoi(argv[++i]);
     } else if (a == "--order" && has_value) {
       order = std::atoi(argv[++i]);
+    } else if (a == "--chunk" && has_value) {
+      chunk = std::atoi(argv[++i]);
     } else if (a == "--reorder") {
       reorder = true;
     } else if (a == "--set" && has_value) {
@@ -63,7 +66,11 @@ int main(int argc, char** argv) {
   const fem::FemSettings s = fem::fem_settings_from_config(cfg);
   auto t0 = Clock::now();
   fem::TetMesh mesh = fem::mesh_domain(s.domain);
-  if (reorder) fem::reorder_for_locality(mesh);
+  if (reorder) {
+    t0 = Clock::now();
+    fem::reorder_for_locality(mesh);
+    std::cout << "reorder_for_locality again: " << fmt(since(t0), 3) << " s\n";
+  }
   const double t_mesh = since(t0);
   t0 = Clock::now();
   const fem::FeSpace space(mesh, order);
@@ -76,7 +83,8 @@ int main(int argc, char** argv) {
   long long nnz = 0;
   for (int r = 0; r < repeat; ++r) {
     t0 = Clock::now();
-    const fem::SparseMatrix K = fem::assemble_stiffness(mesh, space, mu, s.solver.robin, threads);
+    const fem::SparseMatrix K = chunk > 0 ? fem::assemble_stiffness(mesh, space, mu, s.solver.robin, threads, chunk)
+                                          : fem::assemble_stiffness(mesh, space, mu, s.solver.robin, threads);
     times.push_back(since(t0));
     nnz = K.nonZeros();
     std::cout << "assemble_stiffness, " << threads << " thread(s), run " << r + 1 << ": " << fmt(times.back(), 3)
