@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -163,22 +164,38 @@ void assemble_cells(const TetMesh& mesh, const FeSpace& space, const Eigen::Vect
     const int r1 = static_cast<int>(static_cast<long long>(n) * (tid + 1) / nth);
     std::vector<int>& out = cols[static_cast<size_t>(tid)];
     out.reserve(static_cast<size_t>(adj_ptr[r1] - adj_ptr[r0]) * 4);
-    std::vector<int> mark(static_cast<size_t>(n), -1);
+    // The row's columns as bits of a bitmap over all dofs (n / 8 bytes: stays in cache), with
+    // the list of its words that became non-zero; sorting those few words and reading
+    // their bits in order gives the sorted, de-duplicated columns and clears the bitmap.
+    std::vector<std::uint64_t> bits((static_cast<size_t>(n) + 63) / 64, 0);
+    std::vector<int> words(static_cast<size_t>(ND) * 64);
     std::vector<int> row(static_cast<size_t>(ND) * 64);
     for (int r = r0; r < r1; ++r) {
       const size_t cap = static_cast<size_t>(adj_ptr[r + 1] - adj_ptr[r]) * ND;
-      if (row.size() < cap) row.resize(cap);
-      int len = 0;
+      if (row.size() < cap) {
+        row.resize(cap);
+        words.resize(cap);
+      }
+      int nw = 0;
       for (long long a = adj_ptr[r]; a < adj_ptr[r + 1]; ++a) {
         const int* dofs = &cd(0, adj[static_cast<size_t>(a)] / ND);
-        for (int j = 0; j < ND; ++j) {  // branchless de-duplication
+        for (int j = 0; j < ND; ++j) {  // branchless
           const int c = dofs[j];
-          row[static_cast<size_t>(len)] = c;
-          len += mark[static_cast<size_t>(c)] != r;
-          mark[static_cast<size_t>(c)] = r;
+          const size_t w = static_cast<size_t>(c) >> 6;
+          const std::uint64_t old = bits[w];
+          words[static_cast<size_t>(nw)] = static_cast<int>(w);
+          nw += old == 0;
+          bits[w] = old | (std::uint64_t{1} << (c & 63));
         }
       }
-      std::sort(row.begin(), row.begin() + len);
+      std::sort(words.begin(), words.begin() + nw);
+      int len = 0;
+      for (int k = 0; k < nw; ++k) {
+        const size_t w = static_cast<size_t>(words[static_cast<size_t>(k)]);
+        std::uint64_t b = bits[w];
+        bits[w] = 0;
+        for (; b != 0; b &= b - 1) row[static_cast<size_t>(len++)] = static_cast<int>(w * 64) + __builtin_ctzll(b);
+      }
       out.insert(out.end(), row.begin(), row.begin() + len);
       outer[r + 1] = len;
     }
