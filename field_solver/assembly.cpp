@@ -58,21 +58,31 @@ template <int ND> struct StiffnessWeights {
 };
 
 // Ke (row-major ND x ND, symmetric: both triangles from one value) of cell t with mu_r.
+// W as ND x ND matrices, one per pair (p <= q), both triangles from the one value.
+template <int ND> struct FullWeights {
+  alignas(64) double w[10][ND * ND];
+  FullWeights() {
+    const StiffnessWeights<ND> W;
+    int u = 0;
+    for (int i = 0; i < ND; ++i)
+      for (int j = i; j < ND; ++j, ++u)
+        for (int k = 0; k < 10; ++k) w[k][i * ND + j] = w[k][j * ND + i] = W.w[u][k];
+  }
+};
+template <int ND> const FullWeights<ND> kWeights;
+
+// Ke (row-major ND x ND) of cell t with mu_r: sum_k A_k W_k, the same operations for
+// (i, j) and (j, i), so Ke is exactly symmetric.
 template <int ND> inline void element_stiffness(const TetMesh& mesh, int t, double mu_r, double* Ke) {
-  static const StiffnessWeights<ND> W;
+  const FullWeights<ND>& W = kWeights<ND>;
   const TetGeometry g = tet_geometry(mesh.nodes, mesh.tets.col(t));
   double A[10];
   const double s = mu_r * g.volume_mm3;
   for (int p = 0, k = 0; p < 4; ++p)
     for (int q = p; q < 4; ++q, ++k) A[k] = s * g.grad_L.col(p).dot(g.grad_L.col(q));
-  int u = 0;
-  for (int i = 0; i < ND; ++i)
-    for (int j = i; j < ND; ++j, ++u) {
-      double v = 0.0;
-      for (int k = 0; k < 10; ++k) v += W.w[u][k] * A[k];
-      Ke[i * ND + j] = v;
-      Ke[j * ND + i] = v;
-    }
+  for (int e = 0; e < ND * ND; ++e) Ke[e] = A[0] * W.w[0][e];
+  for (int k = 1; k < 10; ++k)
+    for (int e = 0; e < ND * ND; ++e) Ke[e] += A[k] * W.w[k][e];
 }
 
 }  // namespace
