@@ -248,7 +248,10 @@ void MagnetostaticSolver::assemble_system() {
     stats_.nonzeros = quadrant_->nonzeros();
     return;
   }
-  K_ = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
+  {  // swap, not assign: Eigen 3.4's SparseMatrix has no move assignment (K_ = f() copies)
+    SparseMatrix K = assemble_stiffness(mesh_, *space_, mu_r_cell_, options_.robin, options_.threads);
+    K_.swap(K);
+  }
   PotentialLoad load = potential_load(mesh_, *space_, mu_r_cell_, br_T, domain_.magnet, -1);
   f_ = std::move(load.f);
   interface_phi_s_ = std::move(load.interface_phi_s);
@@ -303,7 +306,7 @@ void MagnetostaticSolver::solve() {
     cg(K_, f_, psi_);
   }
   if (!psi_.allFinite()) throw ComputeError("solution psi contains NaN or Inf");
-  K_ = SparseMatrix();  // release memory before post-processing
+  SparseMatrix().swap(K_);  // release memory before post-processing (K_ = SparseMatrix() would keep it)
 }
 
 // 5. Solution object (recovered gradient) and point locator; B at cell centroids on demand (B_cell()).

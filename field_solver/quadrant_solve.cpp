@@ -11,7 +11,9 @@ QuadrantSolve::QuadrantSolve(TetMesh quadrant, int order)
 
 void QuadrantSolve::assemble(const Eigen::VectorXd& mu_r_cell, const Eigen::Vector3d& br_T, double br_scale_T,
                              bool robin, int threads, const LoadBuilder& load) {
-  K_ = assemble_stiffness(quad_, *space_, mu_r_cell, robin, threads);
+  // Eigen 3.4's SparseMatrix has no move assignment: K_ = f() would copy the matrix.
+  SparseMatrix K = assemble_stiffness(quad_, *space_, mu_r_cell, robin, threads);
+  K_.swap(K);
   loads_.clear();
   for (int c = 0; c < 3; ++c) {
     if (std::abs(br_T[c]) < 1e-12 * br_scale_T) continue;
@@ -54,7 +56,7 @@ Eigen::VectorXd QuadrantSolve::solve_and_mirror(const Eigen::Matrix3Xd& fp, cons
     }
   }
   loads_.clear();
-  K_ = SparseMatrix();
+  SparseMatrix().swap(K_);  // frees it (assigning an empty matrix keeps the allocation)
   return psi;
 }
 

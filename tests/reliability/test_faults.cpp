@@ -35,7 +35,8 @@ std::string parse_problem(const fs::path& file) {
       (void)magenc::fem::read_solution_vtu(file);
     } else if (ext == ".json") {
       std::ifstream in(file);
-      (void)nlohmann::json::parse(in);
+      const nlohmann::json parsed = nlohmann::json::parse(in);  // throws on a torn file
+      (void)parsed;
     } else if (ext == ".csv") {
       std::ifstream in(file);
       std::string header, line;
