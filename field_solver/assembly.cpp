@@ -20,7 +20,7 @@ namespace {
 // (4 L_a - 1) at p = a; P2 edge (a, b): 4 L_b at p = a, 4 L_a at p = b). So
 //   K_ij = sum_{p <= q} A_pq W[i][j][pq],  W = the means over the tet of c_ip c_jq (+ c_iq c_jp),
 // exact with the tet's means <1> = 1, <L_k> = 1/4, <L_k L_l> = 1/10 (k = l) or 1/20: the
-// same integral the 4-point rule (exact for degree 2) computes, ~6x fewer operations.
+// same integral the 4-point rule (exact for degree 2) computes, without the quadrature loop.
 template <int ND> struct StiffnessWeights {
   double w[ND * (ND + 1) / 2][10];  // upper-triangle entry (i <= j, row by row) x pair (p <= q)
   StiffnessWeights() {
@@ -57,7 +57,6 @@ template <int ND> struct StiffnessWeights {
   }
 };
 
-// Ke (row-major ND x ND, symmetric: both triangles from one value) of cell t with mu_r.
 // W as ND x ND matrices, one per pair (p <= q), both triangles from the one value.
 template <int ND> struct FullWeights {
   alignas(64) double w[10][ND * ND];

@@ -112,8 +112,8 @@ void reorder_for_locality(TetMesh& mesh) {
   for (int i = 0; i < nn; ++i) {
     std::uint64_t k = 0;
     for (int d = 0; d < 3; ++d) {
-      const double u = (mesh.nodes(d, i) - lo[d]) / ext[d];  // in [0, 1]
-      const auto q = static_cast<std::uint64_t>(std::min(std::max(u, 0.0), 1.0) * 2097151.0);
+      const double u = (mesh.nodes(d, i) - lo[d]) / ext[d];  // in [0, 1]; NaN coordinates count as 0
+      const auto q = static_cast<std::uint64_t>((u > 0.0 ? std::min(u, 1.0) : 0.0) * 2097151.0);
       k |= spread3(q) << d;
     }
     key[static_cast<size_t>(i)] = k;
@@ -143,15 +143,16 @@ void reorder_for_locality(TetMesh& mesh) {
     ++start[static_cast<size_t>(m) + 1];
   }
   for (int i = 0; i < nn; ++i) start[static_cast<size_t>(i) + 1] += start[static_cast<size_t>(i)];
+  const bool has_region = mesh.region.size() == nt;
   Eigen::Matrix4Xi tets(4, nt);
-  Eigen::VectorXi region(nt);
+  Eigen::VectorXi region(has_region ? nt : 0);
   for (int t = 0; t < nt; ++t) {
     const int s = start[static_cast<size_t>(first[static_cast<size_t>(t)])]++;
     for (int k = 0; k < 4; ++k) tets(k, s) = new_id[static_cast<size_t>(mesh.tets(k, t))];
-    region[s] = mesh.region[t];
+    if (has_region) region[s] = mesh.region[t];
   }
   mesh.tets.swap(tets);
-  mesh.region.swap(region);
+  if (has_region) mesh.region.swap(region);
   // 3. Boundary faces: renumbered, then sorted (same rule as finalize_mesh).
   std::vector<std::array<int, 3>> faces(static_cast<size_t>(mesh.boundary_faces.cols()));
   for (size_t f = 0; f < faces.size(); ++f)
