@@ -21,9 +21,10 @@ namespace {
 //   K_ij = sum_{p <= q} A_pq W[i][j][pq],  W = the means over the tet of c_ip c_jq (+ c_iq c_jp),
 // exact with the tet's means <1> = 1, <L_k> = 1/4, <L_k L_l> = 1/10 (k = l) or 1/20: the
 // same integral the 4-point rule (exact for degree 2) computes, without the quadrature loop.
-template <int ND> struct StiffnessWeights {
-  double w[ND * (ND + 1) / 2][10];  // upper-triangle entry (i <= j, row by row) x pair (p <= q)
-  StiffnessWeights() {
+// W as ND x ND matrices, one per pair (p <= q); both triangles from the one value.
+template <int ND> struct FullWeights {
+  alignas(64) double w[10][ND * ND];
+  FullWeights() {
     // c_ip = alpha[i][p] + sum_k beta[i][p][k] L_k
     double alpha[ND][4] = {}, beta[ND][4][4] = {};
     for (int a = 0; a < 4; ++a) {
@@ -47,25 +48,13 @@ template <int ND> struct StiffnessWeights {
         for (int l = 0; l < 4; ++l) m += beta[i][p][k] * beta[j][q][l] * (k == l ? 0.1 : 0.05);
       return m;
     };
-    int u = 0;
     for (int i = 0; i < ND; ++i)
-      for (int j = i; j < ND; ++j, ++u) {
+      for (int j = i; j < ND; ++j) {
         int k = 0;
         for (int p = 0; p < 4; ++p)
-          for (int q = p; q < 4; ++q, ++k) w[u][k] = p == q ? mean(i, p, j, p) : mean(i, p, j, q) + mean(i, q, j, p);
+          for (int q = p; q < 4; ++q, ++k)
+            w[k][i * ND + j] = w[k][j * ND + i] = p == q ? mean(i, p, j, p) : mean(i, p, j, q) + mean(i, q, j, p);
       }
-  }
-};
-
-// W as ND x ND matrices, one per pair (p <= q), both triangles from the one value.
-template <int ND> struct FullWeights {
-  alignas(64) double w[10][ND * ND];
-  FullWeights() {
-    const StiffnessWeights<ND> W;
-    int u = 0;
-    for (int i = 0; i < ND; ++i)
-      for (int j = i; j < ND; ++j, ++u)
-        for (int k = 0; k < 10; ++k) w[k][i * ND + j] = w[k][j * ND + i] = W.w[u][k];
   }
 };
 template <int ND> const FullWeights<ND> kWeights;
