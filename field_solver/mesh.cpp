@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include "core/errors.hpp"
@@ -63,6 +64,18 @@ std::vector<int> face_partners(const Eigen::Matrix4Xi& tets, int num_nodes) {
   return partner;
 }
 
+namespace {
+
+// mesh.boundary_faces = faces in sorted order (a deterministic order whatever the tet order).
+void set_boundary_faces(TetMesh& mesh, std::vector<std::array<int, 3>> faces) {
+  std::sort(faces.begin(), faces.end());
+  mesh.boundary_faces.resize(3, static_cast<Eigen::Index>(faces.size()));
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (int d = 0; d < 3; ++d) mesh.boundary_faces(d, static_cast<Eigen::Index>(i)) = faces[i][static_cast<size_t>(d)];
+}
+
+}  // namespace
+
 void finalize_mesh(TetMesh& mesh) {
   const int nt = mesh.num_tets();
   // 1. Orientation: swap two vertices of any negatively oriented tet.
@@ -81,10 +94,7 @@ void finalize_mesh(TetMesh& mesh) {
     for (int k = 0; k < 4; ++k)
       if (partner[static_cast<size_t>(4 * t + k)] == -1)
         faces.push_back({mesh.tets(kFace[k][0], t), mesh.tets(kFace[k][1], t), mesh.tets(kFace[k][2], t)});
-  std::sort(faces.begin(), faces.end());  // deterministic order
-  mesh.boundary_faces.resize(3, static_cast<Eigen::Index>(faces.size()));
-  for (size_t i = 0; i < faces.size(); ++i)
-    for (int d = 0; d < 3; ++d) mesh.boundary_faces(d, static_cast<Eigen::Index>(i)) = faces[i][d];
+  set_boundary_faces(mesh, std::move(faces));
 }
 
 namespace {
@@ -153,7 +163,7 @@ void reorder_for_locality(TetMesh& mesh) {
   }
   mesh.tets.swap(tets);
   if (has_region) mesh.region.swap(region);
-  // 3. Boundary faces: renumbered, then sorted (same rule as finalize_mesh).
+  // 3. Boundary faces: renumbered, then sorted as finalize_mesh sorts them.
   std::vector<std::array<int, 3>> faces(static_cast<size_t>(mesh.boundary_faces.cols()));
   for (size_t f = 0; f < faces.size(); ++f)
     for (int d = 0; d < 3; ++d) {
@@ -161,9 +171,7 @@ void reorder_for_locality(TetMesh& mesh) {
       if (v < 0 || v >= nn) throw ComputeError("mesh: a boundary face refers to a vertex that does not exist");
       faces[f][static_cast<size_t>(d)] = new_id[static_cast<size_t>(v)];
     }
-  std::sort(faces.begin(), faces.end());
-  for (size_t f = 0; f < faces.size(); ++f)
-    for (int d = 0; d < 3; ++d) mesh.boundary_faces(d, static_cast<Eigen::Index>(f)) = faces[f][static_cast<size_t>(d)];
+  set_boundary_faces(mesh, std::move(faces));
 }
 
 }  // namespace magenc::fem
