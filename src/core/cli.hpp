@@ -1,4 +1,4 @@
-// Common command-line options of every magenc executable (interfaces.md):
+// Common command-line options of every magenc executable (docs/interfaces.md):
 // --config FILE.toml, --set key=value (repeatable), --out PATH.
 #pragma once
 #include <CLI/CLI.hpp>
