@@ -33,7 +33,7 @@ CODE_SPAN = re.compile(r"(`+)(.+?)\1")
 INLINE_LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*(<[^>]*>|[^)\s]+)(?:\s+\"[^\"]*\")?\s*\)")
 REF_DEF = re.compile(r"^\s{0,3}\[[^\]]+\]:\s*(<[^>]*>|\S+)")
 SCHEME = re.compile(r"^[a-zA-Z][a-zA-Z0-9+.-]*:")
-# A repository path starting with docs/ (not part of a longer path such as tests/docs/ or ../shared/docs/).
+# A repository path starting with docs/ (not part of a longer path such as tests/docs/ or ../other/docs/).
 DOCS_PATH = re.compile(r"(?<![\w./~-])" + "docs" + r"/[\w./-]*")
 TABLE_SEPARATOR = re.compile(r"^\s*\|?\s*:?-+:?\s*(\|\s*:?-+:?\s*)*\|?\s*$")
 HEADING = re.compile(r"^\s{0,3}(#{1,6})\s+(.*?)\s*#*\s*$")
@@ -188,7 +188,7 @@ def self_test():
                             "## Linear solvers (`fem.solver`)\n\n[back](../README.md)\n"),
         f"{d}/studies/radius.md": f"# Radius\n\n[solvers](../physics.md#linear-solvers-femsolver)\n",
         "fig/a.png": "png\n",
-        "src/core/x.cpp": f"// conventions: {d}/physics.md, pages {d}/studies/<name>.md, ../shared/{d}/gone.md\n",
+        "src/core/x.cpp": f"// conventions: {d}/physics.md, pages {d}/studies/<name>.md, ../other/{d}/gone.md\n",
         "build/ignored.md": "[broken](nowhere.md)\n",
         "output/run/summary.md": "[broken](nowhere.md)\n",
     }
