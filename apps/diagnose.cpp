@@ -1,4 +1,4 @@
-// diagnose: from measured angle-error curves back to their causes (interfaces.md, "Measured error curves
+// diagnose: from measured angle-error curves back to their causes (docs/interfaces.md, "Measured error curves
 // and diagnose"). Reads one or more measured curves, fits the chosen model parameters (mounting offsets,
 // tilts, signal-chain errors) plus a free zero offset per curve by nonlinear least squares (Ceres), and
 // reports values with 1-sigma uncertainties, correlations, what the data cannot separate, and the residual.
@@ -79,7 +79,7 @@ std::string help_footer() {
 int run(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   // 1. Options.
-  CLI::App app{"diagnose: fit mounting and signal-chain errors to measured angle-error curves (interfaces.md)"};
+  CLI::App app{"diagnose: fit mounting and signal-chain errors to measured angle-error curves (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
   const auto schema = magenc::common_keys();

@@ -1,5 +1,5 @@
 // error_spectrum: angle-error spectra of a magnetic encoder for one mounting
-// case (flags) or many (--cases FILE.csv), interfaces.md.
+// case (flags) or many (--cases FILE.csv), docs/interfaces.md.
 //
 //   error_spectrum --field linear|analytic|grid:FILE.vti|table:FILE|fem:DIR
 //                  --array two|diff4|ring:N  --r0 MM
@@ -14,7 +14,7 @@
 // --cases, each row is a complete mount (missing columns = 0) and the mount
 // flags/keys are not used; combining --cases with --sx..--dz is an error.
 // --field defaults to analytic; --interp (default cubic) applies to grid: fields.
-// Tilts, magnetization elevation and the signal chain (physics.md "Beyond the
+// Tilts, magnetization elevation and the signal chain (docs/physics.md "Beyond the
 // five offsets") come through --config/--set (mount.tilt_x_deg, ...,
 // magnet.magnetization_elevation_deg, sensor.offset_cos_mT, ...) or, for the
 // tilts, as --cases columns; when any case is tilted the table gains the
@@ -80,7 +80,7 @@ void apply_flags(Config& cfg, const Flags& f) {
 
 int run(int argc, char** argv) {
   // 1. Options.
-  CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (interfaces.md)"};
+  CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
   const auto schema = magenc::common_keys();

@@ -1,4 +1,4 @@
-// solve_field: magnetostatic FEM of the configured magnet (interfaces.md).
+// solve_field: magnetostatic FEM of the configured magnet (docs/interfaces.md).
 //   solve_field [--config F.toml] [--set key=value]... [--out DIR]
 // Writes DIR/mesh.vtu, plane.vti, box.vti, solve.json (all or nothing).
 // Distributed: mpirun -n N solve_field ... (fem.solver = petsc-hypre, the

@@ -1,4 +1,4 @@
-// table_to_vti: converts a field table from another tool (interfaces.md,
+// table_to_vti: converts a field table from another tool (docs/interfaces.md,
 // "Field tables from other tools": COMSOL, Ansys Maxwell, FEMM or a magnet
 // maker's text table of B on a regular grid) into VTK image data (.vti) for
 // ParaView, with the point arrays of solve_field's grids: `Bz` (T) and, when
@@ -26,7 +26,7 @@ namespace {
 
 int run(int argc, char** argv) {
   // 1. Options.
-  CLI::App app{"Converts a field table (text, regular grid of B; interfaces.md) to a .vti for ParaView"};
+  CLI::App app{"Converts a field table (text, regular grid of B; docs/interfaces.md) to a .vti for ParaView"};
   magenc::CommonOptions common;
   std::string table;
   const auto schema = magenc::common_keys();

@@ -95,7 +95,7 @@ double physical_memory_bytes() {
 // Absurd sizes are refused before meshing, with an estimate, instead of after minutes of TetGen or an
 // out-of-memory kill. Tetrahedra: each refinement region's volume / (h^3 / (6 sqrt 2)) (regular tets),
 // times 3.6, the ratio TetGen's quality meshes show on the default mesh (1,831,072 tets against an
-// estimate of 508k). Memory per tet: measured peak RSS / tets (README benchmarks): 1.0 KiB (P2, quadrant
+// estimate of 508k). Memory per tet: measured peak RSS / tets (docs/benchmarks.md): 1.0 KiB (P2, quadrant
 // solve of a symmetric mesh), 3.3 KiB (P2, whole mesh); P1 one third. Refused when the estimate
 // exceeds the machine's physical memory. Grid nodes: checked as doubles, before any integer cast.
 void check_memory_estimate(const Config& cfg, const FemSettings& s) {

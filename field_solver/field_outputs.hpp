@@ -1,4 +1,4 @@
-// The outputs of a solve (interfaces.md): plane.vti, box.vti, solve.json and,
+// The outputs of a solve (docs/interfaces.md): plane.vti, box.vti, solve.json and,
 // when asked (output.mesh_vtu), mesh.vtu.
 #pragma once
 #include <filesystem>

@@ -65,7 +65,7 @@ void ensure_petsc() {
 // 3-D; PETSc's 0.25 is its 2-D value), HMIS coarsening, ext+i interpolation
 // truncated to 4 entries per row, one level of aggressive coarsening. On the
 // default quadrant (619k P2 unknowns, one thread, CPU s): setup 1.7 vs GAMG's
-// 3.1, setup + CG to 1e-6 5.3 (18 iterations) vs 5.9 (30) (README).
+// 3.1, setup + CG to 1e-6 5.3 (18 iterations) vs 5.9 (30) (docs/benchmarks.md).
 void set_boomeramg_defaults() {
   static const char* const kDefaults[][2] = {
       {"-pc_hypre_boomeramg_strong_threshold", "0.5"}, {"-pc_hypre_boomeramg_coarsen_type", "HMIS"},

@@ -153,7 +153,7 @@ Eigen::Matrix3Xd cell_br(const TetMesh& mesh, const Eigen::Vector3d& br_T) {
 }
 
 // Br = mu0 M0 (T) of the magnet: azimuth magnetization_deg, elevation
-// magnetization_elevation_deg (physics.md "Beyond the five offsets").
+// magnetization_elevation_deg (docs/physics.md "Beyond the five offsets").
 Eigen::Vector3d remanence_T(const Magnet& m) {
   const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
   const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);

@@ -1,4 +1,4 @@
-// A solve_field output directory (interfaces.md): DIR/solve.json (the record of
+// A solve_field output directory (docs/interfaces.md): DIR/solve.json (the record of
 // the solve), DIR/mesh.vtu (the FE solution that fem:DIR sources evaluate),
 // DIR/plane.vti and DIR/box.vti (the grids that grid: sources sample). The one
 // reader of solve.json and the one place fem:DIR field sources are opened:

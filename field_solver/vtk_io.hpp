@@ -1,5 +1,5 @@
 // The FE solution as VTK (mesh.vtu: coordinates in mm, B in T, psi in T*mm).
-// Array names are the stable contract of interfaces.md. The grids (plane.vti,
+// Array names are the stable contract of docs/interfaces.md. The grids (plane.vti,
 // box.vti) are written by fields/grid.hpp's write_grid_vti.
 #pragma once
 #include <filesystem>

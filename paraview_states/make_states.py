@@ -35,7 +35,7 @@ import re
 from paraview import servermanager as sm
 from paraview.simple import *  # noqa: F401,F403 (ParaView's scripting API)
 
-R0_MM = 2.4                  # nominal probe radius (physics.md default)
+R0_MM = 2.4                  # nominal probe radius (docs/physics.md default)
 PROBE_ANGLES_DEG = (0, 90)   # default array `two`
 MAGNET_R_MM, MAGNET_L_MM = 2.0, 4.0
 PATHS_REL = os.path.join("probe_paths", "paths_example.vtp")

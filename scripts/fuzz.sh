@@ -5,7 +5,7 @@
 # into the repo). Exit status non-zero when a target finds a crash, a sanitizer report or an uncaught
 # exception other than magenc::InputError; the reproducer is build-san/artifacts/<target>/.
 # Statistics (executions, coverage) of each run: build-san/logs/<target>.log, summary on stdout.
-# CI (.ci/run) calls it with 20 s per target; README "Reliability" has a 5-minute run's figures.
+# CI (.ci/run) calls it with 20 s per target; docs/reliability.md has a 5-minute run's figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET="${1:-25}"

@@ -1,7 +1,7 @@
 // Study airgap: the air-gap offset dz on the FEM field of the configured
 // (default) magnet, beside the exact field. dz is swept over
 // dz_sweep.min_mm..max_mm (default -0.5..+0.5 mm) with
-//   "dz alone"  the base mount (ideal by default): physics.md expects no error
+//   "dz alone"  the base mount (ideal by default): docs/physics.md expects no error
 //               at any dz on the exact field (a common scale cancels in atan2);
 //               on the FEM field whatever appears is an artefact;
 //   "dz, sx"    with a residual static eccentricity (residual.sx_mm),

@@ -1,5 +1,5 @@
 // Study error_sources: the error sources of an encoder's tolerance sheet beyond
-// the five offsets (physics.md, "Beyond the five offsets"): sensor tilt about
+// the five offsets (docs/physics.md, "Beyond the five offsets"): sensor tilt about
 // x and y, magnet tilt, magnetization elevation, channel offsets, gain
 // mismatch and phase error, each swept alone from 0 on the exact field for
 // several probe arrays (default two, diff4, ring:8), with cubic fits, one

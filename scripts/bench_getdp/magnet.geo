@@ -1,5 +1,5 @@
 // GetDP benchmark (scripts/bench_getdp.sh): the magenc default magnet
-// (physics.md: R = 2 mm, L = 4 mm, centred at 0, axis z) in an air sphere of
+// (docs/physics.md: R = 2 mm, L = 4 mm, centred at 0, axis z) in an air sphere of
 // radius 60 mm, meshed by gmsh with curved second-order tetrahedra. Sizes (mm)
 // come from the command line: gmsh -setnumber h_zone 0.3 ... (defaults below).
 // Regions: 1 magnet, 2 air, 3 outer sphere surface.

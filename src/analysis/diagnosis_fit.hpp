@@ -1,4 +1,4 @@
-// diagnose: from measured angle-error curves back to their causes (interfaces.md, "Measured error curves
+// diagnose: from measured angle-error curves back to their causes (docs/interfaces.md, "Measured error curves
 // and diagnose"). Fits chosen parameters of the forward model (mounting offsets, tilts, signal-chain
 // errors; the probe pipeline angle_error_at() on any field source) plus a free zero offset between the two
 // encoders per curve, by nonlinear least squares (Ceres, Levenberg-Marquardt, bounds), from several starts

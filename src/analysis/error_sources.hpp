@@ -1,4 +1,4 @@
-// Error sources beyond the five offsets (physics.md, "Beyond the five
+// Error sources beyond the five offsets (docs/physics.md, "Beyond the five
 // offsets"): sensor tilt, magnet tilt, magnetization elevation and the signal
 // chain (channel offsets, gain mismatch, phase error). Each source is one
 // configuration key; a source sweep sets that key alone to each of a list of
@@ -34,7 +34,7 @@ struct ErrorSource {
   std::string range_key;    // study key of the sweep's upper end: "sweep.tilt_max_deg"
 };
 
-// The known sources, in the order of physics.md.
+// The known sources, in the order of docs/physics.md.
 const std::vector<ErrorSource>& error_sources();
 // The source named `swept`; InputError naming `what` and the allowed names otherwise.
 const ErrorSource& find_error_source(const std::string& swept, const std::string& what = "study.sources");

@@ -1,4 +1,4 @@
-// A measured angle-error curve (interfaces.md, "Measured error curves and diagnose"): a reference encoder's
+// A measured angle-error curve (docs/interfaces.md, "Measured error curves and diagnose"): a reference encoder's
 // rotor angle theta and what the sensor under test reported, read from a CSV file with a header row:
 //   theta_deg,error_deg      error = sensor - reference (error_sign = +1) or reference - sensor (-1)
 //   theta_deg,phi_deg        the sensor's angle phi; error = wrap(phi - theta)

@@ -79,7 +79,7 @@ LinearModelResult run_linear_model(const Config& cfg, const std::string& study) 
   for (const auto& name : o.offsets)
     r.refs.push_back(angle_error(field, r.setup, with_offset(r.base, name, o.reference_mm)));
 
-  // 3. physics.md's sanity values, for their configuration only.
+  // 3. docs/physics.md's sanity values, for their configuration only.
   const Mount& b = r.base;
   r.physics_md_applies = r.setup.array.name == "two" && std::abs(r.setup.r0_mm - 2.4) < 1e-12 &&
                          std::abs(o.reference_mm - 0.1) < 1e-12 && b.sx_mm == 0 && b.sy_mm == 0 && b.dx_mm == 0 &&

@@ -46,17 +46,17 @@ struct OffsetSweepOptions {
 struct PhysicsMdValue {
   const char* swept;   // "sx_mm", ...
   const char* coef;    // "a0_deg", ...
-  double value_deg;    // as physics.md quotes it
+  double value_deg;    // as docs/physics.md quotes it
 };
 const std::vector<PhysicsMdValue>& physics_md_linear_values();
 
-// One computed value beside physics.md's.
+// One computed value beside docs/physics.md's.
 struct PhysicsMdComparison {
   std::string swept, coef;
   double computed_deg = 0, quoted_deg = 0;
   bool agrees = false;  // |computed - quoted| <= kPhysicsMdToleranceDeg
 };
-// physics.md rounds to 3 decimals.
+// docs/physics.md rounds to 3 decimals.
 inline constexpr double kPhysicsMdToleranceDeg = 0.0015;
 
 struct LinearModelResult {
@@ -67,7 +67,7 @@ struct LinearModelResult {
   std::vector<SweepResult> sweeps;        // one per options.offsets entry
   std::vector<FitRow> fits;               // per sweep, per options.coefs entry
   std::vector<AngleErrorResult> refs;     // each offset alone at options.reference_mm
-  bool physics_md_applies = false;        // the configuration is physics.md's
+  bool physics_md_applies = false;        // the configuration is docs/physics.md's
   std::vector<PhysicsMdComparison> physics_md;  // when it applies: one per quoted value of a swept offset
   int physics_md_mismatches() const;
 };

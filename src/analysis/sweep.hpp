@@ -16,7 +16,7 @@
 
 namespace magenc {
 
-// The swept variables, as the fits table names them (interfaces.md).
+// The swept variables, as the fits table names them (docs/interfaces.md).
 // Throws InputError naming `what` for any other name.
 void check_swept_name(const std::string& swept, const std::string& what = "swept");
 

@@ -3,7 +3,7 @@
 //
 // A tolerance box allows |sx| <= tol.sx_mm, |sy| <= tol.sy_mm, |dx| <= tol.dx_mm,
 // |dy| <= tol.dy_mm, |dz| <= tol.dz_mm (half-widths, mm, >= 0; the offsets are
-// those of mounting.hpp), and the tilts of physics.md "Beyond the five
+// those of mounting.hpp), and the tilts of docs/physics.md "Beyond the five
 // offsets": sensor tilts |tilt_x|, |tilt_y| <= tol.tilt_x_deg, tol.tilt_y_deg
 // and a magnet lean whose two components (toward +x and toward +y of the
 // rotor frame: magnet_tilt_deg * (cos psi, sin psi) with psi the tilt azimuth)
@@ -14,7 +14,7 @@
 // configuration sets them (radius.tol_tilt_*).
 //
 // Two more groups, off (0) by default here and in the radius study:
-//  * the signal chain of physics.md (channel offsets |oc|, |os| <=
+//  * the signal chain of docs/physics.md (channel offsets |oc|, |os| <=
 //    tol.offset_cos_mT, tol.offset_sin_mT; gain mismatch |g| <=
 //    tol.gain_mismatch; phase error |delta| <= tol.phase_error_deg), applied to
 //    the array's channels before atan2 (probe/signal_chain.hpp);

@@ -129,7 +129,7 @@ class Config {
 // Text of a key's allowed range, e.g. "(0, 100] mm" or "one of two, diff4, ring:N".
 std::string allowed_range(const KeySpec& s);
 
-// Keys every executable shares: [magnet], [sensor], [mount] (interfaces.md).
+// Keys every executable shares: [magnet], [sensor], [mount] (docs/interfaces.md).
 std::vector<KeySpec> common_keys();
 
 // Concatenate schemas (later ones may not redeclare a key).

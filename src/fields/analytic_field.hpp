@@ -1,4 +1,4 @@
-// Exact field of a uniformly, diametrically magnetized cylinder (physics.md):
+// Exact field of a uniformly, diametrically magnetized cylinder (docs/physics.md):
 // surface charge sigma = M0*cos(phi' - alpha) on the curved face, z' integrated
 // in closed form, the remaining periodic phi' integral by the midpoint rule,
 // whose node count adapts to the point's distance from the magnet's rims so

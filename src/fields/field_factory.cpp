@@ -27,7 +27,7 @@ FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg, con
   if (spec.rfind("table:", 0) == 0) {
     const std::string file = spec.substr(6);
     if (file.empty())
-      throw InputError("--field table: needs a file: table:FILE (a text table of B on a regular grid, interfaces.md)");
+      throw InputError("--field table: needs a file: table:FILE (a text table of B on a regular grid, docs/interfaces.md)");
     try {
       return table_field_from_file(file, cfg, opts.interp);
     } catch (const InputError& e) {

@@ -1,4 +1,4 @@
-// Field tables from other tools (interfaces.md, "Field tables from other
+// Field tables from other tools (docs/interfaces.md, "Field tables from other
 // tools"): a text table of B on a regular grid, as exported by COMSOL, Ansys
 // Maxwell, FEMM or a magnet maker, read into the GridData of grid_field.hpp so
 // that GridField (and its nearest/linear/cubic interpolation) serves it.
@@ -27,7 +27,7 @@
 // rest of the grid by empty grid lines (an extra point); or, when the rows
 // are consistent but incomplete, the first missing point (x, y, z).
 //
-// Geometry: coordinates are in the magnet frame of physics.md (origin at the
+// Geometry: coordinates are in the magnet frame of docs/physics.md (origin at the
 // magnet's centre). A table without a z column is the plane z = plane_z_mm
 // (the configured z_s; it serves dz = 0 only). A table with a z column and
 // one z level is the plane at that z; with several levels it is a 3-D box.

@@ -1,5 +1,5 @@
 // The diametrically magnetized cylindrical magnet and the sensing plane
-// (physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
+// (docs/physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
 #pragma once
 #include "core/config.hpp"
 
@@ -11,7 +11,7 @@ struct Magnet {
   double br_T = 1.2;               // remanence Br = mu0*M0 (tesla)
   double mu_r = 1.05;              // recoil permeability (FEM only)
   double magnetization_deg = 0.0;  // azimuth beta of M0 (direction in the xy plane)
-  // Elevation al of M0 out of the xy plane (physics.md, "Beyond the five offsets"):
+  // Elevation al of M0 out of the xy plane (docs/physics.md, "Beyond the five offsets"):
   // M = M0 (cos al cos beta, cos al sin beta, sin al).
   double magnetization_elevation_deg = 0.0;
 

@@ -1,4 +1,4 @@
-// CSV tables of interfaces.md: spectra table, fits table, mounting cases.
+// CSV tables of docs/interfaces.md: spectra table, fits table, mounting cases.
 #pragma once
 #include <array>
 #include <filesystem>
@@ -20,7 +20,7 @@ struct SpectrumRow {
   std::vector<std::pair<std::string, std::string>> extra;  // extra columns (name, text), after the standard ones
 };
 
-// Header + rows in the interfaces.md column order (extra columns appended;
+// Header + rows in the docs/interfaces.md column order (extra columns appended;
 // every row must carry the same extra column names).
 std::string spectra_csv(const std::vector<SpectrumRow>& rows);
 

@@ -89,7 +89,7 @@ Eigen::Vector3d MountKinematics::fixed_position_mm(double px_mm, double py_mm) c
 }
 
 Eigen::Vector3d MountKinematics::point_to_magnet(const Eigen::Vector3d& f, double theta_rad) const {
-  // Rz(-theta) f, written out as in physics.md (x = cos X + sin Y, y = -sin X + cos Y).
+  // Rz(-theta) f, written out as in docs/physics.md (x = cos X + sin Y, y = -sin X + cos Y).
   const double c = std::cos(theta_rad), s = std::sin(theta_rad);
   const Eigen::Vector3d r(c * f.x() + s * f.y(), -s * f.x() + c * f.y(), f.z());
   if (!magnet_tilted) return r - d_mm;  // the five-offset kinematics, bit for bit

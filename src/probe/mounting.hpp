@@ -1,4 +1,4 @@
-// Mounting kinematics (physics.md, "Mounting kinematics" and "Beyond the five
+// Mounting kinematics (docs/physics.md, "Mounting kinematics" and "Beyond the five
 // offsets"). Frames: the magnet frame has the magnet centred at the origin (top
 // face z = +L/2); the rotor frame turns with the magnet; the sensor (fixed)
 // frame has the rotation axis as z.

@@ -1,4 +1,4 @@
-// Probe arrays (physics.md): nominal probe angles b_k on a circle of radius r0
+// Probe arrays (docs/physics.md): nominal probe angles b_k on a circle of radius r0
 // and the weights that form the cos and sin channels from the probe readings:
 //   cos = sum_k wc_k * B_k,   sin = sum_k ws_k * B_k,   phi = atan2(sin, cos).
 //   two:    b = 0, 90;            wc = (1, 0),  ws = (0, 1)

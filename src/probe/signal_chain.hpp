@@ -1,4 +1,4 @@
-// Signal-chain imperfections (physics.md, "Beyond the five offsets"), applied
+// Signal-chain imperfections (docs/physics.md, "Beyond the five offsets"), applied
 // to the array's channel signals u_c, u_s (tesla) before atan2:
 //   u_c' = u_c + oc
 //   u_s' = (1 + g) * (u_s cos delta + u_c sin delta) + os

@@ -1,4 +1,4 @@
-// Angle error and its Fourier spectrum (physics.md, the study's convention):
+// Angle error and its Fourier spectrum (docs/physics.md, the study's convention):
 //   eps(theta) = wrap(phi - theta) into (-180, 180] deg, M uniform samples,
 //   eps = a0 + sum_{n=1..8} a_n cos(n theta) + b_n sin(n theta),
 //   a0 = mean, a_n = (2/M) sum eps cos, b_n = (2/M) sum eps sin,

@@ -1,4 +1,4 @@
-// diagnose's outputs (interfaces.md, "Measured error curves and diagnose"), written into one directory:
+// diagnose's outputs (docs/interfaces.md, "Measured error curves and diagnose"), written into one directory:
 //   fit.json     parameters {json_name: {value, sigma, free, unit, identifiable}}, residual_rms_deg,
 //                not_identifiable, confounded (plain words), correlation, singular values, curves (their
 //                facts, residual RMS, harmonics measured / fitted / residual), starts, run metadata

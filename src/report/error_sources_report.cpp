@@ -183,8 +183,8 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
     md << md_table(header, t) << "\n";
   }
 
-  md << "## Against the reference values of physics.md\n\n"
-     << "physics.md gives these for the exact field of the default magnet, r0 = 2.4 mm, `two`; listed when the "
+  md << "## Against the reference values of docs/physics.md\n\n"
+     << "docs/physics.md gives these for the exact field of the default magnet, r0 = 2.4 mm, `two`; listed when the "
         "sweep holds that value and array.\n\n";
   {
     std::vector<std::vector<std::string>> t;
@@ -204,7 +204,7 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
     if (t.empty())
       md << "(none of the reference cases is in these sweeps)\n\n";
     else
-      md << md_table({"case (`two`)", "column", "computed [deg]", "physics.md [deg]", "difference [deg]"}, t) << "\n";
+      md << md_table({"case (`two`)", "column", "computed [deg]", "docs/physics.md [deg]", "difference [deg]"}, t) << "\n";
   }
   md << "## Coefficients against each source (cubic fits)\n\n";
   for (std::size_t s = 0; s < coef_pngs.size(); ++s)

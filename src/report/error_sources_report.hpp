@@ -16,13 +16,13 @@
 
 namespace magenc {
 
-// Reference values of physics.md ("Beyond the five offsets"): exact field,
+// Reference values of docs/physics.md ("Beyond the five offsets"): exact field,
 // default magnet, r0 = 2.4 mm, `two` array, the source alone at `value`.
 struct SourceReference {
   std::string swept;   // source
   double value;        // its value (source unit)
   std::string coef;    // spectra column, e.g. "c2_deg"
-  double expected_deg; // physics.md's number
+  double expected_deg; // docs/physics.md's number
 };
 const std::vector<SourceReference>& physics_md_source_references();
 

@@ -195,7 +195,7 @@ void write_airgap_report(StudyOutput& out, const AirgapResult& result) {
     for (const auto& r : runs)
       for (double v : r.exact.sweeps.front().column("pp_deg")) exact_worst = std::max(exact_worst, v);
     md << (exact_worst < 1e-9 ? "On the exact field dz alone gives no error at any dz (peak-to-peak < 1e-9 deg), as "
-                                "physics.md predicts; the FEM rows show the FE field's ideal-mount artefacts.\n\n"
+                                "docs/physics.md predicts; the FEM rows show the FE field's ideal-mount artefacts.\n\n"
                               : "The exact field shows error with dz alone (peak-to-peak up to " +
                                     fmt_auto(exact_worst, 4) + " deg): the base mount is not ideal.\n\n");
   }

@@ -2,7 +2,7 @@
 // computed summary.md text. Every number in the summary comes from the
 // RadiusScanResult; nothing is typed in.
 //
-// Files (interfaces.md conventions):
+// Files (docs/interfaces.md conventions):
 //   radius.csv                one row per (field, array, r0): amplitude, worst
 //                             corner, MC percentiles, noise, totals
 //   radius_spectra.csv        spectra table of the six mounting cases per

@@ -80,16 +80,16 @@ void write_linear_model_report(StudyOutput& out, const LinearModelResult& r) {
 
   md << "## Check against docs/physics.md sanity values\n\n";
   if (!r.physics_md_applies) {
-    md << "Not applicable: physics.md quotes r0 = 2.4 mm, array `two`, 0.1 mm offsets, no base offset.\n\n";
+    md << "Not applicable: docs/physics.md quotes r0 = 2.4 mm, array `two`, 0.1 mm offsets, no base offset.\n\n";
   } else {
     std::vector<std::vector<std::string>> check_table;
     for (const auto& c : r.physics_md)
       check_table.push_back({offset_symbol(c.swept) + " = 0.1 mm", c.coef, fmt(c.computed_deg, 4),
                              fmt(c.quoted_deg, 3), c.agrees ? "ok" : "**MISMATCH**"});
     const int bad = r.physics_md_mismatches();
-    md << md_table({"case", "coefficient", "computed", "physics.md", "within 0.0015 deg"}, check_table) << "\n"
+    md << md_table({"case", "coefficient", "computed", "docs/physics.md", "within 0.0015 deg"}, check_table) << "\n"
        << (bad == 0 ? "All listed values agree.\n\n"
-                    : std::to_string(bad) + " value(s) disagree with physics.md.\n\n");
+                    : std::to_string(bad) + " value(s) disagree with docs/physics.md.\n\n");
   }
 
   md << "## Cubic fits (coefficient = p3 x^3 + p2 x^2 + p1 x + p0, x in mm)\n\n";
@@ -181,7 +181,7 @@ void write_exact_field_report(StudyOutput& out, const ExactFieldResult& r, const
     }
     md << md_table({"array", "peak-to-peak [deg]", "largest c_n [deg]"}, t) << "\n"
        << (worst_pp < 1e-9 ? "No error with an ideal mount (peak-to-peak below 1e-9 deg on every array), as "
-                             "physics.md predicts for a uniformly magnetized cylinder.\n\n"
+                             "docs/physics.md predicts for a uniformly magnetized cylinder.\n\n"
                            : "The ideal mount shows error (peak-to-peak up to " + fmt_auto(worst_pp, 4) +
                                  " deg): with an exact field this is a field or pipeline artefact to investigate.\n\n");
   }
@@ -208,7 +208,7 @@ void write_exact_field_report(StudyOutput& out, const ExactFieldResult& r, const
        << "\n";
   }
 
-  // Named comparisons from physics.md, in numbers.
+  // Named comparisons from docs/physics.md, in numbers.
   md << "## Against the linear model\n\n";
   for (const auto& a : arrays) {
     for (const auto& rc : a.refs) {

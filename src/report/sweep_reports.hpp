@@ -1,7 +1,7 @@
 // Reports of the one-offset sweep studies (analysis/offset_sweeps.hpp): each
 // writes the study's tables, plots and summary.md into the study folder.
 //   linear_model  spectra.csv (column `sweep`), fits.csv, eps.png, harmonics.png,
-//                 coefficients.png, summary.md (with the physics.md check)
+//                 coefficients.png, summary.md (with the docs/physics.md check)
 //   exact_field   spectra.csv, fits.csv, eps.png, harmonics.png,
 //                 coefficients_<offset>.png, summary.md
 #pragma once

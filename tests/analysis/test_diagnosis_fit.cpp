@@ -189,7 +189,7 @@ TEST_CASE("diagnose: at r0 = 2.4 mm sx and sy differ only in DC, which the free 
   CHECK(param(two, "zero_offset_deg_2").value == Approx(-0.2).margin(0.05));
 }
 
-TEST_CASE("diagnose: default free set of `two` at the ideal mount is what physics.md predicts", "[analysis][physics]") {
+TEST_CASE("diagnose: default free set of `two` at the ideal mount is what docs/physics.md predicts", "[analysis][physics]") {
   // sx, sy (DC + 2nd harmonic), dx, dy (1st + 3rd); sensor tilt, gain and phase are combinations of sx, sy
   // and the zero offset; dz has no first-order effect; of magnet tilt and channel offsets (1st harmonic)
   // only as many as the 1st/3rd-harmonic content leaves room for.

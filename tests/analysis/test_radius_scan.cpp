@@ -81,7 +81,7 @@ TEST_CASE("surrogate rejects arrays whose probes miss the theta grid", "[analysi
 TEST_CASE("worst corner on the linear field: dy and dz cannot matter", "[analysis][physics]") {
   // Bz = k x: dy moves probes along y (no field change) and dz scales nothing,
   // so the worst corner over a box with large dy/dz tolerances equals that of
-  // the box without them (physics.md, linear model).
+  // the box without them (docs/physics.md, linear model).
   const LinearField field;
   const ProbeArray two = ProbeArray::parse("two");
   auto worst = [&](const ToleranceBox& box) {
@@ -202,7 +202,7 @@ const BudgetRow* budget_row(const RadiusScanResult& r, const std::string& array,
 }  // namespace
 
 TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline", "[analysis][closed-form]") {
-  // physics.md "Beyond the five offsets": a channel offset oc gives a 1st harmonic of oc/amplitude rad, a gain
+  // docs/physics.md "Beyond the five offsets": a channel offset oc gives a 1st harmonic of oc/amplitude rad, a gain
   // mismatch g a 2nd harmonic of g/2 rad, a phase error delta a0 = c2 = delta/2 (small-signal forms: their
   // relative error is of the order of the perturbation itself, ~1 % here, so 3 % is the check). The channel
   // amplitude is A for `two` (u_c = B_0) and 2A for `diff4` (u_c = B_0 - B_180).
@@ -234,7 +234,7 @@ TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline",
   auto s = spectra(oc);
   CHECK(s[0].c_deg[1] == Approx(0.5e-3 / A * rad).epsilon(0.03));
   CHECK(s[1].c_deg[1] == Approx(0.5e-3 / (2 * A) * rad).epsilon(0.03));
-  CHECK(s[0].c_deg[1] == Approx(0.627).margin(0.002));  // physics.md reference value
+  CHECK(s[0].c_deg[1] == Approx(0.627).margin(0.002));  // docs/physics.md reference value
   ToleranceCase os;
   os.chain.offset_sin_mT = -0.5;
   s = spectra(os);
@@ -382,7 +382,7 @@ TEST_CASE("radius scan with the signal chain in the box: closed forms and the bu
 }
 
 TEST_CASE("radius scan with the magnetization elevation in the box", "[analysis][physics]") {
-  // physics.md reference: elevation 5 deg, `two`, r0 2.4 mm: c1 = 7.70 deg; `diff4` and `ring:N` see nothing
+  // docs/physics.md reference: elevation 5 deg, `two`, r0 2.4 mm: c1 = 7.70 deg; `diff4` and `ring:N` see nothing
   // with an ideal mount (the axial part is symmetric about the axis).
   const AnalyticField field(default_magnet());
   Magnet md = default_magnet(), ma = default_magnet();

@@ -7,7 +7,7 @@
 
 using namespace magenc;
 
-TEST_CASE("defaults match physics.md", "[core][contract]") {
+TEST_CASE("defaults match docs/physics.md", "[core][contract]") {
   Config c(common_keys());
   CHECK(c.real("magnet.radius_mm") == 2.0);
   CHECK(c.real("magnet.height_mm") == 4.0);

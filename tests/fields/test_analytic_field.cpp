@@ -291,7 +291,7 @@ TEST_CASE("Bz-only kernel and batch calls agree with the full kernel", "[fields]
   CHECK(f.nodes_at(Vec3(2.4, 0, 4.55)) <= 48);
 }
 
-// ---- Magnetization elevation (physics.md "Beyond the five offsets") ----
+// ---- Magnetization elevation (docs/physics.md "Beyond the five offsets") ----
 // M = M0 (cos el cos beta, cos el sin beta, sin el): the diametric kernel scaled by cos el plus the
 // axial part M0 sin el in closed form (elliptic integrals, AnalyticField::B_axial_unit_T).
 

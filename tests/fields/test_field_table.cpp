@@ -1,4 +1,4 @@
-// Field tables from other tools (src/fields/field_table.*, interfaces.md):
+// Field tables from other tools (src/fields/field_table.*, docs/interfaces.md):
 //  1. Round trip: a GridData written as a table (any separator, m or mm, T or
 //     mT, rows shuffled, comments, CRLF) reads back to the same grid (nodes
 //     and values to 1e-12 relative: the table holds 17 significant digits).
@@ -233,7 +233,7 @@ TEST_CASE("the exact field as a table reproduces the exact spectra", "[fields][c
       CHECK(std::abs(st.a0_deg - se.a0_deg) < 1e-4);
       for (int n = 1; n <= 4; ++n) CHECK(std::abs(st.c_deg[n] - se.c_deg[n]) < 1e-4);
     }
-    CHECK(std::abs(error_spectrum(*box, setup, tx).c_deg[2] - 0.754) < 1e-3);  // physics.md reference value
+    CHECK(std::abs(error_spectrum(*box, setup, tx).c_deg[2] - 0.754) < 1e-3);  // docs/physics.md reference value
     CHECK_THROWS_AS(error_spectrum(*plane, setup, tx), InputError);
   }
   // dz on the 2-D table names the missing z column.

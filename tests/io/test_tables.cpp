@@ -1,4 +1,4 @@
-// CSV tables (src/io/tables.*): the spectra and fits headers of interfaces.md,
+// CSV tables (src/io/tables.*): the spectra and fits headers of docs/interfaces.md,
 // full-precision numbers, and strict parsing of mounting-case files.
 #include <catch2/catch.hpp>
 

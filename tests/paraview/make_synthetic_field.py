@@ -1,7 +1,7 @@
 """Synthetic stand-in for solve_field's output (development and fallback only).
 
 Writes DIR/mesh.vtu, DIR/plane.vti, DIR/box.vti with the file names and arrays
-of interfaces.md, from the exact field of the default magnet (physics.md: the
+of docs/interfaces.md, from the exact field of the default magnet (docs/physics.md: the
 magnetization as a surface charge M0*cos(phi') on the curved face, z'
 integrated analytically, midpoint rule in phi'). The "mesh" is a tetrahedralized
 box, not a FEM mesh; `psi` is the dipole potential. Used by the ParaView state
@@ -20,7 +20,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLUnstructuredGridWriter
 
-R, L, BR, H = 2.0, 4.0, 1.2, 2.55   # mm, mm, T, mm (physics.md defaults)
+R, L, BR, H = 2.0, 4.0, 1.2, 2.55   # mm, mm, T, mm (docs/physics.md defaults)
 ZS = L / 2 + H
 
 

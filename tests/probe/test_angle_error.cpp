@@ -1,6 +1,6 @@
 // Probe-path pipeline (src/probe/mounting.*, probe_array.*, angle_error.*) on the
 // exact field: ideal mounts give no error, magnetization direction gives a
-// constant offset (including the wrap at +-180), symmetries of physics.md,
+// constant offset (including the wrap at +-180), symmetries of docs/physics.md,
 // and input validation.
 #include <catch2/catch.hpp>
 
@@ -78,7 +78,7 @@ TEST_CASE("magnetization direction gives a constant offset wrapped to -180 < eps
   }
 }
 
-TEST_CASE("exact field: sy mirrors sx, and physics.md's harmonic signatures", "[probe][physics]") {
+TEST_CASE("exact field: sy mirrors sx, and docs/physics.md's harmonic signatures", "[probe][physics]") {
   const AnalyticField f{Magnet{}};
   const ProbeSetup two = setup_for("two");
   SECTION("static y mirrors static x: a0 flips, a2 same, b2 flips") {

@@ -1,7 +1,7 @@
-// "Beyond the five offsets" (physics.md): sensor tilt, magnet tilt, signal
+// "Beyond the five offsets" (docs/physics.md): sensor tilt, magnet tilt, signal
 // chain. Kinematics against hand-built rotations, the zero-tilt identity with
 // the five-offset pipeline, closed forms of the signal chain, symmetries, the
-// reference values of physics.md, and the sources that cannot serve a tilt.
+// reference values of docs/physics.md, and the sources that cannot serve a tilt.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -23,7 +23,7 @@ ProbeSetup setup_for(const std::string& array, int steps = 3600) {
   return s;
 }
 
-// The five-offset pipeline written out independently (physics.md "Mounting
+// The five-offset pipeline written out independently (docs/physics.md "Mounting
 // kinematics"): q = Rot(-theta)(p_k + s) - d at z_s + dz, reading Bz.
 Eigen::VectorXd five_offset_eps_deg(const FieldSource& f, const ProbeSetup& s, const Mount& m) {
   const int M = s.steps;
@@ -139,7 +139,7 @@ TEST_CASE("zero tilts and an ideal chain reproduce the five-offset pipeline", "[
   }
 }
 
-TEST_CASE("reference values of physics.md (exact field, default magnet, r0 2.4 mm, two)", "[probe][physics][regression]") {
+TEST_CASE("reference values of docs/physics.md (exact field, default magnet, r0 2.4 mm, two)", "[probe][physics][regression]") {
   const AnalyticField f(Magnet{});
   const ProbeSetup two = setup_for("two");
   {  // sensor tilt_x 1 deg: a0 -0.403, c2 0.754 deg

@@ -1,5 +1,5 @@
 // The study's linear field model Bz = k*x through the full pipeline
-// (mounting -> `two` array -> atan2 -> spectrum): physics.md's sanity values,
+// (mounting -> `two` array -> atan2 -> spectrum): docs/physics.md's sanity values,
 // the first-order closed forms, and the symmetries they imply.
 //
 // First-order closed form (derived here). With the `two` array and Bz = x the
@@ -43,7 +43,7 @@ FirstOrder first_order_deg(double sx, double sy, double dx, double r0) {
 
 }  // namespace
 
-// physics.md gives the values to 3 decimals; 1e-3 deg accepts their rounding
+// docs/physics.md gives the values to 3 decimals; 1e-3 deg accepts their rounding
 // (the printed digit is within 5e-4 of the true value) and nothing more.
 TEST_CASE("linear model reproduces the study's sanity values", "[probe][physics][regression]") {
   const double tol = 1e-3;

@@ -71,7 +71,7 @@ TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][re
   CHECK(s.pp_deg == Approx(0.8).margin(1e-12));
 }
 
-TEST_CASE("spectrum columns follow interfaces.md", "[probe][contract]") {
+TEST_CASE("spectrum columns follow docs/interfaces.md", "[probe][contract]") {
   const auto& cols = spectrum_columns();
   REQUIRE(cols.size() == 1 + 3 * kHarmonics + 1);
   CHECK(cols.front() == "a0_deg");

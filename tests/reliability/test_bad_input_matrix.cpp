@@ -1,4 +1,4 @@
-// The bad-input matrix (issue 13): every executable of build/bin (benchmarks aside) against every
+// The bad-input matrix: every executable of build/bin (benchmarks aside) against every
 // class of bad input. Each case must give: exit code != 0, exactly one line on stderr, naming the
 // input (the key, file or flag), and no output file (nothing new in the scratch directory but the
 // inputs the test wrote). The configuration keys are not hand-listed: each executable's key table is

@@ -1,4 +1,4 @@
-// Determinism (issue 13): the same inputs and seed give the same results for 1 and 2 OpenMP threads.
+// Determinism: the same inputs and seed give the same results for 1 and 2 OpenMP threads.
 // - The radius study (seeded Monte Carlo, OpenMP sampling): every CSV byte-identical.
 // - solve_field: if the parallel assembly or reductions summed in a thread-dependent order, the FE
 //   system would differ in the last bits and CG (relative residual fem.tolerance, default 1e-8) could amplify that to

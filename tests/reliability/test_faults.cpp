@@ -1,4 +1,4 @@
-// Faults (issue 13): a run killed at any moment leaves only complete files (or none); a second run
+// Faults: a run killed at any moment leaves only complete files (or none); a second run
 // into the same output while one is running is refused and corrupts neither; a CG solve that cannot
 // converge, breaks down or diverges stops with a clear error and its residual history.
 #include <catch2/catch.hpp>

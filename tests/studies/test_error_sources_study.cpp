@@ -1,9 +1,9 @@
 // error_sources study (studies/error_sources.cpp) with a tiny configuration:
-// the physics.md reference values ("Beyond the five offsets": exact field,
+// the docs/physics.md reference values ("Beyond the five offsets": exact field,
 // default magnet, r0 = 2.4 mm, `two`), the symmetry statements (elevation
 // gives nothing on diff4), the fits table naming the source, the harmonic
 // table and heat map, and bad input.
-// Tolerances: physics.md prints three decimals (7.70: two), so each value
+// Tolerances: docs/physics.md prints three decimals (7.70: two), so each value
 // must agree within one unit of its last printed digit (0.001 deg; 0.01 deg
 // for 7.70). 720 samples per turn instead of 3600: the spectrum of these
 // smooth error curves (harmonics above 8 are < 1e-5 deg) does not depend on it
@@ -27,7 +27,7 @@ double value_of(const std::vector<std::map<std::string, std::string>>& rows, con
 }
 }  // namespace
 
-TEST_CASE("error_sources study: tiny run reproduces physics.md reference values", "[studies][physics][cli]") {
+TEST_CASE("error_sources study: tiny run reproduces docs/physics.md reference values", "[studies][physics][cli]") {
   const fs::path out = temp_out("error_sources");
   const StudyRun r = run_study_exe("error_sources", out,
                                    "--set sensor.steps=720 --set sweep.points=5 --set study.arrays=two,diff4");
@@ -50,7 +50,7 @@ TEST_CASE("error_sources study: tiny run reproduces physics.md reference values"
   CHECK(value_of(rows, "two", "gain_mismatch", 0.01, "c2_deg") == Approx(0.285).margin(1e-3));
   CHECK(value_of(rows, "two", "phase_error_deg", 1.0, "a0_deg") == Approx(0.500).margin(1e-3));
   CHECK(value_of(rows, "two", "phase_error_deg", 1.0, "c2_deg") == Approx(0.500).margin(1e-3));
-  // physics.md: the axial magnetization adds a common offset to every probe: nothing for diff4.
+  // docs/physics.md: the axial magnetization adds a common offset to every probe: nothing for diff4.
   CHECK(value_of(rows, "diff4", "magnetization_elevation_deg", 5.0, "pp_deg") < 1e-9);
   // Every sweep starts at an ideal mount: no error at value 0.
   for (const char* s : {"tilt_x_deg", "magnet_tilt_deg", "offset_sin_mT", "phase_error_deg"})

@@ -29,7 +29,7 @@ ProbeSetup setup_for(const std::string& array, int steps) { return probe_setup(a
 
 }  // namespace
 
-TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[studies][physics][cli]") {
+TEST_CASE("linear_model study: tiny run reproduces docs/physics.md sanity values", "[studies][physics][cli]") {
   const fs::path out = temp_out("linear_model");
   const StudyRun r = run_study_exe("linear_model", out, "--set sensor.steps=360 --set sweep.points=6");
   INFO(r.err);
@@ -41,7 +41,7 @@ TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[
 
   const auto rows = read_csv(out / "spectra.csv");
   REQUIRE(rows.size() == 1 + 4 * 6);  // ideal + 4 offsets x 6 points
-  // physics.md: r0 = 2.4, two, 0.1 mm offsets.
+  // docs/physics.md: r0 = 2.4, two, 0.1 mm offsets.
   const auto& sx = find_row(rows, "two", "sx", "sx_mm", 0.1);
   CHECK(num(sx, "c2_deg") == Approx(1.653).margin(1e-3));
   CHECK(num(sx, "a0_deg") == Approx(1.169).margin(1e-3));
@@ -70,7 +70,7 @@ TEST_CASE("linear_model study: tiny run reproduces physics.md sanity values", "[
   fs::remove_all(out);
 }
 
-TEST_CASE("exact_field study: tiny run matches the library and physics.md's qualitative picture",
+TEST_CASE("exact_field study: tiny run matches the library and docs/physics.md's qualitative picture",
           "[studies][physics][cli]") {
   const fs::path out = temp_out("exact_field");
   const StudyRun r = run_study_exe("exact_field", out,
@@ -91,7 +91,7 @@ TEST_CASE("exact_field study: tiny run matches the library and physics.md's qual
   const auto& row_two = find_row(rows, "two", "dx", "dx_mm", 0.1);
   CHECK(num(row_two, "c1_deg") == Approx(two_dx.c_deg[1]).epsilon(1e-9));
   CHECK(num(row_two, "c3_deg") == Approx(two_dx.c_deg[3]).epsilon(1e-9));
-  // physics.md: dynamic eccentricity with `two` gives a 1st and a sizeable 3rd
+  // docs/physics.md: dynamic eccentricity with `two` gives a 1st and a sizeable 3rd
   // harmonic; with diff4 the 1st cancels and a 4th appears.
   CHECK(num(row_two, "c3_deg") > 0.1 * num(row_two, "c1_deg"));
   const auto& row_d4 = find_row(rows, "diff4", "dx", "dx_mm", 0.1);
