@@ -72,7 +72,7 @@ TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[apps][bad-
   fs::remove(good);
 }
 
-TEST_CASE("diagnose CLI: curves saved as Excel's CSV UTF-8 and in the ';' form fit like the plain file",
+TEST_CASE("diagnose CLI: curves saved as Excel's CSV UTF-8 and in the European form fit like the plain file",
           "[apps][regression][cli]") {
   // Once refused with "unknown column '\ufefftheta_deg'" and "unknown column 'theta_deg;error_deg'".
   const fs::path plain = make_curve("cli_plain", "--set sx=0.04 --set dx=0.03 --points 90");

@@ -114,7 +114,7 @@ TEST_CASE("text table: bad input is one line naming the input", "[core][bad-inpu
   }
 }
 
-TEST_CASE("numeric table: header and rows of finite numbers; every refusal one line", "[core][bad-input]") {
+TEST_CASE("numeric table: header and rows of finite numbers, every refusal one line", "[core][bad-input]") {
   const NumericTable t =
       parse_numeric_table(test::with_bom(test::european("x_mm,y_mm,z_mm\n0.5,1,2\n-1,0,4.55\n")), "--points p.csv",
                           {"x_mm", "y_mm", "z_mm"});
