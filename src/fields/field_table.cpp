@@ -174,10 +174,11 @@ double length_unit_to_mm(const std::string& u) {
   return 0.0;
 }
 
-// The column names of COMSOL's last header line: cells on the data's separator; with blanks, a token that
-// starts with '(' is the unit of the name before it ("mf.Bz (T)").
+// The column names of COMSOL's last header line: cells on the data's separator (blanks when that leaves
+// one cell); with blanks, a token that starts with '(' is the unit of the name before it ("mf.Bz (T)").
 std::vector<std::string> comsol_names(const std::string& line, char sep, const std::string& where, long line_no) {
   std::vector<std::string> cells = split_cells(line, sep, where, line_no), names;
+  if (sep != ' ' && cells.size() == 1) sep = ' ', cells = split_cells(line, sep, where, line_no);
   for (auto& c : cells) {
     if (sep == ' ' && !names.empty() && !c.empty() && c[0] == '(') names.back() += " " + c;
     else names.push_back(c);

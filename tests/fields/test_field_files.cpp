@@ -225,6 +225,13 @@ TEST_CASE("bad COMSOL and Ansys files: one line saying what was missing", "[fiel
   // The good ones parse: a 2 x 2 plane at z = 4.55 mm.
   CHECK(parse_field_table(comsol_head + comsol_rows, "f.txt", 4.55).Bz_T == std::vector<double>{0.1, 0.2, 0.3, 0.4});
   CHECK(parse_field_table(fld_head + fld_rows, "f.txt", 4.55).Bz_T == std::vector<double>{0.1, 0.2, 0.3, 0.4});
+  // A COMSOL file with tabs between the values and blanks in its column line; mT; 2-D (no z column).
+  const GridData tabs = parse_field_table(
+      "% Length unit: m\n% x   y   mf.Bz (mT)\n0\t0\t100\n0.001\t0\t200\n0\t0.001\t300\n0.001\t0.001\t400\n",
+      "f.txt", 4.55);
+  CHECK(tabs.Bz_T == std::vector<double>{0.1, 0.2, 0.3, 0.4});
+  CHECK(tabs.spacing_mm.x() == Approx(1.0));
+  CHECK(tabs.origin_mm.z() == 4.55);
   auto replace = [](std::string s, const std::string& what, const std::string& with) {
     const auto p = s.find(what);
     REQUIRE(p != std::string::npos);
