@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const auto field = magenc::table_field_from_file(path, cfg, magenc::Interp::Cubic);
     const auto& g = field->grid();
-    (void)field->B_T(g.origin_mm + 0.5 * g.spacing_mm);
+    (void)field->B_T(magenc::Vec3(g.origin_mm + 0.5 * g.spacing_mm));
   } catch (const magenc::InputError&) {
   }
   return 0;
