@@ -22,6 +22,7 @@
 #include "core/text_table.hpp"
 #include "core/atomic_output.hpp"
 #include "field_outputs.hpp"
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <optional>
@@ -61,6 +62,8 @@ int main(int argc, char** argv) {
   if (!other_bz.empty()) {
     // Lines, cells and numbers as other tools write them (core/text_table.hpp); no header row.
     const std::string where = "--other-bz " + other_bz;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(other_bz, ec)) throw magenc::InputError(where + ": cannot open the file");
     const std::string text = magenc::read_text_file(other_bz, where);
     magenc::TextTableReader reader(text, where);
     std::vector<double> xs, bz;

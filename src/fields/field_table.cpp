@@ -624,6 +624,10 @@ GridData parse_field_table(const std::string& text, const std::string& source, d
 }
 
 GridData read_field_table(const std::filesystem::path& file, double plane_z_mm, const FieldTableLimits& limits) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    throw InputError("table " + file.string() +
+                     " does not exist or is not a file (expected a text table of B on a regular grid)");
   const std::string text = read_text_file(file, "table " + file.string(), limits.max_bytes);
   return parse_field_table(text, file.string(), plane_z_mm, limits);
 }
