@@ -19,8 +19,10 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/text_table.hpp"
 #include "core/atomic_output.hpp"
 #include "field_outputs.hpp"
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <optional>
@@ -58,20 +60,22 @@ int main(int argc, char** argv) {
   Eigen::Matrix3Xd other_p;
   Eigen::VectorXd other_bz_T;
   if (!other_bz.empty()) {
-    std::ifstream in(other_bz);
-    if (!in) throw magenc::InputError("--other-bz " + other_bz + ": cannot open the file");
+    // Lines, cells and numbers as other tools write them (core/text_table.hpp); no header row.
+    const std::string where = "--other-bz " + other_bz;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(other_bz, ec)) throw magenc::InputError(where + ": cannot open the file");
+    const std::string text = magenc::read_text_file(other_bz, where);
+    magenc::TextTableReader reader(text, where);
     std::vector<double> xs, bz;
-    std::string line;
-    long row = 0;
-    while (std::getline(in, line)) {
-      ++row;
-      if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
-      std::istringstream ls(line);
+    for (magenc::TextRow row; reader.next(row);) {
       std::vector<double> v;
-      double d;
-      while (ls >> d) v.push_back(d);
-      if (!ls.eof() || v.size() < 4 || !std::isfinite(v.back()))
-        throw magenc::InputError("--other-bz " + other_bz + " row " + std::to_string(row) +
+      for (const auto& cell : row.cells) {
+        const magenc::CellNumber n = magenc::parse_number(cell);
+        if (!n.ok()) break;
+        v.push_back(n.value);
+      }
+      if (v.size() != row.cells.size() || v.size() < 4)
+        throw magenc::InputError(where + " row " + std::to_string(row.line) +
                                  ": expected finite numbers x y z ... Bz (at least 4 columns)");
       xs.insert(xs.end(), v.begin(), v.begin() + 3);
       bz.push_back(v.back());

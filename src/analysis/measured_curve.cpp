@@ -2,7 +2,6 @@
 
 #include <Eigen/QR>
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/text_table.hpp"
 #include "core/units.hpp"
 #include "probe/spectrum.hpp"
 
@@ -18,32 +18,16 @@ namespace magenc {
 
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> split_cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream ss(line);
-  for (std::string c; std::getline(ss, c, ',');) cells.push_back(trim(c));
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
-}
-
 // A finite number filling the whole cell, else InputError naming origin, row and column.
 double parse_cell(const std::string& cell, const std::string& origin, int row, const std::string& column) {
   const std::string where = origin + " row " + std::to_string(row) + " column " + column;
-  if (cell.empty()) throw InputError(where + " is empty: allowed a finite number");
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(cell.c_str(), &end);
-  if (end == cell.c_str() || *end != '\0' || errno == ERANGE)
+  const CellNumber n = parse_number(cell);
+  if (n.status == CellNumber::Empty) throw InputError(where + " is empty: allowed a finite number");
+  if (n.status == CellNumber::NotNumber)
     throw InputError(where + " = '" + cell + "' is not a number: allowed a finite number");
-  if (!std::isfinite(v)) throw InputError(where + " = '" + cell + "' is not finite: allowed a finite number");
-  return v;
+  if (n.status == CellNumber::NotFinite)
+    throw InputError(where + " = '" + cell + "' is not finite: allowed a finite number");
+  return n.value;
 }
 
 }  // namespace
@@ -52,17 +36,15 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
                                    const CurveReadOptions& opts) {
   MeasuredCurve c;
   c.path = origin;
-  std::istringstream in(text);
-  std::string line;
+  // Lines, cells and numbers as spreadsheet programs write them (core/text_table.hpp).
+  TextTableReader reader(text, origin);
+  TextRow line;
   int lineno = 0;
   std::vector<std::string> header;
   // 1. Header: the first non-blank, non-comment line.
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
-    header = split_cells(t);
-    break;
+  if (reader.next(line)) {
+    lineno = int(line.line);
+    header = line.cells;
   }
   const std::string allowed = "allowed headers theta_deg,error_deg | theta_deg,phi_deg | theta_deg,u_cos,u_sin";
   if (header.empty()) throw InputError(origin + " has no header row: " + allowed);
@@ -90,14 +72,13 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
   std::vector<double> theta_raw, err;
   std::vector<int> rows;
   std::map<double, std::pair<double, int>> seen;  // raw theta -> (error, row)
-  while (std::getline(in, line)) {
-    ++lineno;
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
-    const auto cells = split_cells(t);
+  while (reader.next(line)) {
+    lineno = int(line.line);
+    const auto& cells = line.cells;
     if (cells.size() != header.size())
       throw InputError(origin + " row " + std::to_string(lineno) + " has " + std::to_string(cells.size()) +
-                       " cells: allowed " + std::to_string(header.size()) + " (as the header)");
+                       " cells: allowed " + std::to_string(header.size()) + " (as the header)" +
+                       decimal_comma_hint(reader.separator(), cells.size(), header.size()));
     const double th = parse_cell(cells[i_theta], origin, lineno, "theta_deg");
     if (std::abs(th) > 1e7)
       throw InputError(origin + " row " + std::to_string(lineno) + " theta_deg = " + num(th) +

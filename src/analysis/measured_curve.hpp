@@ -3,7 +3,9 @@
 //   theta_deg,error_deg      error = sensor - reference (error_sign = +1) or reference - sensor (-1)
 //   theta_deg,phi_deg        the sensor's angle phi; error = wrap(phi - theta)
 //   theta_deg,u_cos,u_sin    raw channels (any units); error = wrap(atan2(u_sin, u_cos) - theta)
-// Comma separated; blank lines and lines starting with '#' are skipped; spaces around cells are allowed.
+// Read as spreadsheet programs write CSV (core/text_table.hpp): ',' or ';' (with decimal commas), tab or blank
+// separated, a UTF-8 byte-order mark, CRLF or CR line ends; blank lines and lines starting with '#' are
+// skipped; spaces around cells are allowed.
 // Samples need not be uniform; several turns are folded into [0, 360). The reader's file is attack
 // surface: every rejection is an InputError of one line naming the file, the row (1-based line number)
 // and the problem.

@@ -1,19 +1,30 @@
 // Field tables from other tools (docs/interfaces.md, "Field tables from other
-// tools"): a text table of B on a regular grid, as exported by COMSOL, Ansys
-// Maxwell, FEMM or a magnet maker, read into the GridData of grid_field.hpp so
-// that GridField (and its nearest/linear/cubic interpolation) serves it.
+// tools" and "Field files as other tools write them"): a text table of B on a
+// regular grid, as exported by COMSOL, Ansys Maxwell, FEMM or a magnet maker,
+// read into the GridData of grid_field.hpp so that GridField (and its
+// nearest/linear/cubic interpolation) serves it. Lines, cells and numbers are
+// read by core/text_table.hpp (a UTF-8 byte-order mark, CRLF or CR line ends,
+// ';' between fields with decimal commas, tab, ',' or blanks, quoted cells).
 //
-// Format
-//   - Lines starting (after blanks) with '#' or '%' are comments; blank lines
-//     are ignored; a UTF-8 byte-order mark is skipped.
-//   - The first other line is the header. Its separator decides the file's:
-//     ',' if it has a comma, else tab if it has a tab, else runs of blanks.
-//     Cells may be wrapped in double quotes; blanks around cells are trimmed.
-//   - Columns (any order, each at most once):
+// Three formats, recognised from the content:
+//   - magenc's table: '#'/'%' comment lines, then one header row naming the
+//     columns (any order, each at most once):
 //       x_mm | x_m,  y_mm | y_m,  [z_mm | z_m]          coordinates, magnet frame
 //       Bz_T | Bz_mT, [Bx_T | Bx_mT, By_T | By_mT]     field (Bx and By together)
 //     All coordinates in one unit, all field columns in one unit.
-//   - Every data row has one finite number per column (strtod syntax).
+//   - COMSOL's spreadsheet export: '%' header lines, then rows of numbers. The
+//     coordinate unit is the '% Length unit:' line's (m, cm, mm, um), or a
+//     "(mm)" after a coordinate's name; the last '%' line names the columns:
+//     x, y, [z] (any case) and <interface>.Bz (T|mT) [with .Bx, .By], e.g.
+//     "% x  y  z  mf.Bz (T)". Missing length unit or field unit: refused.
+//   - Ansys Maxwell's grid export (.fld): header lines with Min:, Max: and
+//     Grid Size: (three lengths each, in m, or each with a unit: "[-5mm ...]";
+//     one line "Grid Output Min: [..] Max: [..] Grid Size: [..]" or three),
+//     an optional quantity line (X,Y,Z,Vector data "<Bx,By,Bz>" or
+//     X,Y,Z,Scalar data "Bz"), then rows x y z (m) and Bz, or x y z Bx By Bz
+//     (T): 4 columns are Bz, 6 are B. The rows must lie on the declared grid
+//     (else their unit cannot be told: refused).
+//   - Every data row has one finite number per column.
 //   - Rows in any order; the points must fill a regular grid exactly once.
 //
 // Regular grid (per axis): the distinct coordinate values, merged when they

@@ -8,7 +8,7 @@
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
-#include "core/fp_trap.hpp"
+#include "core/text_table.hpp"
 
 namespace magenc {
 
@@ -23,21 +23,6 @@ std::string cell(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
   return q + "\"";
-}
-
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char ch : line) {
-    if (ch == ',') {
-      out.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += ch;
-    }
-  }
-  out.push_back(trim(cur));
-  return out;
 }
 
 template <class Row>
@@ -96,18 +81,17 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
   static const char* const known[] = {"sx_mm",      "sy_mm",      "dx_mm",           "dy_mm",
                                       "dz_mm",      "tilt_x_deg", "tilt_y_deg",      "magnet_tilt_deg",
                                       "magnet_tilt_azimuth_deg"};
-  std::ifstream in(path);
-  if (!in) throw InputError(where + ": cannot open file");
-
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(where + ": cannot open file");
+  const std::string text = read_text_file(path, where);
+  // Lines, cells and numbers as spreadsheet programs write them (core/text_table.hpp).
+  TextTableReader reader(text, where);
   std::vector<std::string> header;
   std::vector<Mount> cases;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (trim(line).empty()) continue;  // blank lines (e.g. a trailing newline) are ignored
-    const auto cells = split_commas(line);
-    const std::string at = where + ":" + std::to_string(line_no);
+  TextRow line;
+  while (reader.next(line)) {
+    const auto& cells = line.cells;
+    const std::string at = where + ":" + std::to_string(line.line);
     if (header.empty()) {
       // 1. Header: known, distinct column names.
       for (const auto& name : cells) {
@@ -124,20 +108,15 @@ std::vector<Mount> read_cases_csv(const std::filesystem::path& path) {
     // 2. Data row: one finite number per header column.
     if (cells.size() != header.size())
       throw InputError(at + ": " + std::to_string(cells.size()) + " cells, header has " +
-                       std::to_string(header.size()) + ": allowed exactly one number per column");
+                       std::to_string(header.size()) + ": allowed exactly one number per column" +
+                       decimal_comma_hint(reader.separator(), cells.size(), header.size()));
     Mount m;
     for (std::size_t i = 0; i < cells.size(); ++i) {
-      const std::string& text = cells[i];
-      char* end = nullptr;
-      double v = NAN;
-      if (!text.empty()) {
-        // strtod raises FE_OVERFLOW for 1e999 (rejected just below as not finite): untrapped (fp_trap.hpp).
-        const FpTrapPause parsing_input;
-        v = std::strtod(text.c_str(), &end);
-      }
-      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
-        throw InputError(at + ": column " + header[i] + " = '" + text +
+      const CellNumber n = parse_number(cells[i]);
+      if (!n.ok())
+        throw InputError(at + ": column " + header[i] + " = '" + cells[i] +
                          "' is not a finite number: allowed finite numbers (mm, deg)");
+      const double v = n.value;
       if (header[i] == "sx_mm") m.sx_mm = v;
       else if (header[i] == "sy_mm") m.sy_mm = v;
       else if (header[i] == "dx_mm") m.dx_mm = v;

@@ -35,7 +35,8 @@ std::string fits_csv(const std::vector<FitRow>& rows);
 
 // Reads a cases file: header with any of sx_mm,sy_mm,dx_mm,dy_mm,dz_mm and
 // tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg (missing = 0).
-// InputError on malformed CSV, unknown column, NaN, a tilt out of range, no rows.
+// Read as spreadsheet programs write CSV (core/text_table.hpp: ';' with decimal commas, a byte-order
+// mark, CRLF). InputError on malformed CSV, unknown column, NaN, a tilt out of range, no rows.
 std::vector<Mount> read_cases_csv(const std::filesystem::path& path);
 
 }  // namespace magenc

@@ -9,6 +9,7 @@
 #include "analysis/measured_curve.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "../core/spreadsheet_text.hpp"
 
 using namespace magenc;
 
@@ -170,6 +171,44 @@ TEST_CASE("measured curve: formats, error sign, folding of two turns, non-unifor
       CHECK(d.error_deg[i] == Approx(a.error_deg[i]).margin(1e-6));
     }
   }
+}
+
+TEST_CASE("measured curve: files as spreadsheet programs save them read as the plain CSV", "[analysis][regression]") {
+  // Excel's "CSV UTF-8" starts with a byte-order mark (once refused: "unknown column '\ufefftheta_deg'"); the
+  // European form has ';' between fields and decimal commas (once refused: "unknown column
+  // 'theta_deg;error_deg'"); Windows line ends; tab-separated text with decimal commas; old Mac CR line ends.
+  const std::string plain = "# bench run 7\n" + curve_text(72, 5.0, 0.25);
+  const MeasuredCurve ref = parse_measured_curve(plain, "c.csv");
+  const std::vector<std::pair<std::string, std::string>> forms = {
+      {"UTF-8 BOM", test::with_bom(plain)},
+      {"CRLF", test::with_crlf(plain)},
+      {"CR only", test::with_crlf(plain, true)},
+      {"';' and decimal comma", test::european(plain)},
+      {"BOM, ';', decimal comma, CRLF", test::with_bom(test::with_crlf(test::european(plain)))},
+      {"tab and decimal comma", test::european(plain, '\t')},
+      {"raw channels, ';' form", test::european("theta_deg,u_cos,u_sin\n0,1.5,0\n" + [] {
+         std::string r;
+         for (int i = 1; i < 72; ++i) r += std::to_string(i * 5) + ".0,1.5,0.25\n";
+         return r;
+       }())}};
+  for (const auto& [form, text] : forms) {
+    CAPTURE(form);
+    const MeasuredCurve c = parse_measured_curve(text, "c.csv");
+    if (form.rfind("raw", 0) == 0) {
+      CHECK(c.format == "raw");
+      CHECK(c.size() == 72);
+      continue;
+    }
+    REQUIRE(c.size() == ref.size());
+    CHECK(c.format == ref.format);
+    CHECK(c.theta_deg == ref.theta_deg);
+    CHECK(c.error_deg == ref.error_deg);
+    CHECK(c.row == ref.row);
+  }
+  // A decimal comma in a comma-separated file splits the number: refused on one line naming the row.
+  const std::string m = error_of("theta_deg,error_deg\n0,0,5\n");
+  CHECK_THAT(m, Catch::Contains("row 2") && Catch::Contains("3 cells") && Catch::Contains("decimal comma"));
+  CHECK(m.find('\n') == std::string::npos);
 }
 
 TEST_CASE("harmonics_ls recovers coefficients from non-uniform samples", "[analysis][closed-form]") {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../core/spreadsheet_text.hpp"
 #include "../studies/study_test_util.hpp"
 
 using namespace magenc::test;
@@ -69,4 +70,38 @@ TEST_CASE("diagnose CLI: bad input is one line, exit 2, no output", "[apps][bad-
   CHECK_FALSE(fs::exists(out));
   fs::remove(bad);
   fs::remove(good);
+}
+
+TEST_CASE("diagnose CLI: curves saved as Excel's CSV UTF-8 and in the European form fit like the plain file",
+          "[apps][regression][cli]") {
+  // Once refused with "unknown column '\ufefftheta_deg'" and "unknown column 'theta_deg;error_deg'".
+  const fs::path plain = make_curve("cli_plain", "--set sx=0.04 --set dx=0.03 --points 90");
+  const std::string text = slurp(plain);
+  const std::vector<std::pair<std::string, std::string>> forms = {
+      {"plain", text},
+      {"CSV UTF-8 (BOM, CRLF)", magenc::test::with_bom(magenc::test::with_crlf(text))},
+      {"';' with decimal comma", magenc::test::european(text)}};
+  std::vector<double> sx, dx;
+  for (std::size_t k = 0; k < forms.size(); ++k) {
+    CAPTURE(forms[k].first);
+    const fs::path f = fs::temp_directory_path() / ("magenc_test_form" + std::to_string(k) + "_" +
+                                                    std::to_string(::getpid()) + ".csv");
+    std::ofstream(f, std::ios::binary) << forms[k].second;
+    const fs::path out = temp_out("diagnose_form" + std::to_string(k));
+    const StudyRun r = run_study_exe("diagnose", out, "--measured '" + f.string() +
+                                                         "' --field analytic --array two --r0 2.4 --free sx,dx --starts 1");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto j = nlohmann::json::parse(slurp(out / "fit.json"));
+    sx.push_back(j["parameters"]["sx_mm"]["value"].get<double>());
+    dx.push_back(j["parameters"]["dx_mm"]["value"].get<double>());
+    fs::remove_all(out);
+    fs::remove(f);
+  }
+  CHECK(sx[0] == Approx(0.04).margin(0.005));
+  for (std::size_t k = 1; k < forms.size(); ++k) {
+    CHECK(sx[k] == sx[0]);  // the same numbers, so the same fit
+    CHECK(dx[k] == dx[0]);
+  }
+  fs::remove(plain);
 }

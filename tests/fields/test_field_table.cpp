@@ -29,6 +29,7 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "../core/spreadsheet_text.hpp"
 #include "../probe/spectrum_compare.hpp"
 #include "../studies/study_test_util.hpp"
 
@@ -162,6 +163,25 @@ TEST_CASE("a grid written as a table reads back to the same grid in every format
   const GridData s6 = parse_field_table(six, "six digits", zs);
   CHECK(s6.dims == std::array<int, 3>{30, 30, 1});
   CHECK(s6.spacing_mm.x() == Approx(0.0912345).epsilon(1e-5));
+}
+
+TEST_CASE("a table as spreadsheet programs save it reads as the plain table", "[fields][regression]") {
+  const Config cfg(common_keys());
+  const AnalyticField exact(Magnet::from_config(cfg));
+  const double zs = sensing_plane_z_mm(cfg);
+  const GridData box = sample_grid(exact, Vec3(-1, -1, zs - 0.1), Vec3(0.25, 0.5, 0.1), {9, 5, 3});
+  const std::string plain = field_table_text(box);
+  const GridData ref = parse_field_table(plain, "plain", zs);
+  for (const std::string& text : {test::european(plain), test::with_bom(test::with_crlf(test::european(plain))),
+                                  test::european(plain, '\t'), test::with_crlf(plain, true)}) {
+    const GridData g = parse_field_table(text, "spreadsheet", zs);
+    REQUIRE(g.dims == ref.dims);
+    CHECK(g.origin_mm == ref.origin_mm);
+    CHECK(g.spacing_mm == ref.spacing_mm);
+    CHECK(g.Bz_T == ref.Bz_T);
+    CHECK(g.Bx_T == ref.Bx_T);
+    CHECK(g.By_T == ref.By_T);
+  }
 }
 
 TEST_CASE("the exact field as a table reproduces the exact spectra", "[fields][cross-check]") {

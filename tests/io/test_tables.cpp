@@ -9,6 +9,7 @@
 
 #include "core/errors.hpp"
 #include "io/tables.hpp"
+#include "../core/spreadsheet_text.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;
@@ -55,6 +56,34 @@ TEST_CASE("cases CSV: columns in any order, missing = 0", "[io][contract]") {
   CHECK(cases[0].sx_mm == 0.2);
   CHECK(cases[0].sy_mm == 0.0);
   CHECK(cases[1].sx_mm == 0.01);
+  fs::remove(p);
+}
+
+TEST_CASE("cases CSV: files as spreadsheet programs save them read as the plain CSV", "[io][regression]") {
+  const std::string plain = "sx_mm,dx_mm,tilt_x_deg\n0.1,-0.05,1.5\n0,0.025,0\n";
+  for (const std::string& text : {test::with_bom(plain), test::with_crlf(plain), test::european(plain),
+                                  test::with_bom(test::with_crlf(test::european(plain))), test::european(plain, '\t')}) {
+    CAPTURE(text);
+    const auto p = write_temp("forms.csv", text);
+    const auto cases = read_cases_csv(p);
+    REQUIRE(cases.size() == 2);
+    CHECK(cases[0].sx_mm == 0.1);
+    CHECK(cases[0].dx_mm == -0.05);
+    CHECK(cases[0].tilt_x_deg == 1.5);
+    CHECK(cases[1].dx_mm == 0.025);
+    fs::remove(p);
+  }
+  // A decimal comma between comma separators: one line naming the line and the likely cause.
+  const auto p = write_temp("mixed.csv", "sx_mm,dx_mm\n0,1,0,2\n");
+  try {
+    read_cases_csv(p);
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    CHECK(msg.find(":2:") != std::string::npos);
+    CHECK(msg.find("decimal comma") != std::string::npos);
+    CHECK(msg.find('\n') == std::string::npos);
+  }
   fs::remove(p);
 }
 
