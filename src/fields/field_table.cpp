@@ -74,7 +74,9 @@ std::vector<std::string> split_cells(const std::string& line, char sep) {
 }
 
 std::string point_text(double x, double y, double z) {
-  return "(" + num(x) + ", " + num(y) + ", " + num(z) + ") mm";
+  std::string s = "(";  // not "(" + std::string: GCC 12 -Wrestrict false positive (GCC bug 105651)
+  s += num(x) + ", " + num(y) + ", " + num(z) + ") mm";
+  return s;
 }
 
 // One axis of the lattice: the rows' coordinate levels and their grid indices.
