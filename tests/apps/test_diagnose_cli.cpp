@@ -5,7 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "../studies/study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 

@@ -29,8 +29,8 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
-#include "../probe/spectrum_compare.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/spectrum_compare.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 
 #include "core/errors.hpp"
 #include "io/plot.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;
