@@ -5,4 +5,4 @@ cd "$(dirname "$0")"
 scripts/install_deps.sh
 scripts/build.sh
 cd build
-ctest --output-on-failure -j"$(nproc)" --timeout 1500
+ctest --output-on-failure -j"$(nproc)"   # per-test timeouts: tests/CMakeLists.txt

@@ -75,7 +75,7 @@ PotentialComparison potential_comparison(const Setup& s, const DomainSpec& dom, 
   for (double h : s.hs) {
     PotentialRow row;
     row.h_zone_mm = h;
-    for (const std::string pot : {std::string("total"), other}) {
+    for (const std::string& pot : {std::string("total"), other}) {
       if (h == pc.h_ref_mm && pot == other) continue;  // the reference itself
       const auto solver = solve_at(h, pot);
       const BzErrorStats e = bz_error_on_grid(solver->evaluator(), ref, s.base.plane);

@@ -233,7 +233,6 @@ void DomainSpec::validate() const {
       if (m.segments % 8 != 0)
         throw InputError("mesh.segments = " + std::to_string(m.segments) +
                          " is out of range with a zone core (mesh.core_radius_mm > 0): must be a multiple of 8");
-      const double rp = polygon_radius(R, m.segments, m.equal_area);
       if (!(zone.core_radius_mm > 1.05 * rp && zone.core_radius_mm < 0.8 * zone.half_width_mm))
         throw InputError("mesh.core_radius_mm = " + num(zone.core_radius_mm) + " is out of range: allowed (" +
                          num(1.05 * rp) + ", " + num(0.8 * zone.half_width_mm) +

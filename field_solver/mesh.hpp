@@ -23,7 +23,7 @@ struct Plc {
     // Further polygons in the same plane that the facet's triangulation must
     // contain: segments (2 vertices) and isolated vertices (1), e.g. where an
     // internal surface meets a symmetry plane.
-    std::vector<std::vector<int>> constraints;
+    std::vector<std::vector<int>> constraints = {};  // (= {}: facets are brace-initialized from polygons)
     bool outer = false;  // part of the domain's outer boundary (the truncation sphere)
   };
   struct Region {

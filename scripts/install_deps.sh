@@ -33,7 +33,9 @@ PKGS=(
 [ "$with_getdp" = 1 ] && PKGS+=(getdp gmsh)   # GetDP 3.2, gmsh 4.8 (scripts/bench_getdp.sh)
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by
 # scripts/install_paraview_python.sh: NOT python3-paraview from apt, which on
-# Debian 12 conflicts with python3-vtk9 and so would remove libvtk9-dev.
+# Debian 12 conflicts with python3-vtk9 and so would remove libvtk9-dev. A machine
+# that already has python3-paraview gets one line saying so and what to do, and a
+# non-zero exit (refuse_known_conflicts in apt_packages.sh), before apt runs.
 . "$(dirname "$0")/apt_packages.sh"
 install_missing_packages install_deps "${PKGS[@]}"
 if [ "${MAGENC_WITH_PARAVIEW:-1}" = 1 ]; then

@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 SAN="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"
 launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMAGENC_FUZZ=ON "${launcher[@]}" \
+  -DMAGENC_TEST_TIMEOUT=1500 -DMAGENC_SLOW_TEST_TIMEOUT=3000 \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
   -DCMAKE_CXX_FLAGS="$SAN -fsanitize=fuzzer-no-link" -DCMAKE_EXE_LINKER_FLAGS="$SAN" >/dev/null
 if [ $# -gt 0 ]; then

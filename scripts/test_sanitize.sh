@@ -17,9 +17,9 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 cd build-san
 status=0
-ctest --output-on-failure -j"$(nproc)" --timeout 3000 -LE paraview -E "^mpirun -n" "$@" || status=1
+ctest --output-on-failure -j"$(nproc)" -LE paraview -E "^mpirun -n" "$@" || status=1
 # The mpirun tests: their ranks' stacks must unwind through OpenMPI without frame pointers to be named
 # (fast_unwind_on_malloc=0, slow, so only here); scripts/lsan_mpi.supp says what is OpenMPI's.
 LSAN_OPTIONS="suppressions=$PWD/../scripts/lsan_mpi.supp:print_suppressions=0:fast_unwind_on_malloc=0" \
-  ctest --output-on-failure -j"$(nproc)" --timeout 3000 -R "^mpirun -n" "$@" || status=1
+  ctest --output-on-failure -j"$(nproc)" -R "^mpirun -n" "$@" || status=1
 exit $status

@@ -693,7 +693,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     Confounding cf;
     cf.rel_singular = sv.s[k] / smax;
     std::set<int> shared;
-    bool first = true;
+    bool first_loaded = true;
     const double vmax = v.cwiseAbs().maxCoeff();
     for (int j = 0; j < nv; ++j)
       if (std::abs(v[j]) > 0.1 * vmax) {
@@ -702,9 +702,9 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
         cf.weights.push_back(v[j]);
         if (sv.norms[j] == 0) continue;
         std::set<int> h = loaded_harmonics(theta, J.col(j));
-        if (first) {
+        if (first_loaded) {
           shared = h;
-          first = false;
+          first_loaded = false;
         } else {
           std::set<int> inter;
           std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));

@@ -113,9 +113,9 @@ RoundTripResult run_round_trip(const FieldSource& field, const ModelState& base,
       const double e = std::abs(pv->value - t);
       if (e <= 2.0 * pv->sigma) ++res.params[j].within_2sigma;
       bool any = e <= 2.0 * pv->sigma;
-      const auto k = std::find(r.free.begin(), r.free.end(), vars[j]) - r.free.begin();
+      const auto fi = std::find(r.free.begin(), r.free.end(), vars[j]) - r.free.begin();
       for (const auto& alt : r.alternatives)
-        if (k < static_cast<long>(alt.values.size()) && std::abs(alt.values[k] - t) <= 2.0 * pv->sigma) any = true;
+        if (fi < static_cast<long>(alt.values.size()) && std::abs(alt.values[fi] - t) <= 2.0 * pv->sigma) any = true;
       if (any) ++res.params[j].within_2sigma_any;
       if (!r.alternatives.empty()) ++res.params[j].ambiguous;
       abs_err[j].push_back(e);

@@ -14,7 +14,7 @@ namespace {
 class CollectingOutputWindow : public vtkOutputWindow {
  public:
   static CollectingOutputWindow* New();
-  vtkTypeMacro(CollectingOutputWindow, vtkOutputWindow);
+  vtkTypeMacro(CollectingOutputWindow, vtkOutputWindow)
   void DisplayText(const char* t) override { keep(t, false); }
   void DisplayErrorText(const char* t) override { keep(t, true); }
   void DisplayWarningText(const char* t) override { keep(t, false); }

@@ -378,7 +378,9 @@ TableRows read_rows(std::string_view text, const std::string& where, const Field
 // ---- The regular grid: per axis the levels, their lattice indices, and the offending rows ----
 
 std::string point_text(double x, double y, double z) {
-  return "(" + num(x) + ", " + num(y) + ", " + num(z) + ") mm";
+  std::string s = "(";  // not "(" + std::string: GCC 12 -Wrestrict false positive (GCC bug 105651)
+  s += num(x) + ", " + num(y) + ", " + num(z) + ") mm";
+  return s;
 }
 
 // One axis of the lattice: the rows' coordinate levels and their grid indices.

@@ -204,7 +204,9 @@ bool GridField::contains(const Vec3& p_mm) const {
 std::string GridField::extent_text() const {
   const auto& g = grid_;
   auto range = [&](int d) {
-    return "[" + num(g.origin_mm[d]) + ", " + num(g.origin_mm[d] + (g.dims[d] - 1) * g.spacing_mm[d]) + "] mm";
+    std::string r = "[";  // not "[" + std::string: GCC 12 -Wrestrict false positive (GCC bug 105651)
+    r += num(g.origin_mm[d]) + ", " + num(g.origin_mm[d] + (g.dims[d] - 1) * g.spacing_mm[d]) + "] mm";
+    return r;
   };
   std::string s = "x in " + range(0) + ", y in " + range(1);
   if (g.is_plane())
@@ -235,7 +237,7 @@ double GridField::Bz_T(const Vec3& p_mm) const {
   const bool is3d = !grid_.is_plane();
   if (!inside(g, is3d, p_mm.data())) throw_outside(p_mm);
   const double* v[1] = {grid_.Bz_T.data()};
-  double out[1];
+  double out[1] = {0.0};
   switch (mode_) {
     case Interp::Nearest:
       is3d ? interpolate<Interp::Nearest, true, 1>(g, v, p_mm.data(), out)

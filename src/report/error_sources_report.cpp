@@ -158,7 +158,7 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
       std::vector<std::string> r = {src->description, value_text(*src, sig[i].value)};
       for (std::size_t a = 0; a < run.setups.size(); ++a, ++i) {
         std::string text = signature_text(sig[i], floor_deg, rel);
-        for (std::size_t p = text.find('|'); p != std::string::npos; p = text.find('|', p + 2)) text.insert(p, "\\");
+        for (std::size_t p = text.find('|'); p != std::string::npos; p = text.find('|', p + 2)) text.insert(p, 1, '\\');
         r.push_back(text);  // "|a0|" escaped for the Markdown table
       }
       t.push_back(r);

@@ -17,12 +17,17 @@ std::string row(const std::vector<std::string>& cells) {
 }
 std::string num6(double v) { return fmt_sig(v, 6); }
 std::string rate_cell(double rate) { return std::isnan(rate) ? "" : fmt(rate, 2); }
+// "P1", "P2" (not "P" + std::to_string(order): GCC 12 -Wrestrict false positive, GCC bug 105651).
+std::string order_name(int order) {
+  const std::string n = std::to_string(order);
+  return "P" + n;
+}
 
 std::string refinement_md(const FemConvergenceResult& r) {
   std::vector<std::vector<std::string>> table;
   for (const auto& s : r.refinement)
     for (const auto& c : s.runs)
-      table.push_back({"P" + std::to_string(s.order), fmt(c.h_zone_mm, 2), std::to_string(c.dofs),
+      table.push_back({order_name(s.order), fmt(c.h_zone_mm, 2), std::to_string(c.dofs),
                        std::to_string(c.iterations), fmt_auto(c.rms_rel, 3), fmt_auto(c.max_rel, 3), rate_cell(c.rate_h),
                        rate_cell(c.rate_dofs), fmt(c.t_mesh_s, 2), fmt(c.t_assemble_s, 2), fmt(c.t_solve_s, 2),
                        fmt(c.t_total_s, 2)});
@@ -37,8 +42,8 @@ std::string refinement_md(const FemConvergenceResult& r) {
 void write_convergence_plot(StudyOutput& out, const FemConvergenceResult& r) {
   PlotPanel panel{"Bz error on the sensing plane vs exact field", "degrees of freedom", "error / peak |Bz|", {}, true, true, {}};
   for (const auto& s : r.refinement) {
-    PlotSeries rms{"P" + std::to_string(s.order) + " RMS", {}, {}, "linespoints", "lw 2"};
-    PlotSeries mx{"P" + std::to_string(s.order) + " max", {}, {}, "linespoints", "dt 2"};
+    PlotSeries rms{order_name(s.order) + " RMS", {}, {}, "linespoints", "lw 2"};
+    PlotSeries mx{order_name(s.order) + " max", {}, {}, "linespoints", "dt 2"};
     for (const auto& c : s.runs) {
       rms.x.push_back(double(c.dofs));
       rms.y.push_back(c.rms_rel);

@@ -203,13 +203,13 @@ void write_provenance_report(StudyOutput& out, const ProvenanceRun& run) {
           fe_table.push_back({label, e.origin, fmt_auto(f.mu_r, 3), "P" + std::to_string(f.order) + (f.symmetry_order > 2 ? " D" + std::to_string(f.symmetry_order) : f.symmetry_order == 1 ? " whole" : ""), std::to_string(f.elements),
                         std::to_string(f.dofs), h, fmt(f.t_total_s, 2), fmt_deg(s.c_deg[1]), fmt_deg(s.c_deg[2]), fmt_deg(s.c_deg[3]),
                         fmt_deg(s.c_deg[4]), fmt_deg(s.c_deg[8]), fmt_deg(s.pp_deg)});
-        std::vector<std::string> o{label};
+        std::vector<std::string> offset_row{label};
         for (std::size_t c = 1; c < cases.size(); ++c) {
           const auto* r = row_of(source, variant, cases[c].label);
-          for (int n = 1; n <= 4; ++n) o.push_back(fmt_deg(std::abs(r->sampled.c_deg[n] - r->exact.c_deg[n])));
-          o.push_back(fmt_deg(std::abs(r->sampled.pp_deg - r->exact.pp_deg)));
+          for (int n = 1; n <= 4; ++n) offset_row.push_back(fmt_deg(std::abs(r->sampled.c_deg[n] - r->exact.c_deg[n])));
+          offset_row.push_back(fmt_deg(std::abs(r->sampled.pp_deg - r->exact.pp_deg)));
         }
-        offset_table.push_back(o);
+        offset_table.push_back(offset_row);
       }
     }
     md << "### Ideal mount (deg; exact field: all zero)\n\n"

@@ -9,7 +9,7 @@
 #include "analysis/measured_curve.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
-#include "../core/spreadsheet_text.hpp"
+#include "support/spreadsheet_text.hpp"
 
 using namespace magenc;
 

@@ -50,7 +50,7 @@ TEST_CASE("surrogate matches the direct pipeline on corners and random samples",
     std::vector<Eigen::VectorXd> eps;
     fast.eps(m, eps);
     for (std::size_t a = 0; a < arrays.size(); ++a) {
-      ProbeSetup setup{arrays[a], r0, kPlaneZ, 360};
+      ProbeSetup setup{arrays[a], r0, kPlaneZ, 360, {}};
       const Spectrum direct = error_spectrum(field, setup, m);
       const Spectrum sur = spectrum_of(eps[a]);
       const double tol = order == 4 ? std::max(0.005, 0.0005 * direct.pp_deg) : std::max(0.02, 0.002 * direct.pp_deg);
@@ -99,7 +99,7 @@ TEST_CASE("worst corner on the linear field: dy and dz cannot matter", "[analysi
   const CircleFieldModel model(field, 2.4, kPlaneZ, 360, 0.3, 0.1, 3);
   double pp;
   FastPipeline(model, {two}).pp(m, &pp);
-  CHECK(pp == Approx(error_spectrum(field, ProbeSetup{two, 2.4, kPlaneZ, 360}, m).pp_deg).epsilon(1e-9));
+  CHECK(pp == Approx(error_spectrum(field, ProbeSetup{two, 2.4, kPlaneZ, 360, {}}, m).pp_deg).epsilon(1e-9));
 }
 
 TEST_CASE("find_peak and recommend", "[analysis][closed-form]") {
@@ -161,7 +161,7 @@ TEST_CASE("surrogate with tilts (full vector) matches the direct pipeline on til
     std::vector<Eigen::VectorXd> eps;
     fast.eps(m, eps);
     for (std::size_t a = 0; a < arrays.size(); ++a) {
-      ProbeSetup setup{arrays[a], r0, kPlaneZ, 360};
+      ProbeSetup setup{arrays[a], r0, kPlaneZ, 360, {}};
       setup.magnet_height_mm = 4.0;
       const Spectrum direct = error_spectrum(field, setup, m);
       const Spectrum sur = spectrum_of(eps[a]);
@@ -220,7 +220,7 @@ TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline",
       s.push_back(spectrum_of(eps[a]));
       // The surrogate against the direct pipeline with the same chain: at the nodes (ideal mount) the
       // surrogate reads the exact field, so they agree to round-off; displaced, within the surrogate's tolerance.
-      ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360};
+      ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360, {}};
       setup.chain = c.chain;
       const Spectrum direct = error_spectrum(field, setup, c.mount);
       const double tol = c.mount.sx_mm == 0 && c.mount.dx_mm == 0 ? 1e-9 : std::max(0.005, 0.0005 * direct.pp_deg);
@@ -281,7 +281,7 @@ TEST_CASE("surrogate with a signal chain: closed forms and the direct pipeline",
   tilted_chain.chain = both.chain;
   fast_full.eps(tilted_chain, e_case);
   for (std::size_t a = 0; a < arrays.size(); ++a) {
-    ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360};
+    ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360, {}};
     setup.chain = tilted_chain.chain;
     const Spectrum direct = error_spectrum(field, setup, tilted_chain.mount);
     CHECK(spectrum_of(e_case[a]).pp_deg == Approx(direct.pp_deg).margin(std::max(0.005, 0.0005 * direct.pp_deg)));
@@ -409,7 +409,7 @@ TEST_CASE("radius scan with the magnetization elevation in the box", "[analysis]
   d.mount.dz_mm = 0.15;
   fast2.eps(d, eps);
   for (std::size_t a = 0; a < arrays.size(); ++a) {
-    const Spectrum direct = error_spectrum(field5, ProbeSetup{arrays[a], 2.4, kPlaneZ, 360}, d.mount);
+    const Spectrum direct = error_spectrum(field5, ProbeSetup{arrays[a], 2.4, kPlaneZ, 360, {}}, d.mount);
     const Spectrum sur = spectrum_of(eps[a]);
     const double tol = std::max(0.005, 0.0005 * direct.pp_deg);
     CHECK(std::abs(sur.pp_deg - direct.pp_deg) <= tol);

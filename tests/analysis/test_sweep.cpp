@@ -8,7 +8,7 @@
 #include "report/study_output.hpp"
 #include "analysis/sweep.hpp"
 #include "core/units.hpp"
-#include "../probe/probe_setup.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "../core/spreadsheet_text.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/spreadsheet_text.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 

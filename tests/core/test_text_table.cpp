@@ -9,7 +9,7 @@
 
 #include "core/errors.hpp"
 #include "core/text_table.hpp"
-#include "spreadsheet_text.hpp"
+#include "support/spreadsheet_text.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -153,7 +153,7 @@ TEST_CASE("a high-mu_r shaft under the magnet pulls flux towards it", "[field_so
   // Just above the shaft's top face (z = -3): at a mu_r >> 1 surface the
   // tangential H vanishes, so B turns normal to the face (flux is pulled into
   // the steel). Compared with a mu_r = 1 shaft, whose mesh is identical.
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(1.0, 0.5, -2.95), Eigen::Vector3d(-1.5, 0.3, -2.95), Eigen::Vector3d(0.2, -1.2, -2.95)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1.0, 0.5, -2.95), Eigen::Vector3d(-1.5, 0.3, -2.95), Eigen::Vector3d(0.2, -1.2, -2.95)}) {
     const Eigen::Vector3d bu = *unit->evaluator().B_T(p), bs = *steel->evaluator().B_T(p);
     const double tan_unit = bu.head<2>().norm() / bu.norm(), tan_steel = bs.head<2>().norm() / bs.norm();
     CAPTURE(p.transpose(), bu.transpose(), bs.transpose(), tan_unit, tan_steel);

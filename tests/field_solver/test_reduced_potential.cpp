@@ -72,7 +72,7 @@ TEST_CASE("reduced potential: mesh.vtu keeps the source magnet, and read back B 
   const FieldEvaluator back(read_solution_vtu(f));
   std::filesystem::remove(f);
   REQUIRE(back.solution().source);
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(0.3, 0.2, 4.55), Eigen::Vector3d(-2.0, 1.0, 4.3),
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.3, 0.2, 4.55), Eigen::Vector3d(-2.0, 1.0, 4.3),
                                   Eigen::Vector3d(1.0, -0.5, 0.0)}) {  // the last one inside the magnet
     const auto a = s->evaluator().B_T(p), b = back.B_T(p);
     REQUIRE(a);

@@ -68,7 +68,7 @@ TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the sha
   CHECK(es.rms_rel() < 1e-4);
   CHECK(es.rms_rel() < et.rms_rel() / 100);
   // Just above the shaft's face and inside it: B is still the exact field.
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(1.0, 0.5, -2.9), Eigen::Vector3d(0.5, -1.0, -5.0)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1.0, 0.5, -2.9), Eigen::Vector3d(0.5, -1.0, -5.0)}) {
     const Eigen::Vector3d b = *split->evaluator().B_T(p), e = exact.B_T(p);
     CAPTURE(p.transpose(), b.transpose(), e.transpose());
     // Measured relative errors 1.7e-3 above the face, 1.2e-2 inside (P2 psi on the 1 mm shaft mesh).
@@ -141,7 +141,7 @@ TEST_CASE("split potential: quadrant solve equals the whole-mesh solve, and mesh
   const FieldEvaluator back(read_solution_vtu(f));
   std::filesystem::remove(f);
   REQUIRE(back.solution().split());
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(0.3, 0.2, 4.55), Eigen::Vector3d(-2.0, 1.0, 4.3),
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.3, 0.2, 4.55), Eigen::Vector3d(-2.0, 1.0, 4.3),
                                   Eigen::Vector3d(1.0, -0.5, 0.0),     // in the magnet
                                   Eigen::Vector3d(-0.7, 1.1, -2.95),   // just above the shaft
                                   Eigen::Vector3d(0.5, -1.2, -6.0)}) {  // in the shaft

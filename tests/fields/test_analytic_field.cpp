@@ -144,7 +144,7 @@ TEST_CASE("far field tends to the point dipole like (size/r)^2", "[fields][physi
   const AnalyticField f(mag);
   // m = M0*pi*R^2*L along x; B = mu0/(4 pi) (3 (m.u) u - m)/r^3 = Br R^2 L/4 (3 u_x u - x_hat)/r^3.
   const double pref = mag.br_T * mag.radius_mm * mag.radius_mm * mag.height_mm / 4.0;
-  for (const Vec3 dir : {Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 2, 3).normalized(), Vec3(-2, 1, -1).normalized()}) {
+  for (const Vec3& dir : {Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 2, 3).normalized(), Vec3(-2, 1, -1).normalized()}) {
     double prev = 0;
     for (double r : {20.0, 40.0, 80.0, 160.0}) {
       const Vec3 p = r * dir;
@@ -208,7 +208,7 @@ TEST_CASE("B_n and H_t are continuous across the magnet's faces", "[fields][phys
     // delta = 1e-7 mm: the one-sided values differ by ~delta*|dB/dz| ~ 1e-7 T; tolerance 1e-6 T,
     // while B_t itself jumps by mu0*M0 = 1.2 T.
     const double d = 1e-7;
-    for (const Vec3 q : {Vec3(1.0, 0.3, 2.0), Vec3(-0.4, 1.2, 2.0), Vec3(0.7, -0.9, -2.0)}) {
+    for (const Vec3& q : {Vec3(1.0, 0.3, 2.0), Vec3(-0.4, 1.2, 2.0), Vec3(0.7, -0.9, -2.0)}) {
       const Vec3 out(q.x(), q.y(), q.z() + std::copysign(d, q.z()));
       const Vec3 in(q.x(), q.y(), q.z() - std::copysign(d, q.z()));
       REQUIRE(f.inside_or_on_magnet(in));
@@ -253,7 +253,7 @@ TEST_CASE("magnetization_deg rotates the field rigidly", "[fields][physics]") {
   Eigen::Matrix3d Rz;
   Rz << std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a), 0, 0, 0, 1;
   // B_alpha(Rz p) = Rz B_0(p): same quadrature on rotated inputs, so 1e-12 relative.
-  for (const Vec3 p : {Vec3(2.4, 0.0, 4.55), Vec3(0.8, 0.3, 0.2), Vec3(-3.0, 2.0, -1.0), Vec3(5, 6, 7)}) {
+  for (const Vec3& p : {Vec3(2.4, 0.0, 4.55), Vec3(0.8, 0.3, 0.2), Vec3(-3.0, 2.0, -1.0), Vec3(5, 6, 7)}) {
     const Vec3 lhs = fa.B_T(Vec3(Rz * p)), rhs = Rz * f0.B_T(p);
     CAPTURE(p.transpose(), lhs.transpose(), rhs.transpose());
     CHECK(rel_err(lhs, rhs) < 1e-12);
@@ -268,7 +268,7 @@ TEST_CASE("scale invariance: all lengths x2 gives the same B at scaled points", 
   m2.height_mm *= 2;
   const AnalyticField f1(m1), f2(m2);
   // Node counts depend on ratios only, so the two evaluations agree to round-off.
-  for (const Vec3 p : {Vec3(2.4, 0.0, 4.55), Vec3(1.0, 0.5, 0.3), Vec3(3.0, -2.0, 1.0), Vec3(9, 1, -4)}) {
+  for (const Vec3& p : {Vec3(2.4, 0.0, 4.55), Vec3(1.0, 0.5, 0.3), Vec3(3.0, -2.0, 1.0), Vec3(9, 1, -4)}) {
     CAPTURE(p.transpose());
     CHECK(rel_err(f2.B_T(Vec3(2.0 * p)), f1.B_T(p)) < 1e-12);
   }
@@ -350,7 +350,7 @@ TEST_CASE("elevation: far field tends to the tilted point dipole", "[fields][phy
     const double el = magenc::deg_to_rad(el_deg);
     const Vec3 mhat(std::cos(el), 0.0, std::sin(el));
     const double pref = mag.br_T * mag.radius_mm * mag.radius_mm * mag.height_mm / 4.0;
-    for (const Vec3 dir : {Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 2, 3).normalized(), Vec3(-2, 1, -1).normalized()}) {
+    for (const Vec3& dir : {Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 2, 3).normalized(), Vec3(-2, 1, -1).normalized()}) {
       double prev = 0;
       for (double r : {20.0, 40.0, 80.0, 160.0}) {
         const Vec3 p = r * dir;
@@ -376,7 +376,7 @@ TEST_CASE("elevation: axial part is curl- and divergence-free and keeps B_n cont
   // Top face: B_z continuous (B is total B on both sides); curved face: B_rho continuous, B_z jumps by
   // mu0 M_z = Br (the surface current K = M0 phi_hat).
   const double d = 1e-7;
-  for (const Vec3 q : {Vec3(0.7, -0.4, 2.0), Vec3(-1.5, 0.9, -2.0)}) {
+  for (const Vec3& q : {Vec3(0.7, -0.4, 2.0), Vec3(-1.5, 0.9, -2.0)}) {
     const Vec3 n(0, 0, q.z() > 0 ? 1 : -1);
     CHECK(f.B_T(Vec3(q + d * n)).z() == Approx(f.B_T(Vec3(q - d * n)).z()).margin(1e-6));
   }
@@ -394,7 +394,7 @@ TEST_CASE("elevation: the quadrature's axial part equals the elliptic-integral c
   mag.magnetization_elevation_deg = 90.0;
   const AnalyticField f(mag);
   double worst = 0;
-  for (const Vec3 p : {Vec3(2.4, 0.0, 4.55), Vec3(1.7, -1.7, 4.55), Vec3(0.3, 0.2, 2.05), Vec3(2.05, 0.1, 1.0),
+  for (const Vec3& p : {Vec3(2.4, 0.0, 4.55), Vec3(1.7, -1.7, 4.55), Vec3(0.3, 0.2, 2.05), Vec3(2.05, 0.1, 1.0),
                        Vec3(-2.6, 0.4, -0.3), Vec3(0.5, 0.5, -2.5), Vec3(1.0, -0.5, 0.3), Vec3(-1.9, 0.2, 1.9),
                        Vec3(30.0, -10.0, 5.0), Vec3(0.0, 0.0, 4.55), Vec3(2.4, 0.0, 2.0)}) {
     const Vec3 ref = f.B_axial_closed_form_T(p);

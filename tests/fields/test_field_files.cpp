@@ -22,7 +22,7 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
-#include "../probe/spectrum_compare.hpp"
+#include "support/spectrum_compare.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -29,9 +29,9 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
-#include "../core/spreadsheet_text.hpp"
-#include "../probe/spectrum_compare.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/spreadsheet_text.hpp"
+#include "support/spectrum_compare.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 
 #include "core/errors.hpp"
 #include "io/plot.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;
@@ -23,8 +23,8 @@ PlotSpec two_panel_spec() {
     pts.x.push_back(10.0 * i);
     pts.y.push_back(i == 5 ? NAN : 0.5 * std::cos(10.0 * i * M_PI / 180));
   }
-  PlotPanel a{"first", "{/Symbol q} [deg]", "value [1]", {sine, pts}};
-  PlotPanel b{"empty series and log axis", "x [mm]", "y [deg]", {PlotSeries{"nothing", {}, {}}}};
+  PlotPanel a{"first", "{/Symbol q} [deg]", "value [1]", {sine, pts}, false, false, {}};
+  PlotPanel b{"empty series and log axis", "x [mm]", "y [deg]", {PlotSeries{"nothing", {}, {}, "lines", {}}}, false, false, {}};
   b.logy = true;
   return PlotSpec{"plot test", {a, b}, 2, 800, 400};
 }

@@ -9,7 +9,7 @@
 
 #include "core/errors.hpp"
 #include "io/tables.hpp"
-#include "../core/spreadsheet_text.hpp"
+#include "support/spreadsheet_text.hpp"
 
 using namespace magenc;
 namespace fs = std::filesystem;

@@ -11,7 +11,7 @@
 #include "probe/angle_error.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
-#include "probe_setup.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 

@@ -14,8 +14,8 @@
 #include "core/errors.hpp"
 #include "fields/field_factory.hpp"
 #include "analysis/provenance.hpp"
-#include "spectrum_compare.hpp"
-#include "../studies/study_test_util.hpp"
+#include "support/spectrum_compare.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc;
 

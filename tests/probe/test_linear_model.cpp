@@ -20,7 +20,7 @@
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 #include "core/units.hpp"
-#include "probe_setup.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 

@@ -253,7 +253,8 @@ void key_matrix(Group group, std::size_t min_exes, const std::string& label) {
                 with_required(exe, s, inputs, {"--set", k.key + "=" + v, "--out", "out"}), s, inputs, {k.key});
       const auto dot = k.key.rfind('.');
       for (const auto& v : bad_toml_values(k)) {
-        s.write("bad.toml", "[" + k.key.substr(0, dot) + "]\n" + k.key.substr(dot + 1) + " = " + v + "\n");
+        const std::string table = k.key.substr(0, dot);  // ("[" + substr(): GCC 12 -Wrestrict false positive)
+        s.write("bad.toml", "[" + table + "]\n" + k.key.substr(dot + 1) + " = " + v + "\n");
         m.check("TOML value", exe, with_required(exe, s, inputs, {"--config", "bad.toml", "--out", "out"}), s, inputs,
                 {k.key});
       }

@@ -113,10 +113,10 @@ TEST_CASE("fuzz regressions: every found input is refused with one line and with
         (void)solved.description();
         try {
           (void)solved.facts();
-        } catch (const magenc::InputError& e) {
+        } catch (const magenc::InputError& err) {
           // The child reports a refusal naming the input: map "DIR/solve.json" to this file's name.
           fs::remove_all(d);
-          throw magenc::InputError(f.filename().string() + ": " + e.what());
+          throw magenc::InputError(f.filename().string() + ": " + err.what());
         }
         fs::remove_all(d);
       });

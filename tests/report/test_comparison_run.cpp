@@ -20,7 +20,7 @@
 #include "core/errors.hpp"
 #include "analysis/fem_comparison.hpp"
 #include "analysis/sweep.hpp"
-#include "../probe/probe_setup.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 

@@ -2,7 +2,7 @@
 // 2-sigma intervals cover the true offsets in most cases.
 #include <catch2/catch.hpp>
 
-#include "study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 

@@ -12,7 +12,7 @@
 
 #include <cmath>
 
-#include "study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 

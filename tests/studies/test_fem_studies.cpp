@@ -19,7 +19,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 
@@ -117,7 +117,7 @@ TEST_CASE("error_spectrum: fem:DIR and grid:DIR/box.vti with dz agree with the e
   const CliRun ex = error_spectrum("--field analytic" + common);
   REQUIRE(ex.code == 0);
   REQUIRE(ex.rows.size() == 3);
-  for (const std::string field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
+  for (const std::string& field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
     const CliRun r = error_spectrum("--field " + field + common);
     INFO(field << ": " << r.err);
     REQUIRE(r.code == 0);
@@ -159,7 +159,7 @@ TEST_CASE("error_spectrum: tilts on fem:DIR and grid:DIR/box.vti agree with the 
   CHECK(num(ex.rows[0], "tilt_x_deg") == 1.0);  // the tilt columns are written when a case is tilted
   CHECK(num(ex.rows[0], "a0_deg") == Approx(-0.403).margin(0.001));
   CHECK(num(ex.rows[1], "c1_deg") == Approx(2.476).margin(0.001));
-  for (const std::string field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
+  for (const std::string& field : {"fem:" + dir.string(), "grid:" + (dir / "box.vti").string()}) {
     const CliRun r = error_spectrum("--field " + field + common);
     INFO(field << ": " << r.err);
     REQUIRE(r.code == 0);

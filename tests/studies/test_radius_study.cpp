@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,8 +8,8 @@
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 #include "fields/magnet.hpp"
-#include "study_test_util.hpp"
-#include "../probe/probe_setup.hpp"
+#include "support/study_test_util.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 using namespace magenc::test;
