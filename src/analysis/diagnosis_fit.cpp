@@ -103,7 +103,7 @@ std::string ordinal(int n) {
 // Amplitudes |a0|, c1..c8 from harmonics_ls coefficients.
 std::vector<double> amplitudes(const Eigen::VectorXd& h) {
   std::vector<double> a{std::abs(h[0])};
-  for (int n = 1; 2 * n < h.size(); ++n) a.push_back(std::hypot(h[2 * n - 1], h[2 * n]));
+  for (int n = 1; 2 * n < h.size(); ++n) a.push_back(harmonic_amplitude(h, n));
   return a;
 }
 

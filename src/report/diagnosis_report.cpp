@@ -30,7 +30,7 @@ nlohmann::json harmonics_json(const Eigen::VectorXd& h) {
   for (int n = 1; 2 * n < h.size(); ++n) {
     j["a" + std::to_string(n) + "_deg"] = h[2 * n - 1];
     j["b" + std::to_string(n) + "_deg"] = h[2 * n];
-    j["c" + std::to_string(n) + "_deg"] = std::hypot(h[2 * n - 1], h[2 * n]);
+    j["c" + std::to_string(n) + "_deg"] = harmonic_amplitude(h, n);
   }
   return j;
 }
@@ -41,18 +41,6 @@ std::string sig(double v, int digits = 4) {
 }
 
 }  // namespace
-
-Spectrum spectrum_from_ls(const Eigen::VectorXd& h) {
-  Spectrum s;
-  s.a0_deg = h[0];
-  s.c_deg[0] = h[0];
-  for (int n = 1; n <= kHarmonics && 2 * n < h.size(); ++n) {
-    s.a_deg[n] = h[2 * n - 1];
-    s.b_deg[n] = h[2 * n];
-    s.c_deg[n] = std::hypot(s.a_deg[n], s.b_deg[n]);
-  }
-  return s;
-}
 
 std::string diagnosis_json(const std::vector<CurveInput>& curves, const DiagnosisResult& res,
                            const DiagnosisRunInfo& info) {
@@ -288,7 +276,7 @@ std::string diagnosis_summary(const std::vector<CurveInput>& curves, const Diagn
     std::vector<std::vector<std::string>> t;
     const auto row = [&](const std::string& name, const Eigen::VectorXd& h) {
       std::vector<std::string> r{name, fmt_auto(h[0], 4)};
-      for (int n = 1; n <= kHarmonics; ++n) r.push_back(fmt_auto(std::hypot(h[2 * n - 1], h[2 * n]), 4));
+      for (int n = 1; n <= kHarmonics; ++n) r.push_back(fmt_auto(harmonic_amplitude(h, n), 4));
       t.push_back(r);
     };
     row("measured", res.curves[c].measured_h);
@@ -421,7 +409,7 @@ std::string diagnosis_study_summary(const DiagnosisStudyResult& res) {
     for (const auto& [a, ex] : res.anomalies) {
       const auto& h = ex.target_h;
       md << "### " << ex.title << " (`" << a << "`)\n\nTarget: " << ex.target_label << ": a0 " << fmt_auto(h[0], 4);
-      for (int n = 1; n <= 4; ++n) md << ", c" << n << " " << fmt_auto(std::hypot(h[2 * n - 1], h[2 * n]), 4);
+      for (int n = 1; n <= 4; ++n) md << ", c" << n << " " << fmt_auto(harmonic_amplitude(h, n), 4);
       md << " deg.\n\n";
       std::vector<std::vector<std::string>> t;
       for (const auto& f : ex.fits) {
