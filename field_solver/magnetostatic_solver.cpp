@@ -14,7 +14,6 @@
 #include "linear_solver.hpp"
 #include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
-#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {
@@ -152,15 +151,6 @@ Eigen::Matrix3Xd cell_br(const TetMesh& mesh, const Eigen::Vector3d& br_T) {
   return b;
 }
 
-// Br = mu0 M0 (T) of the magnet: azimuth magnetization_deg, elevation
-// magnetization_elevation_deg (physics.md "Beyond the five offsets").
-Eigen::Vector3d remanence_T(const Magnet& m) {
-  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
-  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
-  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
-  return {m.br_T * ce * std::cos(a), m.br_T * ce * std::sin(a), m.br_T * se};
-}
-
 // The magnet magnetized along one axis only: br_T has one non-zero component c,
 // the result has |Br_c| along +-x_c (the source field of that component alone).
 Magnet component_magnet(const Magnet& magnet, const Eigen::Vector3d& br_T) {
@@ -218,7 +208,7 @@ void MagnetostaticSolver::setup_system() {
   stats_.order = options_.order;
   stats_.threads = options_.threads;
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
-  br_cell_ = cell_br(mesh_, remanence_T(domain_.magnet));
+  br_cell_ = cell_br(mesh_, domain_.magnet.remanence_T());
   cell_total_.clear();
   if (options_.potential == "split") {
     cell_total_ = total_potential_cells(mesh_);
@@ -235,7 +225,7 @@ void MagnetostaticSolver::setup_system() {
 
 // 3. Stiffness (+ Robin) and load vector.
 void MagnetostaticSolver::assemble_system() {
-  const Eigen::Vector3d br_T = remanence_T(domain_.magnet);
+  const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
   if (quadrant_solve_) {
     // The quadrant's cells carry the same materials; one load per non-zero
     // component of Br (magnetization_deg = 0, no elevation: x only).

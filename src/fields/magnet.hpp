@@ -1,6 +1,8 @@
 // The diametrically magnetized cylindrical magnet and the sensing plane
 // (physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
 #pragma once
+#include <Eigen/Core>
+
 #include "core/config.hpp"
 
 namespace magenc {
@@ -16,6 +18,9 @@ struct Magnet {
   double magnetization_elevation_deg = 0.0;
 
   double top_z_mm() const { return 0.5 * height_mm; }
+  // The remanence vector Br = mu0*M0 (T) inside the magnet: br_T (cos al cos beta, cos al sin beta, sin al),
+  // with cos al, sin al exactly 1, 0 at al = 0.
+  Eigen::Vector3d remanence_T() const;
   // Throws InputError for non-positive sizes / Br, mu_r < 1, |elevation| > 90, NaN.
   void validate() const;
   static Magnet from_config(const Config& cfg);
