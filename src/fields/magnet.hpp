@@ -4,14 +4,15 @@
 #include <Eigen/Core>
 
 #include "core/config.hpp"
+#include "core/defaults.hpp"
 
 namespace magenc {
 
 struct Magnet {
-  double radius_mm = 2.0;          // R
-  double height_mm = 4.0;          // L
-  double br_T = 1.2;               // remanence Br = mu0*M0 (tesla)
-  double mu_r = 1.05;              // recoil permeability (FEM only)
+  double radius_mm = defaults::kMagnetRadius_mm;  // R
+  double height_mm = defaults::kMagnetHeight_mm;  // L
+  double br_T = defaults::kMagnetBr_T;            // remanence Br = mu0*M0 (tesla)
+  double mu_r = defaults::kMagnetMuR;             // recoil permeability (FEM only)
   double magnetization_deg = 0.0;  // azimuth beta of M0 (direction in the xy plane)
   // Elevation al of M0 out of the xy plane (physics.md, "Beyond the five offsets"):
   // M = M0 (cos al cos beta, cos al sin beta, sin al).
