@@ -30,6 +30,30 @@ namespace {
 // Numbers of the printed lines: fixed decimals (magenc::fmt) or significant digits (fmt_sig).
 using magenc::fmt;
 std::string sig(double v, int significant = 6) { return magenc::fmt_sig(v, significant); }
+// --other-bz: rows "x y z ... Bz" (mm and T; blank lines and # comments skipped) into points and Bz.
+void read_other_bz(const std::string& other_bz, Eigen::Matrix3Xd& other_p, Eigen::VectorXd& other_bz_T) {
+  std::ifstream in(other_bz);
+  if (!in) throw magenc::InputError("--other-bz " + other_bz + ": cannot open the file");
+  std::vector<double> xs, bz;
+  std::string line;
+  long row = 0;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
+    std::istringstream ls(line);
+    std::vector<double> v;
+    double d;
+    while (ls >> d) v.push_back(d);
+    if (!ls.eof() || v.size() < 4 || !std::isfinite(v.back()))
+      throw magenc::InputError("--other-bz " + other_bz + " row " + std::to_string(row) +
+                               ": expected finite numbers x y z ... Bz (at least 4 columns)");
+    xs.insert(xs.end(), v.begin(), v.begin() + 3);
+    bz.push_back(v.back());
+  }
+  if (bz.empty()) throw magenc::InputError("--other-bz " + other_bz + ": no rows (allowed: at least 1)");
+  other_p = Eigen::Map<Eigen::Matrix3Xd>(xs.data(), 3, static_cast<Eigen::Index>(bz.size()));
+  other_bz_T = Eigen::Map<Eigen::VectorXd>(bz.data(), static_cast<Eigen::Index>(bz.size()));
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -57,29 +81,7 @@ int main(int argc, char** argv) {
   // The other solver's table is read before the solve: a bad file fails at once.
   Eigen::Matrix3Xd other_p;
   Eigen::VectorXd other_bz_T;
-  if (!other_bz.empty()) {
-    std::ifstream in(other_bz);
-    if (!in) throw magenc::InputError("--other-bz " + other_bz + ": cannot open the file");
-    std::vector<double> xs, bz;
-    std::string line;
-    long row = 0;
-    while (std::getline(in, line)) {
-      ++row;
-      if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t\r")] == '#') continue;
-      std::istringstream ls(line);
-      std::vector<double> v;
-      double d;
-      while (ls >> d) v.push_back(d);
-      if (!ls.eof() || v.size() < 4 || !std::isfinite(v.back()))
-        throw magenc::InputError("--other-bz " + other_bz + " row " + std::to_string(row) +
-                                 ": expected finite numbers x y z ... Bz (at least 4 columns)");
-      xs.insert(xs.end(), v.begin(), v.begin() + 3);
-      bz.push_back(v.back());
-    }
-    if (bz.empty()) throw magenc::InputError("--other-bz " + other_bz + ": no rows (allowed: at least 1)");
-    other_p = Eigen::Map<Eigen::Matrix3Xd>(xs.data(), 3, static_cast<Eigen::Index>(bz.size()));
-    other_bz_T = Eigen::Map<Eigen::VectorXd>(bz.data(), static_cast<Eigen::Index>(bz.size()));
-  }
+  if (!other_bz.empty()) read_other_bz(other_bz, other_p, other_bz_T);
   auto s = magenc::fem::fem_settings_from_config(cfg);
   std::optional<magenc::AtomicDir> out;  // opened before the solve: a bad --out fails at once
   if (!out_dir.empty()) out.emplace(out_dir);
