@@ -32,6 +32,32 @@ namespace {
 // Numbers of the printed lines: fixed decimals (magenc::fmt) or significant digits (fmt_sig).
 using magenc::fmt;
 std::string sig(double v, int significant = 6) { return magenc::fmt_sig(v, significant); }
+// --other-bz: rows "x y z ... Bz" (mm and T; blank lines and # comments skipped) into points and Bz.
+void read_other_bz(const std::string& other_bz, Eigen::Matrix3Xd& other_p, Eigen::VectorXd& other_bz_T) {
+  // Lines, cells and numbers as other tools write them (core/text_table.hpp); no header row.
+  const std::string where = "--other-bz " + other_bz;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(other_bz, ec)) throw magenc::InputError(where + ": cannot open the file");
+  const std::string text = magenc::read_text_file(other_bz, where);
+  magenc::TextTableReader reader(text, where);
+  std::vector<double> xs, bz;
+  for (magenc::TextRow row; reader.next(row);) {
+    std::vector<double> v;
+    for (const auto& cell : row.cells) {
+      const magenc::CellNumber n = magenc::parse_number(cell);
+      if (!n.ok()) break;
+      v.push_back(n.value);
+    }
+    if (v.size() != row.cells.size() || v.size() < 4)
+      throw magenc::InputError(where + " row " + std::to_string(row.line) +
+                               ": expected finite numbers x y z ... Bz (at least 4 columns)");
+    xs.insert(xs.end(), v.begin(), v.begin() + 3);
+    bz.push_back(v.back());
+  }
+  if (bz.empty()) throw magenc::InputError(where + ": no rows (allowed: at least 1)");
+  other_p = Eigen::Map<Eigen::Matrix3Xd>(xs.data(), 3, static_cast<Eigen::Index>(bz.size()));
+  other_bz_T = Eigen::Map<Eigen::VectorXd>(bz.data(), static_cast<Eigen::Index>(bz.size()));
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -59,31 +85,7 @@ int main(int argc, char** argv) {
   // The other solver's table is read before the solve: a bad file fails at once.
   Eigen::Matrix3Xd other_p;
   Eigen::VectorXd other_bz_T;
-  if (!other_bz.empty()) {
-    // Lines, cells and numbers as other tools write them (core/text_table.hpp); no header row.
-    const std::string where = "--other-bz " + other_bz;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(other_bz, ec)) throw magenc::InputError(where + ": cannot open the file");
-    const std::string text = magenc::read_text_file(other_bz, where);
-    magenc::TextTableReader reader(text, where);
-    std::vector<double> xs, bz;
-    for (magenc::TextRow row; reader.next(row);) {
-      std::vector<double> v;
-      for (const auto& cell : row.cells) {
-        const magenc::CellNumber n = magenc::parse_number(cell);
-        if (!n.ok()) break;
-        v.push_back(n.value);
-      }
-      if (v.size() != row.cells.size() || v.size() < 4)
-        throw magenc::InputError(where + " row " + std::to_string(row.line) +
-                                 ": expected finite numbers x y z ... Bz (at least 4 columns)");
-      xs.insert(xs.end(), v.begin(), v.begin() + 3);
-      bz.push_back(v.back());
-    }
-    if (bz.empty()) throw magenc::InputError("--other-bz " + other_bz + ": no rows (allowed: at least 1)");
-    other_p = Eigen::Map<Eigen::Matrix3Xd>(xs.data(), 3, static_cast<Eigen::Index>(bz.size()));
-    other_bz_T = Eigen::Map<Eigen::VectorXd>(bz.data(), static_cast<Eigen::Index>(bz.size()));
-  }
+  if (!other_bz.empty()) read_other_bz(other_bz, other_p, other_bz_T);
   auto s = magenc::fem::fem_settings_from_config(cfg);
   std::optional<magenc::AtomicDir> out;  // opened before the solve: a bad --out fails at once
   if (!out_dir.empty()) out.emplace(out_dir);

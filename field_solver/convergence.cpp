@@ -59,8 +59,8 @@ struct Setup {
 };
 
 // Total against `other` on dom's meshes at every zone edge, P2; the reference is `other`'s solve at the finest.
-PotentialComparison potential_comparison(const Setup& s, const DomainSpec& dom, double mu_r, const std::string& other) {
-  auto solve_at = [&](double h, const std::string& pot) {
+PotentialComparison potential_comparison(const Setup& s, const DomainSpec& dom, double mu_r, Potential other) {
+  auto solve_at = [&](double h, Potential pot) {
     SolverOptions o = s.p2();
     o.potential = pot;
     auto solver = std::make_unique<MagnetostaticSolver>(s.at(dom, h), o);
@@ -69,18 +69,18 @@ PotentialComparison potential_comparison(const Setup& s, const DomainSpec& dom, 
   };
   PotentialComparison pc;
   pc.mu_r = mu_r;
-  pc.other = other;
+  pc.other = to_string(other);
   pc.h_ref_mm = s.hs.back();
   const FemField ref(solve_at(pc.h_ref_mm, other)->solution());
   for (double h : s.hs) {
     PotentialRow row;
     row.h_zone_mm = h;
-    for (const std::string& pot : {std::string("total"), other}) {
+    for (const Potential pot : {Potential::Total, other}) {
       if (h == pc.h_ref_mm && pot == other) continue;  // the reference itself
       const auto solver = solve_at(h, pot);
       const BzErrorStats e = bz_error_on_grid(solver->evaluator(), ref, s.base.plane);
       const PotentialSolve ps{solver->stats().dofs, solver->stats().iterations, e.rms_rel(), e.max_rel()};
-      if (pot == "total")
+      if (pot == Potential::Total)
         row.total = ps;
       else
         row.other = ps;
@@ -100,7 +100,7 @@ FemConvergenceResult run_fem_convergence(const Config& cfg) {
   // The study measures the total potential's discretization error against the exact field (with
   // mu_r = 1 the reduced potential, fem.potential = auto, is the exact field); the potential
   // comparisons compare the formulations explicitly.
-  s.base.solver.potential = "total";
+  s.base.solver.potential = Potential::Total;
   // Rates are read from errors down to ~1e-5 of peak: the CG solves stop at 1e-10 (the solve_field
   // default 1e-8 is chosen for the reduced potential, whose correction is small).
   s.base.solver.tolerance = 1e-10;
@@ -174,7 +174,7 @@ FemConvergenceResult run_fem_convergence(const Config& cfg) {
   if (mu_magnet > 0) {
     DomainSpec d = s.base.domain;
     d.magnet.mu_r = mu_magnet;
-    r.reduced = potential_comparison(s, d, mu_magnet, "reduced");
+    r.reduced = potential_comparison(s, d, mu_magnet, Potential::Reduced);
   }
   // 6. Total vs split potential with a permeable shaft (magnet mu_r = 1, so the
   //    split carries only the shaft's reaction).
@@ -182,7 +182,7 @@ FemConvergenceResult run_fem_convergence(const Config& cfg) {
     DomainSpec d = s.base.domain;
     d.shaft.enabled = true;
     d.shaft.mu_r = mu_shaft;
-    r.shaft = potential_comparison(s, d, mu_shaft, "split");
+    r.shaft = potential_comparison(s, d, mu_shaft, Potential::Split);
   }
   return r;
 }

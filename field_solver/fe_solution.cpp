@@ -8,7 +8,6 @@
 #include "element.hpp"
 #include "mesh.hpp"
 #include "core/errors.hpp"
-#include "core/units.hpp"
 
 namespace magenc::fem {
 
@@ -33,11 +32,7 @@ Eigen::Vector3d FeSolution::B_in_cell(int c, const Eigen::Vector4d& L) const {
 
 Eigen::Vector3d source_remanence_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {
   if (!source.inside_or_on_magnet(x_mm)) return Eigen::Vector3d::Zero();
-  const Magnet& m = source.magnet();
-  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
-  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
-  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
-  return m.br_T * Eigen::Vector3d(ce * std::cos(a), ce * std::sin(a), se);
+  return source.magnet().remanence_T();
 }
 
 Eigen::Vector3d source_H_T(const AnalyticField& source, const Eigen::Vector3d& x_mm) {

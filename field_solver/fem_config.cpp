@@ -42,15 +42,15 @@ std::vector<KeySpec> fem_keys() {
       real_key("mesh.min_dihedral_deg", mesh_defaults::kMinDihedral_deg, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
-      string_key("fem.solver", "auto", {"auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"},
+      string_key("fem.solver", to_string(LinearSolverKind::Auto), linear_solver_names(),
                  "linear solver: CG with PETSc GAMG or hypre BoomerAMG algebraic multigrid (MPI-parallel under "
                  "mpirun), or Eigen's CG with fem.preconditioner (no PETSc needed); auto: petsc-hypre when built with "
                  "PETSc, else eigen-pcg"),
-      string_key("fem.potential", "auto", {"auto", "total", "reduced", "split"},
+      string_key("fem.potential", to_string(SolverOptions{}.potential), potential_names(),
                  "total: psi of the whole field; reduced: the magnet's exact free-space field (analytic) plus an FE "
                  "reaction potential of the permeable parts (zero for mu_r = 1; not for a mu_r ~ 1000 shaft); split: "
                  "total potential in the shaft, reduced elsewhere; auto: split with a shaft, else reduced"),
-      string_key("fem.preconditioner", "jacobi", {"jacobi", "ichol"}, "CG preconditioner of fem.solver = eigen-pcg"),
+      string_key("fem.preconditioner", to_string(SolverOptions{}.preconditioner), preconditioner_names(), "CG preconditioner of fem.solver = eigen-pcg"),
       real_key("fem.tolerance", 1e-8, 0, 1, "",
                "CG relative residual tolerance |f - K x| / |f| (1e-8: the default solve's B on the grids within "
                "1.3e-10 of peak of a 1e-10 solve; the D16 mesh's ideal-mount harmonics c1..c8 are zero only to the "
@@ -180,16 +180,16 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   SolverOptions& o = s.solver;
   o.order = static_cast<int>(cfg.integer("fem.order"));
   o.robin = cfg.str("fem.boundary") == "robin";
-  o.solver = cfg.str("fem.solver");
-  o.potential = cfg.str("fem.potential");
-  if (o.potential == "reduced" && d.shaft.enabled)
+  o.solver = linear_solver_from_string(cfg.str("fem.solver"));
+  o.potential = potential_from_string(cfg.str("fem.potential"));
+  if (o.potential == Potential::Reduced && d.shaft.enabled)
     throw InputError("fem.potential = reduced with shaft.enabled = true is not supported: in the shaft (mu_r = " +
                      num(d.shaft.mu_r) +
                      ") H ~ 0 while the source field is not, and the reaction potential cancels it; use "
                      "fem.potential = split (or auto) or total");
   s.write_mesh_vtu = cfg.flag("output.mesh_vtu");
   s.compress = cfg.flag("output.compress");
-  o.preconditioner = cfg.str("fem.preconditioner");
+  o.preconditioner = preconditioner_from_string(cfg.str("fem.preconditioner"));
   o.tolerance = cfg.real("fem.tolerance");
   o.max_iterations = static_cast<int>(cfg.integer("fem.max_iterations"));
   o.threads = static_cast<int>(cfg.integer("fem.threads"));

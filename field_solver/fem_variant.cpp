@@ -51,7 +51,7 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
   cfg.set_value("fem.progress_every", 0L);
   // The variants exist to show the total potential's discretization artefacts: with mu_r = 1 the reduced
   // potential (fem.potential = auto) is the exact field itself. A variant may still set fem.potential.
-  cfg.set_value("fem.potential", std::string("total"));
+  cfg.set_value("fem.potential", to_string(Potential::Total));
   // Their ideal-mount harmonics that the D16 mesh's symmetry cancels vanish only to the CG tolerance
   // (c4 on meshes/coarse.toml: 7.5e-8 deg at the default 1e-8, 4.9e-10 deg at 1e-10). A variant may set it.
   cfg.set_value("fem.tolerance", 1e-10);

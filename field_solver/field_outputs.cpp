@@ -50,10 +50,12 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["order"] = st.order;
   j["iterations"] = st.iterations;
   j["residual"] = st.residual;
-  j["solver"] = solver.options().solver;
-  j["potential"] = solver.options().potential;  // resolved backend (linear_solver.hpp)
-  j["preconditioner"] = solver.options().solver == "eigen-pcg" ? solver.options().preconditioner
-                        : solver.options().solver == "petsc-hypre" ? std::string("boomeramg") : std::string("gamg");
+  const SolverOptions& o = solver.options();  // solver and potential resolved (no "auto")
+  j["solver"] = to_string(o.solver);
+  j["potential"] = to_string(o.potential);
+  j["preconditioner"] = o.solver == LinearSolverKind::EigenPcg     ? to_string(o.preconditioner)
+                        : o.solver == LinearSolverKind::PetscHypre ? std::string("boomeramg")
+                                                                   : std::string("gamg");
   j["mpi_ranks"] = mpi_world_size();
   j["rank_peak_rss_mib"] = mpi_rank_peak_rss_mib();  // per MPI rank, after the last linear solve
   j["tolerance"] = solver.options().tolerance;

@@ -6,16 +6,16 @@ namespace magenc::fem {
 
 bool petsc_available() { return false; }
 
-std::string resolve_linear_solver(const std::string& requested) {
-  if (requested == "auto" || requested == "eigen-pcg") return "eigen-pcg";
-  throw InputError("fem.solver = " + requested +
+LinearSolverKind resolve_linear_solver(LinearSolverKind requested) {
+  if (requested == LinearSolverKind::Auto || requested == LinearSolverKind::EigenPcg) return LinearSolverKind::EigenPcg;
+  throw InputError("fem.solver = " + to_string(requested) +
                    " is not available: this build has no PETSc (install libpetsc-real-dev and rebuild); allowed "
                    "auto, eigen-pcg");
 }
 
-LinearSolveResult petsc_solve(const SparseMatrix&, const Eigen::VectorXd&, const std::string& backend, double, int,
+LinearSolveResult petsc_solve(const SparseMatrix&, const Eigen::VectorXd&, LinearSolverKind backend, double, int,
                               Eigen::VectorXd&) {
-  throw InputError("fem.solver = " + backend + " is not available: this build has no PETSc");
+  throw InputError("fem.solver = " + to_string(backend) + " is not available: this build has no PETSc");
 }
 
 int mpi_world_size() { return 1; }

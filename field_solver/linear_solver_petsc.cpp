@@ -83,7 +83,7 @@ enum Command : int { kQuit = 0, kSolve = 1 };
 struct Header {
   double cmd = kQuit, n = 0, backend = 0, max_iterations = 0, tol = 0;
 };
-int backend_code(const std::string& b) { return b == "petsc-hypre" ? 1 : 0; }
+int backend_code(LinearSolverKind b) { return b == LinearSolverKind::PetscHypre ? 1 : 0; }
 
 // Non-blocking broadcast of the header; the waiting ranks poll it with a
 // sleep so that they do not spin a core while rank 0 meshes and assembles.
@@ -285,8 +285,8 @@ void gather_solution(const std::vector<double>& x_local, int n, int size, double
 
 bool petsc_available() { return true; }
 
-std::string resolve_linear_solver(const std::string& requested) {
-  return requested == "auto" ? std::string("petsc-hypre") : requested;
+LinearSolverKind resolve_linear_solver(LinearSolverKind requested) {
+  return requested == LinearSolverKind::Auto ? LinearSolverKind::PetscHypre : requested;
 }
 
 int mpi_world_size() {
@@ -296,7 +296,7 @@ int mpi_world_size() {
   return size;
 }
 
-LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f, const std::string& backend, double tol,
+LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f, LinearSolverKind backend, double tol,
                               int max_iterations, Eigen::VectorXd& x) {
   ensure_petsc();
   int rank = 0, size = 1;
@@ -365,10 +365,10 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   if (r.iterations < 0) {
     if (r.iterations <= -1000000)
       throw ComputeError("CG did not converge: PETSc KSP reason " + std::to_string(-(r.iterations + 1000000)) +
-                         " (fem.solver = " + backend + ")");
+                         " (fem.solver = " + to_string(backend) + ")");
     throw ComputeError("CG did not converge: relative residual " + num(r.residual) + " > fem.tolerance = " + num(tol) +
                        " after " + std::to_string(-r.iterations - 1) + " iterations (fem.max_iterations = " +
-                       std::to_string(max_iterations) + ", fem.solver = " + backend + ")");
+                       std::to_string(max_iterations) + ", fem.solver = " + to_string(backend) + ")");
   }
   return r;
 }

@@ -2,19 +2,15 @@
 
 #include <omp.h>
 
-#include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iostream>
 #include <mutex>
 
 #include "core/errors.hpp"
-#include "core/format.hpp"
 #include "linear_solver.hpp"
 #include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
-#include "core/units.hpp"
 
 namespace magenc::fem {
 namespace {
@@ -37,106 +33,6 @@ class StageTimer {
   Clock::time_point t0_ = Clock::now();
 };
 
-// Wraps an Eigen preconditioner; Eigen's CG calls solve(r_k) once per iteration with the current
-// residual r_k (and once before the loop with r_0), which is where the progress line is printed and
-// the residual history is kept. A residual that is not finite (breakdown on an indefinite or singular
-// system) or that has grown 1e8-fold above its smallest value (divergence) stops the solve at once.
-template <class Inner>
-class ProgressPreconditioner {
- public:
-  ProgressPreconditioner() = default;
-  template <class M> ProgressPreconditioner& analyzePattern(const M& m) { inner_.analyzePattern(m); return *this; }
-  template <class M> ProgressPreconditioner& factorize(const M& m) { inner_.factorize(m); return *this; }
-  template <class M> ProgressPreconditioner& compute(const M& m) { inner_.compute(m); return *this; }
-  template <class Rhs> Eigen::VectorXd solve(const Rhs& b) const {
-    const long k = calls_++;
-    if (every_ > 0 && k > 0 && k % every_ == 0) {
-      std::cerr << "solve_field: CG iteration " << k << " (" << fmt(seconds_since(t0_), 1) << " s)\n";
-    }
-    const double rel = rhs_norm_ > 0 ? b.norm() / rhs_norm_ : b.norm();
-    history_.record(k, rel);
-    if (!std::isfinite(rel))
-      throw ComputeError("CG broke down at iteration " + std::to_string(k) +
-                         ": residual is not finite (K not symmetric positive definite?); " + history_.text());
-    if (rel > 1e8 * history_.min_rel)
-      throw ComputeError("CG diverged at iteration " + std::to_string(k) + ": relative residual " + num(rel) +
-                         " is 1e8 times its minimum " + num(history_.min_rel) +
-                         " (K not symmetric positive definite?); " + history_.text());
-    return inner_.solve(b);
-  }
-  Eigen::ComputationInfo info() { return inner_.info(); }
-  void configure(int every, double rhs_norm) {
-    every_ = every;
-    calls_ = 0;
-    rhs_norm_ = rhs_norm;
-    history_ = CgResidualHistory{};
-    t0_ = Clock::now();
-  }
-  const CgResidualHistory& history() const { return history_; }
-
- private:
-  Inner inner_;
-  int every_ = 0;
-  double rhs_norm_ = 1;
-  mutable long calls_ = 0;
-  mutable CgResidualHistory history_;
-  Clock::time_point t0_ = Clock::now();
-};
-
-template <class Precond>
-void run_cg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions& o, Eigen::VectorXd& psi,
-            SolveStats& st) {
-  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, ProgressPreconditioner<Precond>> cg;
-  cg.setTolerance(o.tolerance);
-  cg.setMaxIterations(o.max_iterations);
-  cg.preconditioner().configure(o.progress_every, f.norm());
-  cg.compute(K);
-  if (cg.info() != Eigen::Success) throw ComputeError("preconditioner setup failed (fem.preconditioner = " + o.preconditioner + ")");
-  psi = cg.solve(f);
-  st.iterations = cg.iterations();
-  st.residual = cg.error();
-  if (cg.info() != Eigen::Success || !std::isfinite(st.residual) || !psi.allFinite()) {
-    throw ComputeError("CG did not converge: relative residual " + num(st.residual) + " > fem.tolerance = " +
-                       num(o.tolerance) + " after " + std::to_string(st.iterations) + " iterations (fem.max_iterations = " +
-                       std::to_string(o.max_iterations) + "); " + cg.preconditioner().history().text());
-  }
-}
-
-}  // namespace
-
-void CgResidualHistory::record(long iteration, double rel) {
-  ++count;
-  if (std::isfinite(rel)) min_rel = std::min(min_rel, rel);
-  // Iterations 0, 1, 2, 4, 8, ... and the last few: a short history whatever the iteration count.
-  if (iteration > 0 && (iteration & (iteration - 1)) == 0) {
-    sampled.emplace_back(iteration, rel);
-  } else if (iteration == 0) {
-    sampled.emplace_back(0, rel);
-  }
-  last[static_cast<std::size_t>(iteration % long(last.size()))] = {iteration, rel};
-}
-
-std::string CgResidualHistory::text() const {
-  std::vector<std::pair<long, double>> all = sampled;
-  for (const auto& p : last)
-    if (p.first >= 0 && std::none_of(all.begin(), all.end(), [&](const auto& q) { return q.first == p.first; }))
-      all.push_back(p);
-  std::sort(all.begin(), all.end());
-  std::string t = "residual history (iteration: |r|/|f|)";
-  for (std::size_t i = 0; i < all.size(); ++i) t += (i ? ", " : " ") + std::to_string(all[i].first) + ": " + num(all[i].second);
-  return t;
-}
-
-void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions& o, Eigen::VectorXd& psi,
-               SolveStats& st) {
-  if (o.preconditioner == "ichol")
-    run_cg<Eigen::IncompleteCholesky<double, Eigen::Lower>>(K, f, o, psi, st);
-  else
-    run_cg<Eigen::DiagonalPreconditioner<double>>(K, f, o, psi, st);
-}
-
-namespace {
-
 // Relative permeability per cell of `mesh` (region ids -> domain materials).
 Eigen::VectorXd cell_mu_r(const DomainSpec& domain, const TetMesh& mesh) {
   Eigen::VectorXd mu(mesh.num_tets());
@@ -150,15 +46,6 @@ Eigen::Matrix3Xd cell_br(const TetMesh& mesh, const Eigen::Vector3d& br_T) {
   for (int t = 0; t < mesh.num_tets(); ++t)
     if (mesh.region[t] == kRegionMagnet) b.col(t) = br_T;
   return b;
-}
-
-// Br = mu0 M0 (T) of the magnet: azimuth magnetization_deg, elevation
-// magnetization_elevation_deg (docs/physics.md "Beyond the five offsets").
-Eigen::Vector3d remanence_T(const Magnet& m) {
-  const double a = deg_to_rad(m.magnetization_deg), el = deg_to_rad(m.magnetization_elevation_deg);
-  const double ce = m.magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
-  const double se = m.magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
-  return {m.br_T * ce * std::cos(a), m.br_T * ce * std::sin(a), m.br_T * se};
 }
 
 // The magnet magnetized along one axis only: br_T has one non-zero component c,
@@ -175,6 +62,28 @@ Magnet component_magnet(const Magnet& magnet, const Eigen::Vector3d& br_T) {
 
 }  // namespace
 
+std::string to_string(Potential p) {
+  switch (p) {
+    case Potential::Auto: return "auto";
+    case Potential::Total: return "total";
+    case Potential::Reduced: return "reduced";
+    case Potential::Split: return "split";
+  }
+  return "?";
+}
+
+const std::vector<std::string>& potential_names() {
+  static const std::vector<std::string> n{to_string(Potential::Auto), to_string(Potential::Total),
+                                          to_string(Potential::Reduced), to_string(Potential::Split)};
+  return n;
+}
+
+Potential potential_from_string(const std::string& name) {
+  for (Potential p : {Potential::Auto, Potential::Total, Potential::Reduced, Potential::Split})
+    if (to_string(p) == name) return p;
+  throw InputError("fem.potential = " + name + " is out of range: allowed auto, total, reduced, split");
+}
+
 MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions options)
     : domain_(std::move(domain)), options_(std::move(options)) {
   domain_.validate();
@@ -182,9 +91,7 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
-  if (options_.potential == "auto") options_.potential = domain_.shaft.enabled ? "split" : "reduced";
-  if (options_.potential != "total" && options_.potential != "reduced" && options_.potential != "split")
-    throw InputError("fem.potential = " + options_.potential + " is out of range: allowed auto, total, reduced, split");
+  if (options_.potential == Potential::Auto) options_.potential = domain_.shaft.enabled ? Potential::Split : Potential::Reduced;
 }
 
 void MagnetostaticSolver::run() {
@@ -218,9 +125,9 @@ void MagnetostaticSolver::setup_system() {
   stats_.order = options_.order;
   stats_.threads = options_.threads;
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
-  br_cell_ = cell_br(mesh_, remanence_T(domain_.magnet));
+  br_cell_ = cell_br(mesh_, domain_.magnet.remanence_T());
   cell_total_.clear();
-  if (options_.potential == "split") {
+  if (options_.potential == Potential::Split) {
     cell_total_ = total_potential_cells(mesh_);
     if (std::none_of(cell_total_.begin(), cell_total_.end(), [](char c) { return c != 0; }))
       cell_total_.clear();  // no permeable part: the split is the reduced potential
@@ -235,7 +142,7 @@ void MagnetostaticSolver::setup_system() {
 
 // 3. Stiffness (+ Robin) and load vector.
 void MagnetostaticSolver::assemble_system() {
-  const Eigen::Vector3d br_T = remanence_T(domain_.magnet);
+  const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
   if (quadrant_solve_) {
     // The quadrant's cells carry the same materials; one load per non-zero
     // component of Br (magnetization_deg = 0, no elevation: x only).
@@ -265,9 +172,9 @@ void MagnetostaticSolver::assemble_system() {
 PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
                                                   const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const {
   PotentialLoad l;
-  if (options_.potential == "total") {
+  if (options_.potential == Potential::Total) {
     l.f = assemble_rhs(mesh, space, cell_br(mesh, br_T));
-  } else if (options_.potential == "reduced" || cell_total_.empty()) {
+  } else if (options_.potential == Potential::Reduced || cell_total_.empty()) {
     l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
   } else {
     const AnalyticField field(source);
@@ -282,15 +189,11 @@ PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeS
 void MagnetostaticSolver::solve() {
   Eigen::setNbThreads(options_.threads);
   auto cg = [&](const SparseMatrix& K, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
-    SolveStats st;
+    LinearSolveResult st;
     if (f.squaredNorm() == 0.0) {
       x = Eigen::VectorXd::Zero(f.size());  // reduced potential, mu_r = 1 everywhere: no reaction
-    } else if (options_.solver != "eigen-pcg") {
-      const LinearSolveResult r = petsc_solve(K, f, options_.solver, options_.tolerance, options_.max_iterations, x);
-      st.iterations = r.iterations;
-      st.residual = r.residual;
     } else {
-      solve_pcg(K, f, options_, x, st);
+      st = linear_solve(K, f, options_.linear(), x);
     }
     stats_.iterations += st.iterations;
     stats_.residual = std::max(stats_.residual, st.residual);
@@ -319,7 +222,7 @@ void MagnetostaticSolver::compute_cell_fields() {
   s.region = mesh_.region;
   s.mu_r = mu_r_cell_;
   s.br_T = br_cell_;
-  if (options_.potential != "total") s.source = std::make_shared<AnalyticField>(domain_.magnet);
+  if (options_.potential != Potential::Total) s.source = std::make_shared<AnalyticField>(domain_.magnet);
   if (!cell_total_.empty()) {
     s.cell_total = cell_total_;
     s.interface_phi_s_Tmm = interface_phi_s_;

@@ -10,7 +10,7 @@
 // Discretization: Lagrange P1 or P2 tetrahedra on a TetGen mesh (regions
 // magnet / air / refinement zone / shaft), weak form
 //   Int mu_r grad psi . grad v + Int_Gamma (2/r) psi v = Int_magnet Br . grad v,
-// Jacobi- or incomplete-Cholesky-preconditioned CG (Eigen).
+// CG through linear_solver.hpp (fem.solver).
 // Sample: build/bin/solve_field --set fem.order=2 --out output/field
 #pragma once
 #include <Eigen/Core>
@@ -26,19 +26,26 @@
 #include "fe_solution.hpp"
 #include "fe_space.hpp"
 #include "geometry.hpp"
+#include "linear_solver.hpp"
 #include "quadrant_solve.hpp"
 
 namespace magenc::fem {
 
+// fem.potential: "total", "reduced", "split" (reduced_potential.hpp) or "auto": split with a shaft, else reduced.
+enum class Potential { Auto, Total, Reduced, Split };
+std::string to_string(Potential p);
+const std::vector<std::string>& potential_names();
+// InputError naming fem.potential for an unknown name.
+Potential potential_from_string(const std::string& name);
+
+// The solver's options; the defaults are the fem.* keys' (fem_config.cpp), except tolerance (below).
 struct SolverOptions {
   int order = 2;                          // Lagrange order, 1 or 2
   bool robin = true;                      // dipole Robin condition; false: psi = 0 on the sphere
-  std::string solver = "auto";            // linear_solver.hpp: "auto", "petsc-gamg", "petsc-hypre", "eigen-pcg"
-  // "total", "reduced", "split" (reduced_potential.hpp) or "auto": split with a shaft, else reduced.
-  // (The config key fem.potential defaults to auto; this struct keeps total for in-process callers.)
-  std::string potential = "total";
-  std::string preconditioner = "jacobi";  // eigen-pcg: "jacobi" (parallel) or "ichol" (serial)
-  double tolerance = 1e-10;               // CG stop: |f - K psi| / |f| below this
+  LinearSolverKind solver = LinearSolverKind::Auto;     // fem.solver (linear_solver.hpp)
+  Potential potential = Potential::Auto;                // fem.potential
+  Preconditioner preconditioner = Preconditioner::Jacobi;  // fem.preconditioner (eigen-pcg)
+  double tolerance = 1e-10;               // CG stop: |f - K psi| / |f| below this (fem.tolerance: 1e-8)
   int max_iterations = 20000;             // CG iteration cap (ComputeError when reached)
   int threads = 0;                        // OpenMP threads (0: omp_get_max_threads)
   int progress_every = 500;               // stderr progress line every N CG iterations (0: quiet)
@@ -49,6 +56,9 @@ struct SolverOptions {
   // onto the whole mesh. Same discrete solution as the whole symmetric mesh
   // (to the CG tolerance) with 1/4 of the unknowns. false: solve the whole mesh.
   bool quadrant = true;
+
+  // The linear solver's part (solver resolved by the MagnetostaticSolver's constructor).
+  LinearSolveSettings linear() const { return {solver, preconditioner, tolerance, max_iterations, progress_every}; }
 };
 
 // What a solve cost and reached.
@@ -61,24 +71,6 @@ struct SolveStats {
   double residual = 0;  // relative residual reported by CG
   double t_mesh_s = 0, t_setup_s = 0, t_assemble_s = 0, t_solve_s = 0, t_post_s = 0, t_total_s = 0;
 };
-
-// Relative residuals |r_k| / |f| of a CG solve, kept short: iterations 0, 1, 2, 4, 8, ... and the
-// last 4. text() is the history part of the one-line error of a failed solve.
-struct CgResidualHistory {
-  std::vector<std::pair<long, double>> sampled;
-  std::array<std::pair<long, double>, 4> last{{{-1, 0}, {-1, 0}, {-1, 0}, {-1, 0}}};
-  double min_rel = std::numeric_limits<double>::infinity();
-  long count = 0;
-  void record(long iteration, double rel);
-  std::string text() const;
-};
-
-// Solves K psi = f (K symmetric positive definite) with Eigen's preconditioned CG (o.preconditioner,
-// o.tolerance, o.max_iterations, o.progress_every). ComputeError with the residual history when the
-// iteration cap is reached, when the residual stops being finite (breakdown) or grows 1e8-fold
-// (divergence: K indefinite). st.iterations, st.residual: what CG reached.
-void solve_pcg(const SparseMatrix& K, const Eigen::VectorXd& f, const SolverOptions& o, Eigen::VectorXd& psi,
-               SolveStats& st);
 
 class MagnetostaticSolver {
  public:

@@ -103,7 +103,7 @@ std::string ordinal(int n) {
 // Amplitudes |a0|, c1..c8 from harmonics_ls coefficients.
 std::vector<double> amplitudes(const Eigen::VectorXd& h) {
   std::vector<double> a{std::abs(h[0])};
-  for (int n = 1; 2 * n < h.size(); ++n) a.push_back(std::hypot(h[2 * n - 1], h[2 * n]));
+  for (int n = 1; 2 * n < h.size(); ++n) a.push_back(harmonic_amplitude(h, n));
   return a;
 }
 
@@ -509,21 +509,12 @@ std::vector<std::string> free_set_at(const FieldSource& field, const std::vector
 }
 }  // namespace
 
-// ---------------------------------------------------------------------------------------------------------
-// 4. The fit.
-// ---------------------------------------------------------------------------------------------------------
-DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<CurveInput>& curves,
-                                const DiagnosisOptions& opts) {
-  check_inputs(curves, opts);
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto& t = fit_parameters();
-  DiagnosisResult res;
-  std::vector<std::string> free_names = expand_free_names(opts.free);
-  if (free_names.empty())
-    free_names = default_free_set(opts.identifiability_field ? *opts.identifiability_field : field, curves, opts,
-                                  &res.default_free_note);
+namespace {
 
-  // 4.1 Variables.
+// 4.1 Variables: the free parameters' table indices (each once, sorted) and every variable's scale.
+Problem make_problem(const FieldSource& field, const std::vector<CurveInput>& curves, const DiagnosisOptions& opts,
+                     const std::vector<std::string>& free_names) {
+  const auto& t = fit_parameters();
   Problem p{field, curves, {}, opts.free_zero, base_values(curves), {}, opts.fd_step};
   for (const auto& n : free_names) {
     const int i = fit_parameter_index(n);
@@ -535,41 +526,45 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
   std::sort(p.free_idx.begin(), p.free_idx.end());
   for (int i : p.free_idx) p.scale.push_back(t[i].scale);
   for (std::size_t c = 0; c < curves.size() && opts.free_zero; ++c) p.scale.push_back(kZeroScaleDeg);
-  const int nv = p.n_vars(), ns = p.n_shared();
-  int N = 0;
-  for (const auto& c : curves) N += static_cast<int>(c.curve.theta_deg.size());
-  if (N <= nv) throw InputError("diagnose: " + std::to_string(N) + " samples for " + std::to_string(nv) + " free parameters: allowed more samples than parameters");
+  return p;
+}
 
-  // 4.2 Starts: the configured values, then seeded random points within +-1.5 typical sizes (both signs: the
-  // mirror-image minima), each with its zero offsets set to the circular mean of measured - model.
+// The variables' names: the shared parameters' json names, then the zero offsets.
+std::vector<std::string> variable_names(const Problem& p, const std::vector<CurveInput>& curves,
+                                        const DiagnosisOptions& opts) {
+  const auto& t = fit_parameters();
+  std::vector<std::string> var_names;
+  for (int j = 0; j < p.n_shared(); ++j) var_names.push_back(t[p.free_idx[j]].json_name);
+  for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c)
+    var_names.push_back(c == 0 ? std::string("zero_offset_deg") : "zero_offset_deg_" + std::to_string(c + 1));
+  return var_names;
+}
+
+// 4.2 Starts: the configured values, then seeded random points within +-1.5 typical sizes (both signs: the
+// mirror-image minima); their zero offsets are set when each start runs.
+std::vector<std::vector<double>> start_points(const Problem& p, const DiagnosisOptions& opts) {
+  const auto& t = fit_parameters();
   std::mt19937 rng(opts.seed);
   std::uniform_real_distribution<double> uni(-1.5, 1.5);
   std::vector<std::vector<double>> starts;
   for (int s = 0; s < opts.starts; ++s) {
-    std::vector<double> u(nv, 0.0);
-    for (int j = 0; j < ns; ++j) {
+    std::vector<double> u(p.n_vars(), 0.0);
+    for (int j = 0; j < p.n_shared(); ++j) {
       const FitParameter& fp = t[p.free_idx[j]];
       const double v = s == 0 ? p.base[p.free_idx[j]] : uni(rng) * fp.scale;
       u[j] = std::clamp(v, fp.lower, fp.upper) / fp.scale;
     }
     starts.push_back(u);
   }
-  struct Final {
-    double cost;
-    std::vector<double> u;
-    int start;
-  };
-  std::vector<Final> finals;
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<double> best_u;
-  // The starts run on a thinned copy of the curves (at most kStartSamples per curve; the starts only have
-  // to find the basins), then the best point and every other one within 10 % of its cost are polished on
-  // all samples. Without thinning a 3600-sample curve took 5 s for 7 starts.
-  constexpr int kStartSamples = 360;
+  return starts;
+}
+
+// The curves with at most max_samples samples each (every step-th sample).
+std::vector<CurveInput> thinned_curves(const std::vector<CurveInput>& curves, int max_samples) {
   std::vector<CurveInput> thin = curves;
   for (auto& c : thin) {
     const auto n = c.curve.theta_deg.size();
-    const Eigen::Index step = (n + kStartSamples - 1) / kStartSamples;
+    const Eigen::Index step = (n + max_samples - 1) / max_samples;
     if (step <= 1) continue;
     const Eigen::Index m = (n + step - 1) / step;
     MeasuredCurve t2 = c.curve;
@@ -583,34 +578,49 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     }
     c.curve = std::move(t2);
   }
-  Problem pt{field, thin, p.free_idx, p.free_zero, p.base, p.scale, p.fd_step};
-  bool thinned = false;
-  for (std::size_t c = 0; c < curves.size(); ++c) thinned |= thin[c].curve.size() != curves[c].curve.size();
-  std::vector<Final> coarse;
-  res.starts_thinned = thinned;
-  const auto solve_from = [&](const Problem& pr, std::vector<double> u, int s, bool set_zero, std::vector<Final>& into) {
+  return thin;
+}
+
+// A converged start: its cost, its point (scaled variables) and the start it came from.
+struct Final {
+  double cost;
+  std::vector<double> u;
+  int start;
+};
+
+// The multi-start fit: every converged point on the thinned curves (coarse) and on all samples (finals),
+// the best of the latter. start_costs, best_start and iterations of `res` are filled as the starts run.
+class MultiStart {
+ public:
+  MultiStart(const Problem& p, const DiagnosisOptions& opts, bool thinned, DiagnosisResult& res)
+      : p_(p), opts_(opts), thinned_(thinned), res_(res) {}
+
+  // One bounded Ceres solve of problem pr from u (set_zero: zero offsets at the circular mean of
+  // measured - model first); a converged point goes into `into`.
+  void solve_from(const Problem& pr, std::vector<double> u, int s, bool set_zero, std::vector<Final>& into) {
+    const auto& t = fit_parameters();
+    const int ns = p_.n_shared(), n_curves = static_cast<int>(p_.curves.size());
     try {
-      for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero && set_zero; ++c)
+      for (int c = 0; c < n_curves && opts_.free_zero && set_zero; ++c)
         u[ns + c] = zero_start(pr, c, u.data()) / kZeroScaleDeg;
     } catch (const InputError&) {
-      res.start_costs.push_back(std::numeric_limits<double>::quiet_NaN());  // start outside the model's domain
+      res_.start_costs.push_back(std::numeric_limits<double>::quiet_NaN());  // start outside the model's domain
       return;
     }
     ceres::Problem problem;
-    for (int c = 0; c < static_cast<int>(curves.size()); ++c)
-      problem.AddResidualBlock(new CurveCost(pr, c), nullptr, u.data());
+    for (int c = 0; c < n_curves; ++c) problem.AddResidualBlock(new CurveCost(pr, c), nullptr, u.data());
     for (int j = 0; j < ns; ++j) {
-      const FitParameter& fp = t[p.free_idx[j]];
+      const FitParameter& fp = t[p_.free_idx[j]];
       problem.SetParameterLowerBound(u.data(), j, fp.lower / fp.scale);
       problem.SetParameterUpperBound(u.data(), j, fp.upper / fp.scale);
     }
-    for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c) {
+    for (int c = 0; c < n_curves && opts_.free_zero; ++c) {
       problem.SetParameterLowerBound(u.data(), ns + c, -180.0 / kZeroScaleDeg);
       problem.SetParameterUpperBound(u.data(), ns + c, 180.0 / kZeroScaleDeg);
     }
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = opts.max_iterations;
+    so.max_num_iterations = opts_.max_iterations;
     so.function_tolerance = 1e-14;
     so.parameter_tolerance = 1e-12;
     so.gradient_tolerance = 1e-16;
@@ -619,18 +629,36 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     ceres::Solver::Summary sum;
     ceres::Solve(so, &problem, &sum);
     const double cost = sum.IsSolutionUsable() ? sum.final_cost : std::numeric_limits<double>::quiet_NaN();
-    if (&into == &coarse || !thinned) res.start_costs.push_back(cost);
+    if (&into == &coarse || !thinned_) res_.start_costs.push_back(cost);
     if (!std::isfinite(cost)) return;
     into.push_back({cost, u, s});
     if (&into == &finals && cost < best_cost) {
       best_cost = cost;
       best_u = u;
-      res.best_start = s;
-      res.iterations = static_cast<int>(sum.iterations.size()) - 1;
+      res_.best_start = s;
+      res_.iterations = static_cast<int>(sum.iterations.size()) - 1;
     }
-  };
-  std::vector<Final>& first = thinned ? coarse : finals;
-  for (int s = 0; s < static_cast<int>(starts.size()); ++s) solve_from(thinned ? pt : p, starts[s], s, true, first);
+  }
+
+  std::vector<Final> finals, coarse;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<double> best_u;
+
+ private:
+  const Problem& p_;
+  const DiagnosisOptions& opts_;
+  bool thinned_;
+  DiagnosisResult& res_;
+};
+
+// 4.2 The starts, the mirror image of the best as one more, and (on thinned curves) the polish of the best
+// basins on all samples. Throws ComputeError when no start converged.
+void run_starts(const Problem& p, const DiagnosisOptions& opts, MultiStart& ms, const Problem& pt, bool thinned) {
+  const auto& t = fit_parameters();
+  const int nv = p.n_vars(), ns = p.n_shared();
+  const std::vector<std::vector<double>> starts = start_points(p, opts);
+  std::vector<Final>& first = thinned ? ms.coarse : ms.finals;
+  for (int s = 0; s < static_cast<int>(starts.size()); ++s) ms.solve_from(thinned ? pt : p, starts[s], s, true, first);
   // The mirror image of the best point (all shared parameters negated) as one more start: for arrays whose
   // error is even in the offsets (diff4, ring:N) it is an equally good minimum the random starts may miss.
   if (opts.starts > 1 && !first.empty() && ns > 0) {
@@ -642,12 +670,13 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
       const FitParameter& fp = t[p.free_idx[j]];
       m[j] = std::clamp(-b->u[j] * fp.scale, fp.lower, fp.upper) / fp.scale;
     }
-    solve_from(thinned ? pt : p, m, static_cast<int>(starts.size()), true, first);
+    ms.solve_from(thinned ? pt : p, m, static_cast<int>(starts.size()), true, first);
   }
-  if (thinned && !coarse.empty()) {  // polish the best basins on all samples
+  if (thinned && !ms.coarse.empty()) {  // polish the best basins on all samples
     double cbest = std::numeric_limits<double>::infinity();
-    for (const auto& f : coarse) cbest = std::min(cbest, f.cost);
+    for (const auto& f : ms.coarse) cbest = std::min(cbest, f.cost);
     std::vector<std::vector<double>> done;
+    const std::vector<Final> coarse = ms.coarse;
     for (const auto& f : coarse) {
       if (f.cost > cbest * 1.1 + 1e-15) continue;
       bool dup = false;
@@ -658,12 +687,58 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
       }
       if (dup) continue;
       done.push_back(f.u);
-      solve_from(p, f.u, f.start, false, finals);
+      ms.solve_from(p, f.u, f.start, false, ms.finals);
     }
   }
-  if (best_u.empty()) throw ComputeError("diagnose: no start converged (every start left the model's domain)");
+  if (ms.best_u.empty()) throw ComputeError("diagnose: no start converged (every start left the model's domain)");
+}
 
-  // 4.3 Jacobian at the optimum in physical units; uncertainty through the column-normalised SVD.
+// A direction of the normalised SVD with singular value below the tolerance: the variables it loads and
+// the harmonics they share, in words. Marks those variables unidentifiable.
+Confounding confounded_direction(const NormSvd& sv, Eigen::Index k, const Eigen::MatrixXd& J, const Eigen::VectorXd& theta,
+                                 const std::vector<std::string>& var_names, std::vector<bool>& unidentifiable) {
+  const Eigen::VectorXd v = sv.V.col(k);
+  const int nv = static_cast<int>(var_names.size());
+  Confounding cf;
+  cf.rel_singular = sv.s[k] / sv.s[0];
+  std::set<int> shared;
+  bool first = true;
+  const double vmax = v.cwiseAbs().maxCoeff();
+  for (int j = 0; j < nv; ++j)
+    if (std::abs(v[j]) > 0.1 * vmax) {
+      unidentifiable[j] = true;
+      cf.names.push_back(var_names[j]);
+      cf.weights.push_back(v[j]);
+      if (sv.norms[j] == 0) continue;
+      std::set<int> h = loaded_harmonics(theta, J.col(j));
+      if (first) {
+        shared = h;
+        first = false;
+      } else {
+        std::set<int> inter;
+        std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));
+        shared = inter.empty() ? shared : inter;
+      }
+    }
+  cf.harmonics = harmonics_words(shared);
+  std::ostringstream os;
+  if (cf.names.size() == 1)
+    os << cf.names[0] << " has (almost) no effect on the curve here";
+  else
+    os << join_words(cf.names) << " all load " << cf.harmonics << ": the data fix only a combination of them";
+  os << " (singular value " << fmt_sci(cf.rel_singular) << " of the largest)";
+  cf.text = os.str();
+  return cf;
+}
+
+// 4.3 Jacobian at the optimum in physical units; uncertainty through the column-normalised SVD. Fills the
+// residual statistics, singular values, condition, confounded directions and correlation of `res`;
+// returns sigma per variable (infinite where unidentifiable) and marks unidentifiable variables.
+Eigen::VectorXd fit_uncertainty(const Problem& p, const DiagnosisOptions& opts, const std::vector<double>& best_u,
+                                int N, const std::vector<std::string>& var_names, std::vector<bool>& unidentifiable,
+                                DiagnosisResult& res) {
+  const auto& t = fit_parameters();
+  const int nv = p.n_vars(), ns = p.n_shared();
   Eigen::VectorXd r;
   Eigen::MatrixXd J = stacked_jacobian(p, best_u.data(), &r);
   for (int j = 0; j < nv; ++j) J.col(j) /= p.scale[j];  // deg per physical unit
@@ -678,48 +753,15 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
   res.condition = sv.s[sv.s.size() - 1] > 0 ? smax / sv.s[sv.s.size() - 1] : std::numeric_limits<double>::infinity();
   const double tol = smax / opts.cond_limit;
   Eigen::MatrixXd covn = Eigen::MatrixXd::Zero(nv, nv);  // covariance of the normalised variables
-  std::vector<bool> unidentifiable(nv, false);
-  const Eigen::VectorXd theta = stacked_theta(curves);
-  std::vector<std::string> var_names;
-  for (int j = 0; j < ns; ++j) var_names.push_back(t[p.free_idx[j]].json_name);
-  for (int c = 0; c < static_cast<int>(curves.size()) && opts.free_zero; ++c)
-    var_names.push_back(c == 0 ? std::string("zero_offset_deg") : "zero_offset_deg_" + std::to_string(c + 1));
+  unidentifiable.assign(nv, false);
+  const Eigen::VectorXd theta = stacked_theta(p.curves);
   for (Eigen::Index k = 0; k < sv.s.size(); ++k) {
-    const Eigen::VectorXd v = sv.V.col(k);
     if (sv.s[k] > tol) {
+      const Eigen::VectorXd v = sv.V.col(k);
       covn += v * v.transpose() / (sv.s[k] * sv.s[k]);
       continue;
     }
-    Confounding cf;
-    cf.rel_singular = sv.s[k] / smax;
-    std::set<int> shared;
-    bool first_loaded = true;
-    const double vmax = v.cwiseAbs().maxCoeff();
-    for (int j = 0; j < nv; ++j)
-      if (std::abs(v[j]) > 0.1 * vmax) {
-        unidentifiable[j] = true;
-        cf.names.push_back(var_names[j]);
-        cf.weights.push_back(v[j]);
-        if (sv.norms[j] == 0) continue;
-        std::set<int> h = loaded_harmonics(theta, J.col(j));
-        if (first_loaded) {
-          shared = h;
-          first_loaded = false;
-        } else {
-          std::set<int> inter;
-          std::set_intersection(shared.begin(), shared.end(), h.begin(), h.end(), std::inserter(inter, inter.begin()));
-          shared = inter.empty() ? shared : inter;
-        }
-      }
-    cf.harmonics = harmonics_words(shared);
-    std::ostringstream os;
-    if (cf.names.size() == 1)
-      os << cf.names[0] << " has (almost) no effect on the curve here";
-    else
-      os << join_words(cf.names) << " all load " << cf.harmonics << ": the data fix only a combination of them";
-    os << " (singular value " << fmt_sci(cf.rel_singular) << " of the largest)";
-    cf.text = os.str();
-    res.confounded.push_back(cf);
+    res.confounded.push_back(confounded_direction(sv, k, J, theta, var_names, unidentifiable));
   }
   Eigen::VectorXd sigma(nv);
   for (int j = 0; j < nv; ++j)
@@ -747,14 +789,18 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
       res.correlation(a, b) = (std::isfinite(sigma[a]) && std::isfinite(sigma[b]))
                                   ? covn(a, b) / std::sqrt(covn(a, a) * covn(b, b))
                                   : std::numeric_limits<double>::quiet_NaN();
+  return sigma;
+}
 
-  // 4.4 Other minima as good as the best (cost within 1 %) but more than 3 sigma away in some shared
-  // parameter: the data cannot choose between them (e.g. mirror images).
-  for (const auto& f : finals) {
-    if (f.cost > best_cost * 1.01 + 1e-15) continue;
+// 4.4 Other minima as good as the best (cost within 1 %) but more than 3 sigma away in some shared
+// parameter: the data cannot choose between them (e.g. mirror images).
+void find_alternatives(const Problem& p, const MultiStart& ms, const Eigen::VectorXd& sigma, DiagnosisResult& res) {
+  const int nv = p.n_vars(), ns = p.n_shared();
+  for (const auto& f : ms.finals) {
+    if (f.cost > ms.best_cost * 1.01 + 1e-15) continue;
     bool far = false;
     for (int j = 0; j < ns; ++j) {
-      const double d = std::abs(f.u[j] - best_u[j]) * p.scale[j];
+      const double d = std::abs(f.u[j] - ms.best_u[j]) * p.scale[j];
       if (std::isfinite(sigma[j]) ? d > 3 * sigma[j] : d > p.scale[j]) far = true;
     }
     if (!far) continue;
@@ -770,8 +816,14 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     for (int j = 0; j < nv; ++j) alt.values.push_back(f.u[j] * p.scale[j]);
     res.alternatives.push_back(alt);
   }
+}
 
-  // 4.5 Values: every table parameter, then the zero offsets.
+// 4.5 Values: every table parameter, then the zero offsets; the free and the not identifiable variables.
+void set_values(const Problem& p, const DiagnosisOptions& opts, const std::vector<double>& best_u,
+                const Eigen::VectorXd& sigma, const std::vector<std::string>& var_names,
+                const std::vector<bool>& unidentifiable, DiagnosisResult& res) {
+  const auto& t = fit_parameters();
+  const int nv = p.n_vars(), ns = p.n_shared();
   const std::vector<double> vals = p.values(best_u.data());
   for (std::size_t i = 0; i < t.size(); ++i) {
     ParamValue pv{t[i].name, t[i].json_name, t[i].unit, vals[i], 0.0, false};
@@ -782,7 +834,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     }
     res.params.push_back(pv);
   }
-  for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
+  for (int c = 0; c < static_cast<int>(p.curves.size()); ++c) {
     ParamValue pv{"zero", var_names.size() > static_cast<std::size_t>(ns + c) ? var_names[ns + c] : "zero_offset_deg", "deg",
                   p.zero(best_u.data(), c), 0.0, opts.free_zero};
     if (!opts.free_zero) pv.json_name = c == 0 ? "zero_offset_deg" : "zero_offset_deg_" + std::to_string(c + 1);
@@ -793,8 +845,11 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     res.free.push_back(var_names[j]);
     if (unidentifiable[j]) res.not_identifiable.push_back(var_names[j]);
   }
+}
 
-  // 4.6 Curves: fitted, residual, spectra.
+// 4.6 Curves: fitted, residual, spectra.
+void set_curve_fits(const Problem& p, const std::vector<double>& best_u, DiagnosisResult& res) {
+  const auto& curves = p.curves;
   for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
     CurveFit cf;
     const Eigen::VectorXd rr = p.residual(c, best_u.data());
@@ -807,6 +862,52 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
     cf.residual_h = harmonics_ls(curves[c].curve.theta_deg, rr);
     res.curves.push_back(std::move(cf));
   }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------
+// 4. The fit.
+// ---------------------------------------------------------------------------------------------------------
+DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<CurveInput>& curves,
+                                const DiagnosisOptions& opts) {
+  check_inputs(curves, opts);
+  const auto t0 = std::chrono::steady_clock::now();
+  DiagnosisResult res;
+  std::vector<std::string> free_names = expand_free_names(opts.free);
+  if (free_names.empty())
+    free_names = default_free_set(opts.identifiability_field ? *opts.identifiability_field : field, curves, opts,
+                                  &res.default_free_note);
+
+  // 4.1 Variables.
+  const Problem p = make_problem(field, curves, opts, free_names);
+  const int nv = p.n_vars();
+  int N = 0;
+  for (const auto& c : curves) N += static_cast<int>(c.curve.theta_deg.size());
+  if (N <= nv) throw InputError("diagnose: " + std::to_string(N) + " samples for " + std::to_string(nv) + " free parameters: allowed more samples than parameters");
+
+  // 4.2 Starts. They run on a thinned copy of the curves (at most kStartSamples per curve; the starts only
+  // have to find the basins), then the best point and every other one within 10 % of its cost are polished
+  // on all samples. Without thinning a 3600-sample curve took 5 s for 7 starts.
+  constexpr int kStartSamples = 360;
+  const std::vector<CurveInput> thin = thinned_curves(curves, kStartSamples);
+  const Problem pt{field, thin, p.free_idx, p.free_zero, p.base, p.scale, p.fd_step};
+  bool thinned = false;
+  for (std::size_t c = 0; c < curves.size(); ++c) thinned |= thin[c].curve.size() != curves[c].curve.size();
+  res.starts_thinned = thinned;
+  MultiStart ms(p, opts, thinned, res);
+  run_starts(p, opts, ms, pt, thinned);
+
+  // 4.3 Uncertainty.
+  const std::vector<std::string> var_names = variable_names(p, curves, opts);
+  std::vector<bool> unidentifiable;
+  const Eigen::VectorXd sigma = fit_uncertainty(p, opts, ms.best_u, N, var_names, unidentifiable, res);
+  // 4.4 Alternative minima.
+  find_alternatives(p, ms, sigma, res);
+  // 4.5 Values.
+  set_values(p, opts, ms.best_u, sigma, var_names, unidentifiable, res);
+  // 4.6 Curves.
+  set_curve_fits(p, ms.best_u, res);
   res.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

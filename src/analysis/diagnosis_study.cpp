@@ -232,6 +232,36 @@ std::vector<ExperimentSpec> anomaly_experiments() {
 
 namespace {
 
+// Every parameter free on `cases` round trips: per parameter "`name` k/n", how often it was not identifiable.
+std::vector<std::string> all_free_flags(const FieldSource& field, const ModelState& base, const RoundTripOptions& o,
+                                        int cases) {
+  RoundTripOptions oa = o;
+  oa.cases = cases;
+  oa.free.clear();
+  for (const auto& p : fit_parameters()) oa.free.push_back(p.name);
+  const RoundTripResult ra = run_round_trip(field, base, oa);
+  std::vector<std::string> flagged;
+  for (const auto& p : ra.params)
+    flagged.push_back("`" + p.json_name + "` " + std::to_string(p.not_identifiable) + "/" + std::to_string(ra.cases - ra.failed));
+  return flagged;
+}
+
+// One example fit (the report plots it): a synthetic curve of randomized parameters and its diagnosis.
+void example_fit(const FieldSource& field, const ModelState& base, const RoundTripOptions& o, DiagnosisStudyResult& res) {
+  std::mt19937 rng(o.seed);
+  std::vector<std::pair<std::string, double>> set;
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (const auto& n : o.randomized) set.push_back({n, uni(rng) * o.range_scale * fit_parameter(n).scale});
+  SyntheticOptions so = o.synth;
+  so.zero_deg = 0.2;
+  res.example_curves = {synthetic_curve(field, base, table_values(base, set), so, rng)};
+  DiagnosisOptions d;
+  d.free = o.free;
+  d.starts = o.starts;
+  d.fd_step = o.fd_step;
+  res.example_fit = diagnose_curves(field, res.example_curves, d);
+}
+
 }  // namespace
 
 DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null) {
@@ -300,31 +330,10 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
       // Every parameter free on a few cases: what one curve cannot identify.
       // (exact field only: thirteen free parameters on an FE field take minutes per fit)
       const int nall = src.label == "exact" ? static_cast<int>(cfg.integer("roundtrip.all_free_cases")) : 0;
-      if (nall > 0) {
-        RoundTripOptions oa = o;
-        oa.cases = nall;
-        oa.free.clear();
-        for (const auto& p : fit_parameters()) oa.free.push_back(p.name);
-        const RoundTripResult ra = run_round_trip(*src.field, base, oa);
-        std::vector<std::string> flagged;
-        for (const auto& p : ra.params)
-          flagged.push_back("`" + p.json_name + "` " + std::to_string(p.not_identifiable) + "/" + std::to_string(ra.cases - ra.failed));
-        res.all_free.push_back({src.label + " `" + a + "`", flagged});
-      }
+      if (nall > 0) res.all_free.push_back({src.label + " `" + a + "`", all_free_flags(*src.field, base, o, nall)});
       // One example fit (the report plots it).
       if (!example_done) {
-        std::mt19937 rng(o.seed);
-        std::vector<std::pair<std::string, double>> set;
-        std::uniform_real_distribution<double> uni(-1.0, 1.0);
-        for (const auto& n : o.randomized) set.push_back({n, uni(rng) * o.range_scale * fit_parameter(n).scale});
-        SyntheticOptions so = o.synth;
-        so.zero_deg = 0.2;
-        res.example_curves = {synthetic_curve(*src.field, base, table_values(base, set), so, rng)};
-        DiagnosisOptions d;
-        d.free = o.free;
-        d.starts = o.starts;
-        d.fd_step = o.fd_step;
-        res.example_fit = diagnose_curves(*src.field, res.example_curves, d);
+        example_fit(*src.field, base, o, res);
         example_done = true;
       }
     }

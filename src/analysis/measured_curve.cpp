@@ -1,6 +1,5 @@
 #include "analysis/measured_curve.hpp"
 
-#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -177,23 +176,6 @@ MeasuredCurve read_measured_curve(const std::string& path, const CurveReadOption
   if (text.find('\0') != std::string::npos)
     throw InputError("measured curve " + path + " contains NUL bytes: allowed a text CSV file");
   return parse_measured_curve(text, path, opts);
-}
-
-Eigen::VectorXd harmonics_ls(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& values, int max_n) {
-  const auto N = theta_deg.size();
-  const int P = 1 + 2 * max_n;
-  if (N < P || values.size() != N)
-    throw InputError("harmonic fit needs at least " + std::to_string(P) + " samples: got " + std::to_string(N));
-  Eigen::MatrixXd A(N, P);
-  for (Eigen::Index i = 0; i < N; ++i) {
-    const double t = deg_to_rad(theta_deg[i]);
-    A(i, 0) = 1.0;
-    for (int n = 1; n <= max_n; ++n) {
-      A(i, 2 * n - 1) = std::cos(n * t);
-      A(i, 2 * n) = std::sin(n * t);
-    }
-  }
-  return A.colPivHouseholderQr().solve(values);
 }
 
 }  // namespace magenc

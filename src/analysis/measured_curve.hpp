@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "probe/spectrum.hpp"
+
 namespace magenc {
 
 // Reader limits (stated in --help and in errors).
@@ -55,9 +57,6 @@ MeasuredCurve read_measured_curve(const std::string& path, const CurveReadOption
 MeasuredCurve parse_measured_curve(const std::string& text, const std::string& origin,
                                    const CurveReadOptions& opts = {});
 
-// Least-squares harmonics of values sampled at arbitrary angles theta_deg (not necessarily uniform):
-// fits v = a0 + sum_{n=1..max_n} a_n cos(n theta) + b_n sin(n theta). Returns (a0, a1, b1, a2, b2, ...)
-// as a vector of 1 + 2*max_n values. Throws InputError when there are fewer samples than coefficients.
-Eigen::VectorXd harmonics_ls(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& values, int max_n = 8);
+// harmonics_ls (least-squares harmonics of a measured curve) is declared in probe/spectrum.hpp.
 
 }  // namespace magenc

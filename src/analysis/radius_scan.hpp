@@ -37,6 +37,7 @@
 #include <Eigen/Core>
 
 #include "core/config.hpp"
+#include "core/defaults.hpp"
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
@@ -108,7 +109,7 @@ class FastPipeline {
   // along z; same nodes, stencil and order): the field of a case is
   // cos(al) model + sin(al) axial, al = elevation_deg + the case's deviation
   // (exact: B is linear in M).
-  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = 4.0,
+  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
                const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
@@ -133,7 +134,7 @@ class FastPipeline {
   std::vector<int> angle_index_;                // distinct probe angles as node indices
   std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
   std::vector<double> cos_theta_, sin_theta_;   // theta grid
-  double magnet_height_mm_ = 4.0;               // L (magnet-tilt pivot)
+  double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
@@ -148,12 +149,12 @@ class FastPipeline {
 struct RadiusScanOptions {
   std::vector<ProbeArray> arrays;       // probe arrays to compare
   std::vector<double> r0_mm;            // scanned probe radii (mm, increasing)
-  double plane_z_mm = 4.55;             // sensing plane height z_s (magnet frame, mm)
+  double plane_z_mm = defaults::kPlaneZ_mm;  // sensing plane height z_s (magnet frame, mm)
   int direct_steps = 3600;              // theta samples of the direct pipeline (validation)
   int fast_steps = 360;                 // theta samples N of the surrogate pipeline
   int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
   ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg; chain, elevation)
-  double magnet_height_mm = 4.0;        // L (magnet-tilt pivot and reach)
+  double magnet_height_mm = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot and reach)
   double elevation_deg = 0;             // the magnet's configured elevation (centre of the box's elevation axis)
   double case_offset_mm = 0.1;          // spectra cases: this much of each of sx, sy, dx, dy
   double case_dz_mm = 0.2;              // spectra cases: dz = +-this ...

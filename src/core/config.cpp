@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 #include <type_traits>
 
+#include "core/defaults.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/fp_trap.hpp"
@@ -919,17 +920,17 @@ std::vector<KeySpec> merge_schemas(std::vector<KeySpec> a, const std::vector<Key
 std::vector<KeySpec> common_keys() {
   const double big = 1000.0;  // mm: a sanity bound on every length
   return {
-      real_key("magnet.radius_mm", 2.0, 0, big, "mm", "magnet radius R", true),
-      real_key("magnet.height_mm", 4.0, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
-      real_key("magnet.br_T", 1.2, 0, 10, "T", "remanence Br = mu0*M0", true),
-      real_key("magnet.mu_r", 1.05, 1, 1e6, "", "recoil permeability of the magnet (FEM only)"),
+      real_key("magnet.radius_mm", defaults::kMagnetRadius_mm, 0, big, "mm", "magnet radius R", true),
+      real_key("magnet.height_mm", defaults::kMagnetHeight_mm, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
+      real_key("magnet.br_T", defaults::kMagnetBr_T, 0, 10, "T", "remanence Br = mu0*M0", true),
+      real_key("magnet.mu_r", defaults::kMagnetMuR, 1, 1e6, "", "recoil permeability of the magnet (FEM only)"),
       real_key("magnet.magnetization_deg", 0.0, -360, 360, "deg",
                "direction of M in the xy plane of the magnet frame"),
       real_key("magnet.magnetization_elevation_deg", 0.0, -90, 90, "deg",
                "elevation of M out of the xy plane: M = M0 (cos el cos az, cos el sin az, sin el)"),
-      real_key("sensor.plane_height_mm", 2.55, 0, big, "mm", "sensing plane height h above the top face",
+      real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, 0, big, "mm", "sensing plane height h above the top face",
                true),
-      real_key("sensor.r0_mm", 2.4, 0, big, "mm", "nominal probe radius r0", true),
+      real_key("sensor.r0_mm", defaults::kProbeRadius_mm, 0, big, "mm", "nominal probe radius r0", true),
       string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3)"),
       int_key("sensor.steps", 3600, 16, 10000000, "samples M of theta over one turn"),
       real_key("sensor.offset_cos_mT", 0.0, -1000, 1000, "mT", "offset added to the cos channel (signal chain)"),

@@ -41,6 +41,7 @@ AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&n
   const double alpha_rad = deg_to_rad(magnet_.magnetization_deg);
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
+  br_inside_T_ = magnet_.remanence_T();
 }
 
 bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
@@ -330,8 +331,8 @@ Vec3 AnalyticField::B_T(const Vec3& p) const {
   }
   Vec3 B(cos_alpha_ * Ba.x() - sin_alpha_ * Ba.y(), sin_alpha_ * Ba.x() + cos_alpha_ * Ba.y(), Ba.z());
   if (std::hypot(p.x(), p.y()) < magnet_.radius_mm && std::abs(p.z()) < magnet_.top_z_mm()) {
-    B.x() += cos_el_ * magnet_.br_T * cos_alpha_;  // B = mu0 (H + M0) inside (diametric part)
-    B.y() += cos_el_ * magnet_.br_T * sin_alpha_;
+    B.x() += br_inside_T_.x();  // B = mu0 (H + M0) inside (diametric part; the axial part is total B)
+    B.y() += br_inside_T_.y();
   }
   return B;
 }

@@ -95,6 +95,7 @@ class AnalyticField final : public FieldSource {
   Magnet magnet_;
   double cos_alpha_ = 1, sin_alpha_ = 0;  // azimuth of M0 in the magnet frame
   double cos_el_ = 1, sin_el_ = 0;        // elevation of M0 (exactly 1, 0 when it is 0)
+  Vec3 br_inside_T_ = Vec3::Zero();       // Magnet::remanence_T()
   const std::vector<NodeTable>* tables_;   // node_tables(), increasing node counts
 };
 

@@ -64,44 +64,29 @@ void collect_arrays(vtkXMLDataElement* e, std::vector<std::pair<vtkXMLDataElemen
   }
 }
 
-void check_vti_structure(const std::string& name, vtkXMLImageDataReader* reader) {
-  const std::string bad = "grid file " + name + ": ";
-  vtkXMLDataParser* parser = reader->GetXMLParser();
-  vtkXMLDataElement* root = parser != nullptr ? parser->GetRootElement() : nullptr;
-  if (root == nullptr || root->GetName() == nullptr || std::string(root->GetName()) != "VTKFile")
-    throw InputError(bad + "not VTK XML image data (.vti): no <VTKFile> element");
-  std::ifstream in(name, std::ios::binary);
-  if (!in) throw InputError(bad + "cannot open");
-  in.seekg(0, std::ios::end);
-  const long long size = in.tellg();
+// Nodes and cells of the grid: WholeExtent sane and at most kMaxGridPoints nodes, one <Piece> covering it.
+struct VtiExtent {
+  long double nodes = 1, cells = 1;
+};
 
-  std::vector<vtkXMLDataElement*> imgs, pieces;
-  vtkXMLDataElement* appended_el = nullptr;
-  for (int i = 0; i < root->GetNumberOfNestedElements(); ++i) {
-    vtkXMLDataElement* n = root->GetNestedElement(i);
-    const std::string nm = n->GetName() != nullptr ? n->GetName() : "";
-    if (nm == "ImageData") imgs.push_back(n);
-    if (nm == "AppendedData") appended_el = n;
-  }
-  if (imgs.size() != 1)
-    throw InputError(bad + std::to_string(imgs.size()) + " <ImageData> elements: allowed exactly one (VTK XML image data, .vti)");
-  vtkXMLDataElement* img = imgs[0];
+VtiExtent check_extent(const std::string& bad, vtkXMLDataElement* img) {
   int whole[6];
   if (img->GetVectorAttribute("WholeExtent", 6, whole) != 6)
     throw InputError(bad + "<ImageData> has no valid WholeExtent (six integers)");
-  long double nodes = 1, cells = 1;
+  VtiExtent e;
   for (int d = 0; d < 3; ++d) {
     if (whole[2 * d + 1] < whole[2 * d])
       throw InputError(bad + "WholeExtent axis " + std::to_string(d) + " is [" + std::to_string(whole[2 * d]) + ", " +
                        std::to_string(whole[2 * d + 1]) + "]: allowed lo <= hi");
     const long double n = static_cast<long double>(whole[2 * d + 1]) - whole[2 * d] + 1;
-    nodes *= n;
-    cells *= n > 1 ? n - 1 : 1;
+    e.nodes *= n;
+    e.cells *= n > 1 ? n - 1 : 1;
   }
-  if (nodes > kMaxGridPoints)
-    throw InputError(bad + "WholeExtent declares " + num(double(nodes)) + " nodes (about " +
-                     num(double(nodes) * 64 / 1e9) + " GB to read): allowed at most " + num(double(kMaxGridPoints)) +
+  if (e.nodes > kMaxGridPoints)
+    throw InputError(bad + "WholeExtent declares " + num(double(e.nodes)) + " nodes (about " +
+                     num(double(e.nodes) * 64 / 1e9) + " GB to read): allowed at most " + num(double(kMaxGridPoints)) +
                      " nodes");
+  std::vector<vtkXMLDataElement*> pieces;
   for (int i = 0; i < img->GetNumberOfNestedElements(); ++i)
     if (img->GetNestedElement(i)->GetName() != nullptr && std::string(img->GetNestedElement(i)->GetName()) == "Piece")
       pieces.push_back(img->GetNestedElement(i));
@@ -113,9 +98,173 @@ void check_vti_structure(const std::string& name, vtkXMLImageDataReader* reader)
   for (int i = 0; i < 6; ++i)
     if (ext[i] != whole[i])
       throw InputError(bad + "piece Extent differs from WholeExtent: allowed one piece covering the whole grid");
+  return e;
+}
 
-  // Appended data: header words (UInt32 or UInt64, little endian), raw or base64 encoding, position
-  // as VTK found it (after the '_' that follows <AppendedData ...>).
+// The appended data as VTK will read it: header words of hw bytes (UInt32 or UInt64, little endian),
+// raw or base64 encoding, starting at file position data_start (after the '_' that follows
+// <AppendedData ...>; -1 without appended data). Reads only the block headers.
+class AppendedData {
+ public:
+  AppendedData(std::ifstream& in, long long size, std::string bad, int hw, bool base64, long long data_start)
+      : in_(in), size_(size), bad_(std::move(bad)), hw_(hw), b64_(base64), data_start_(data_start) {}
+  int hw() const { return hw_; }
+  long long data_start() const { return data_start_; }
+
+  // The first n bytes of the data at file position `at` (base64: decoded from 4 ceil(n / 3) characters).
+  std::string bytes_at(long long at, unsigned long long n) {
+    const unsigned long long chars = b64_ ? 4 * ((n + 2) / 3) : n;
+    if (at < 0 || at > size_ || chars > static_cast<unsigned long long>(size_ - at))
+      throw InputError(bad_ + "truncated (a data block header lies beyond the end)");
+    std::string raw(chars, '\0');
+    in_.clear();
+    in_.seekg(at);
+    in_.read(raw.data(), static_cast<std::streamsize>(chars));
+    if (!b64_) return raw;
+    std::string out;
+    unsigned int acc = 0;
+    int bits = 0;
+    for (char c : raw) {
+      int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
+              : c == '+' ? 62 : c == '/' ? 63 : -1;
+      if (v < 0) break;  // '=' padding or the end of this block
+      acc = (acc << 6) | unsigned(v);
+      bits += 6;
+      if (bits >= 8) {
+        bits -= 8;
+        out.push_back(char((acc >> bits) & 0xff));
+      }
+    }
+    if (out.size() < n) throw InputError(bad_ + "corrupted base64 data block header");
+    return out;
+  }
+  // Header word i of the bytes b.
+  unsigned long long word(const std::string& b, unsigned long long i) const {
+    unsigned long long v = 0;
+    for (int k = hw_ - 1; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[i * hw_ + unsigned(k)]);
+    return v;  // little endian (byte_order checked by check_vti_structure)
+  }
+  // Bytes of data available from file position `at` on (base64: decoded bytes).
+  unsigned long long avail(long long at) const {
+    const unsigned long long left = at >= size_ ? 0 : static_cast<unsigned long long>(size_ - at);
+    return b64_ ? left / 4 * 3 : left;
+  }
+
+ private:
+  std::ifstream& in_;
+  long long size_;
+  std::string bad_;
+  int hw_;
+  bool b64_;
+  long long data_start_;
+};
+
+// One array VTK would allocate (<DataArray> or <Array> below `parent`): its size counts into
+// total_bytes (at most kMaxArrayBytes); ascii data, or appended data whose headers agree with the
+// array's size and fit in the file.
+void check_array(const std::string& bad, vtkXMLDataElement* da, const std::string& parent, const VtiExtent& extent,
+                 AppendedData& data, bool compressed, long long size, unsigned long long& total_bytes) {
+  const std::string type = attr_or(da, "type", "");
+  const int type_size = type == "Float64" || type == "Int64" || type == "UInt64" ? 8
+                        : type == "Float32" || type == "Int32" || type == "UInt32" ? 4
+                        : type == "Int16" || type == "UInt16" ? 2
+                        : type == "Int8" || type == "UInt8" ? 1 : 0;
+  if (type_size == 0) throw InputError(bad + "DataArray type '" + type + "' is not supported");
+  int comps = 1;
+  if (da->GetAttribute("NumberOfComponents") != nullptr && (!da->GetScalarAttribute("NumberOfComponents", comps) || comps < 1 || comps > 9))
+    throw InputError(bad + "DataArray NumberOfComponents invalid: allowed 1 to 9");
+  long double tuples = parent == "PointData" ? extent.nodes : parent == "CellData" ? extent.cells : -1;
+  if (tuples < 0) {  // field data: the array's own NumberOfTuples
+    long long nt = -1;
+    if (!da->GetScalarAttribute("NumberOfTuples", nt) || nt < 0 || nt > kMaxGridPoints)
+      throw InputError(bad + "a field-data array needs NumberOfTuples in [0, " + num(double(kMaxGridPoints)) + "]");
+    tuples = static_cast<long double>(nt);
+  }
+  const unsigned long long expected = static_cast<unsigned long long>(tuples) * unsigned(comps) * unsigned(type_size);
+  total_bytes += expected;
+  if (total_bytes > kMaxArrayBytes)
+    throw InputError(bad + "its data arrays need more than " + num(double(kMaxArrayBytes) / 1e9) +
+                     " GB: allowed at most that (" + num(double(kMaxGridPoints)) + " nodes of B and Bz)");
+  const std::string format = attr_or(da, "format", "");
+  if (format == "ascii") return;
+  const long long data_start = data.data_start();
+  if (format != "appended" || data_start < 0)
+    throw InputError(bad + "DataArray format '" + format + "': allowed ascii or appended data");
+  long long offset = -1;
+  if (!da->GetScalarAttribute("offset", offset) || offset < 0 || offset > size - data_start)
+    throw InputError(bad + "DataArray offset invalid or beyond the end of the file");
+  const long long at = data_start + offset;
+  const int hw = data.hw();
+  if (!compressed) {
+    if (data.word(data.bytes_at(at, unsigned(hw)), 0) != expected || data.avail(at) < hw + expected)
+      throw InputError(bad + "a data array's size does not match the WholeExtent (or the file is truncated)");
+    return;
+  }
+  const std::string h3 = data.bytes_at(at, 3ULL * hw);
+  const unsigned long long blocks = data.word(h3, 0), block = data.word(h3, 1), last = data.word(h3, 2);
+  // `full` blocks of `block` bytes and, when last != 0, a partial one of `last` bytes make exactly
+  // `expected` bytes (VTK allocates one block's size per block it reads: a full block may not exceed
+  // the array). Checked without overflow: a wrapped product once passed for 2^63-byte blocks.
+  const unsigned long long full = blocks - (last != 0 ? 1 : 0);
+  bool ok = blocks >= 1 && block >= 1 && last <= block && blocks <= data.avail(at) / unsigned(hw) &&
+            (full == 0 || (block <= expected && full <= expected / block));
+  if (ok) ok = full * block + last == expected;
+  if (!ok) throw InputError(bad + "a compressed data array's block header does not match the WholeExtent");
+  const std::string h = data.bytes_at(at, (3 + blocks) * hw);
+  unsigned long long stored = 0;
+  for (unsigned long long b = 0; b < blocks; ++b) {
+    stored += data.word(h, 3 + b);  // each <= avail(at) after the check below, so no overflow
+    if (stored > data.avail(at)) break;
+  }
+  if (stored + (3 + blocks) * unsigned(hw) > data.avail(at))
+    throw InputError(bad + "truncated (compressed data runs past the end of the file)");
+}
+
+// Closing tags: </Piece> and </ImageData> before the appended data (or anywhere in an inline file),
+// </VTKFile> at the very end.
+void check_closing_tags(const std::string& bad, std::ifstream& in, long long size, bool appended, long long data_start) {
+  const long long head_n = std::min<long long>(size, appended ? data_start : (64LL << 20));
+  std::string head(std::size_t(std::max<long long>(head_n, 0)), '\0');
+  in.clear();
+  in.seekg(0);
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  std::string tail(std::size_t(std::min<long long>(size, 256)), '\0');
+  in.clear();
+  in.seekg(size - static_cast<long long>(tail.size()));
+  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
+  while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.back()))) tail.pop_back();
+  const bool closed = tail.size() >= 10 && tail.compare(tail.size() - 10, 10, "</VTKFile>") == 0 &&
+                      (appended || size <= head_n) && head.find("</Piece>") != std::string::npos &&
+                      head.find("</ImageData>") != std::string::npos &&
+                      (!appended || tail.find("</AppendedData>") != std::string::npos);
+  if (!closed) throw InputError(bad + "truncated (closing </ImageData> or </VTKFile> tag missing)");
+}
+
+void check_vti_structure(const std::string& name, vtkXMLImageDataReader* reader) {
+  const std::string bad = "grid file " + name + ": ";
+  vtkXMLDataParser* parser = reader->GetXMLParser();
+  vtkXMLDataElement* root = parser != nullptr ? parser->GetRootElement() : nullptr;
+  if (root == nullptr || root->GetName() == nullptr || std::string(root->GetName()) != "VTKFile")
+    throw InputError(bad + "not VTK XML image data (.vti): no <VTKFile> element");
+  std::ifstream in(name, std::ios::binary);
+  if (!in) throw InputError(bad + "cannot open");
+  in.seekg(0, std::ios::end);
+  const long long size = in.tellg();
+
+  // 1. One <ImageData> and its extent.
+  std::vector<vtkXMLDataElement*> imgs;
+  vtkXMLDataElement* appended_el = nullptr;
+  for (int i = 0; i < root->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* n = root->GetNestedElement(i);
+    const std::string nm = n->GetName() != nullptr ? n->GetName() : "";
+    if (nm == "ImageData") imgs.push_back(n);
+    if (nm == "AppendedData") appended_el = n;
+  }
+  if (imgs.size() != 1)
+    throw InputError(bad + std::to_string(imgs.size()) + " <ImageData> elements: allowed exactly one (VTK XML image data, .vti)");
+  const VtiExtent extent = check_extent(bad, imgs[0]);
+
+  // 2. Appended data: header words, byte order, compressor, encoding and position as VTK found them.
   const std::string header_type = attr_or(root, "header_type", "UInt32");
   if (header_type != "UInt32" && header_type != "UInt64")
     throw InputError(bad + "header_type '" + header_type + "': allowed UInt32 or UInt64");
@@ -135,120 +284,16 @@ void check_vti_structure(const std::string& name, vtkXMLImageDataReader* reader)
     data_start = parser->GetAppendedDataPosition();
     if (data_start <= 0 || data_start > size) throw InputError(bad + "truncated appended data");
   }
-  const bool b64 = encoding == "base64";
-  // The first n bytes of the data at file position `at` (base64: decoded from 4 ceil(n / 3) characters).
-  const auto bytes_at = [&](long long at, unsigned long long n) {
-    const unsigned long long chars = b64 ? 4 * ((n + 2) / 3) : n;
-    if (at < 0 || at > size || chars > static_cast<unsigned long long>(size - at))
-      throw InputError(bad + "truncated (a data block header lies beyond the end)");
-    std::string raw(chars, '\0');
-    in.clear();
-    in.seekg(at);
-    in.read(raw.data(), static_cast<std::streamsize>(chars));
-    if (!b64) return raw;
-    std::string out;
-    unsigned int acc = 0;
-    int bits = 0;
-    for (char c : raw) {
-      int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
-              : c == '+' ? 62 : c == '/' ? 63 : -1;
-      if (v < 0) break;  // '=' padding or the end of this block
-      acc = (acc << 6) | unsigned(v);
-      bits += 6;
-      if (bits >= 8) {
-        bits -= 8;
-        out.push_back(char((acc >> bits) & 0xff));
-      }
-    }
-    if (out.size() < n) throw InputError(bad + "corrupted base64 data block header");
-    return out;
-  };
-  const auto word = [&](const std::string& b, unsigned long long i) {
-    unsigned long long v = 0;
-    for (int k = hw - 1; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[i * hw + unsigned(k)]);
-    return v;  // little endian (byte_order checked above)
-  };
-  // Bytes of data available from file position `at` on (base64: decoded bytes).
-  const auto avail = [&](long long at) {
-    const unsigned long long left = at >= size ? 0 : static_cast<unsigned long long>(size - at);
-    return b64 ? left / 4 * 3 : left;
-  };
+  AppendedData data(in, size, bad, hw, encoding == "base64", data_start);
 
+  // 3. Every array's size, and its data's headers.
   std::vector<std::pair<vtkXMLDataElement*, std::string>> arrays;
   collect_arrays(root, arrays);
   unsigned long long total_bytes = 0;
-  for (const auto& [da, parent] : arrays) {
-    const std::string type = attr_or(da, "type", "");
-    const int type_size = type == "Float64" || type == "Int64" || type == "UInt64" ? 8
-                          : type == "Float32" || type == "Int32" || type == "UInt32" ? 4
-                          : type == "Int16" || type == "UInt16" ? 2
-                          : type == "Int8" || type == "UInt8" ? 1 : 0;
-    if (type_size == 0) throw InputError(bad + "DataArray type '" + type + "' is not supported");
-    int comps = 1;
-    if (da->GetAttribute("NumberOfComponents") != nullptr && (!da->GetScalarAttribute("NumberOfComponents", comps) || comps < 1 || comps > 9))
-      throw InputError(bad + "DataArray NumberOfComponents invalid: allowed 1 to 9");
-    long double tuples = parent == "PointData" ? nodes : parent == "CellData" ? cells : -1;
-    if (tuples < 0) {  // field data: the array's own NumberOfTuples
-      long long nt = -1;
-      if (!da->GetScalarAttribute("NumberOfTuples", nt) || nt < 0 || nt > kMaxGridPoints)
-        throw InputError(bad + "a field-data array needs NumberOfTuples in [0, " + num(double(kMaxGridPoints)) + "]");
-      tuples = static_cast<long double>(nt);
-    }
-    const unsigned long long expected = static_cast<unsigned long long>(tuples) * unsigned(comps) * unsigned(type_size);
-    total_bytes += expected;
-    if (total_bytes > kMaxArrayBytes)
-      throw InputError(bad + "its data arrays need more than " + num(double(kMaxArrayBytes) / 1e9) +
-                       " GB: allowed at most that (" + num(double(kMaxGridPoints)) + " nodes of B and Bz)");
-    const std::string format = attr_or(da, "format", "");
-    if (format == "ascii") continue;
-    if (format != "appended" || data_start < 0)
-      throw InputError(bad + "DataArray format '" + format + "': allowed ascii or appended data");
-    long long offset = -1;
-    if (!da->GetScalarAttribute("offset", offset) || offset < 0 || offset > size - data_start)
-      throw InputError(bad + "DataArray offset invalid or beyond the end of the file");
-    const long long at = data_start + offset;
-    if (!compressed) {
-      if (word(bytes_at(at, unsigned(hw)), 0) != expected || avail(at) < hw + expected)
-        throw InputError(bad + "a data array's size does not match the WholeExtent (or the file is truncated)");
-      continue;
-    }
-    const std::string h3 = bytes_at(at, 3ULL * hw);
-    const unsigned long long blocks = word(h3, 0), block = word(h3, 1), last = word(h3, 2);
-    // `full` blocks of `block` bytes and, when last != 0, a partial one of `last` bytes make exactly
-    // `expected` bytes (VTK allocates one block's size per block it reads: a full block may not exceed
-    // the array). Checked without overflow: a wrapped product once passed for 2^63-byte blocks.
-    const unsigned long long full = blocks - (last != 0 ? 1 : 0);
-    bool ok = blocks >= 1 && block >= 1 && last <= block && blocks <= avail(at) / unsigned(hw) &&
-              (full == 0 || (block <= expected && full <= expected / block));
-    if (ok) ok = full * block + last == expected;
-    if (!ok) throw InputError(bad + "a compressed data array's block header does not match the WholeExtent");
-    const std::string h = bytes_at(at, (3 + blocks) * hw);
-    unsigned long long stored = 0;
-    for (unsigned long long b = 0; b < blocks; ++b) {
-      stored += word(h, 3 + b);  // each <= avail(at) after the check below, so no overflow
-      if (stored > avail(at)) break;
-    }
-    if (stored + (3 + blocks) * unsigned(hw) > avail(at))
-      throw InputError(bad + "truncated (compressed data runs past the end of the file)");
-  }
+  for (const auto& [da, parent] : arrays) check_array(bad, da, parent, extent, data, compressed, size, total_bytes);
 
-  // Closing tags: </Piece> and </ImageData> before the appended data (or anywhere in an inline file),
-  // </VTKFile> at the very end.
-  const long long head_n = std::min<long long>(size, appended_el != nullptr ? data_start : (64LL << 20));
-  std::string head(std::size_t(std::max<long long>(head_n, 0)), '\0');
-  in.clear();
-  in.seekg(0);
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  std::string tail(std::size_t(std::min<long long>(size, 256)), '\0');
-  in.clear();
-  in.seekg(size - static_cast<long long>(tail.size()));
-  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
-  while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.back()))) tail.pop_back();
-  const bool closed = tail.size() >= 10 && tail.compare(tail.size() - 10, 10, "</VTKFile>") == 0 &&
-                      (appended_el != nullptr || size <= head_n) && head.find("</Piece>") != std::string::npos &&
-                      head.find("</ImageData>") != std::string::npos &&
-                      (appended_el == nullptr || tail.find("</AppendedData>") != std::string::npos);
-  if (!closed) throw InputError(bad + "truncated (closing </ImageData> or </VTKFile> tag missing)");
+  // 4. Closing tags.
+  check_closing_tags(bad, in, size, appended_el != nullptr, data_start);
 }
 }  // namespace
 

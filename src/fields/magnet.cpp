@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "core/units.hpp"
 
 namespace magenc {
 
@@ -22,6 +23,13 @@ void Magnet::validate() const {
   if (!(std::isfinite(magnetization_elevation_deg) && std::abs(magnetization_elevation_deg) <= 90.0))
     throw InputError("magnet.magnetization_elevation_deg = " + num(magnetization_elevation_deg) +
                      " is out of range: allowed [-90, 90] deg");
+}
+
+Eigen::Vector3d Magnet::remanence_T() const {
+  const double a = deg_to_rad(magnetization_deg), el = deg_to_rad(magnetization_elevation_deg);
+  const double ce = magnetization_elevation_deg == 0.0 ? 1.0 : std::cos(el);
+  const double se = magnetization_elevation_deg == 0.0 ? 0.0 : std::sin(el);
+  return br_T * Eigen::Vector3d(ce * std::cos(a), ce * std::sin(a), se);
 }
 
 Magnet Magnet::from_config(const Config& cfg) {

@@ -1,21 +1,27 @@
 // The diametrically magnetized cylindrical magnet and the sensing plane
 // (docs/physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
 #pragma once
+#include <Eigen/Core>
+
 #include "core/config.hpp"
+#include "core/defaults.hpp"
 
 namespace magenc {
 
 struct Magnet {
-  double radius_mm = 2.0;          // R
-  double height_mm = 4.0;          // L
-  double br_T = 1.2;               // remanence Br = mu0*M0 (tesla)
-  double mu_r = 1.05;              // recoil permeability (FEM only)
+  double radius_mm = defaults::kMagnetRadius_mm;  // R
+  double height_mm = defaults::kMagnetHeight_mm;  // L
+  double br_T = defaults::kMagnetBr_T;            // remanence Br = mu0*M0 (tesla)
+  double mu_r = defaults::kMagnetMuR;             // recoil permeability (FEM only)
   double magnetization_deg = 0.0;  // azimuth beta of M0 (direction in the xy plane)
   // Elevation al of M0 out of the xy plane (docs/physics.md, "Beyond the five offsets"):
   // M = M0 (cos al cos beta, cos al sin beta, sin al).
   double magnetization_elevation_deg = 0.0;
 
   double top_z_mm() const { return 0.5 * height_mm; }
+  // The remanence vector Br = mu0*M0 (T) inside the magnet: br_T (cos al cos beta, cos al sin beta, sin al),
+  // with cos al, sin al exactly 1, 0 at al = 0.
+  Eigen::Vector3d remanence_T() const;
   // Throws InputError for non-positive sizes / Br, mu_r < 1, |elevation| > 90, NaN.
   void validate() const;
   static Magnet from_config(const Config& cfg);

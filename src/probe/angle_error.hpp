@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 
+#include "core/defaults.hpp"
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
@@ -13,8 +14,8 @@ namespace magenc {
 
 struct ProbeSetup {
   ProbeArray array;           // probe angles and channel weights
-  double r0_mm = 2.4;         // nominal probe radius
-  double plane_z_mm = 4.55;   // sensing plane height in the magnet frame (z_s)
+  double r0_mm = defaults::kProbeRadius_mm;  // nominal probe radius
+  double plane_z_mm = defaults::kPlaneZ_mm;  // sensing plane height in the magnet frame (z_s)
   int steps = 3600;           // M samples of theta over one turn (>= 16)
   SignalChain chain;          // channel offsets, gain mismatch, phase error (applied before atan2)
   // Magnet height L (mm): the magnet tilt pivots about the centre of the magnet's
@@ -22,7 +23,7 @@ struct ProbeSetup {
   // with the magnet's height (probe_setup_from_config does); it matters only when
   // mount.magnet_tilt_deg != 0. With the exact field a mismatch with the field's
   // magnet is an InputError.
-  double magnet_height_mm = 4.0;
+  double magnet_height_mm = defaults::kMagnetHeight_mm;
 };
 
 struct AngleErrorResult {

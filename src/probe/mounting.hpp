@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "core/config.hpp"
+#include "core/defaults.hpp"
 
 namespace magenc {
 
@@ -76,7 +77,7 @@ Eigen::Matrix3d rot_axis(const Eigen::Vector3d& u, double angle_rad);
 // (px, py) at rotor angle theta_rad, on a sensing plane at height plane_z_mm.
 // Full kinematics (tilts included); magnet_height_mm is L (magnet-tilt pivot).
 Eigen::Vector3d probe_position_mm(const Mount& m, double px_mm, double py_mm, double theta_rad,
-                                  double plane_z_mm, double magnet_height_mm = 4.0);
+                                  double plane_z_mm, double magnet_height_mm = defaults::kMagnetHeight_mm);
 
 // Normal of the sensing element in the magnet frame at theta: Rt^T Rz(-theta) Rs (0,0,1).
 Eigen::Vector3d probe_normal(const Mount& m, double theta_rad);

@@ -1,9 +1,11 @@
 #include "probe/spectrum.hpp"
 
+#include <Eigen/QR>
 #include <cmath>
 #include <complex>
 #include <stdexcept>
 
+#include "core/errors.hpp"
 #include "core/units.hpp"
 
 namespace magenc {
@@ -14,6 +16,16 @@ double wrap_deg(double a_deg) {
   r -= 180.0;                                   // [-180, 180)
   return r == -180.0 ? 180.0 : r;               // (-180, 180]
 }
+
+namespace {
+
+// c_n = hypot(a_n, b_n), c_0 = a0: the one place amplitudes are formed from a Spectrum's coefficients.
+void set_amplitudes(Spectrum& sp) {
+  sp.c_deg[0] = sp.a0_deg;
+  for (int n = 1; n <= kHarmonics; ++n) sp.c_deg[n] = std::hypot(sp.a_deg[n], sp.b_deg[n]);
+}
+
+}  // namespace
 
 Spectrum spectrum_of(const Eigen::VectorXd& eps_deg) {
   const Eigen::Index M = eps_deg.size();
@@ -38,12 +50,11 @@ Spectrum spectrum_of(const Eigen::VectorXd& eps_deg) {
   }
   sp.a0_deg = sum / static_cast<double>(M);
   sp.a_deg[0] = sp.a0_deg;
-  sp.c_deg[0] = sp.a0_deg;
   for (int n = 1; n <= kHarmonics; ++n) {
     sp.a_deg[n] = 2.0 / static_cast<double>(M) * sum_c[n];
     sp.b_deg[n] = 2.0 / static_cast<double>(M) * sum_s[n];
-    sp.c_deg[n] = std::hypot(sp.a_deg[n], sp.b_deg[n]);
   }
+  set_amplitudes(sp);
   sp.pp_deg = hi - lo;
   return sp;
 }
@@ -69,6 +80,36 @@ const std::vector<std::string>& spectrum_columns() {
     return c;
   }();
   return cols;
+}
+
+Eigen::VectorXd harmonics_ls(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& values, int max_n) {
+  const auto N = theta_deg.size();
+  const int P = 1 + 2 * max_n;
+  if (N < P || values.size() != N)
+    throw InputError("harmonic fit needs at least " + std::to_string(P) + " samples: got " + std::to_string(N));
+  Eigen::MatrixXd A(N, P);
+  for (Eigen::Index i = 0; i < N; ++i) {
+    const double t = deg_to_rad(theta_deg[i]);
+    A(i, 0) = 1.0;
+    for (int n = 1; n <= max_n; ++n) {
+      A(i, 2 * n - 1) = std::cos(n * t);
+      A(i, 2 * n) = std::sin(n * t);
+    }
+  }
+  return A.colPivHouseholderQr().solve(values);
+}
+
+double harmonic_amplitude(const Eigen::VectorXd& h, int n) { return std::hypot(h[2 * n - 1], h[2 * n]); }
+
+Spectrum spectrum_from_ls(const Eigen::VectorXd& h) {
+  Spectrum s;
+  s.a0_deg = h[0];
+  for (int n = 1; n <= kHarmonics && 2 * n < h.size(); ++n) {
+    s.a_deg[n] = h[2 * n - 1];
+    s.b_deg[n] = h[2 * n];
+  }
+  set_amplitudes(s);
+  return s;
 }
 
 }  // namespace magenc

@@ -35,4 +35,16 @@ Spectrum spectrum_of(const Eigen::VectorXd& eps_deg);
 // The spectra-table coefficient columns in order: a0..a8, b1..b8, c1..c8, pp.
 const std::vector<std::string>& spectrum_columns();
 
+// Least-squares harmonics of values sampled at arbitrary angles theta_deg (not necessarily uniform):
+// fits v = a0 + sum_{n=1..max_n} a_n cos(n theta) + b_n sin(n theta). Returns (a0, a1, b1, a2, b2, ...)
+// as a vector of 1 + 2*max_n values. Throws InputError when there are fewer samples than coefficients.
+Eigen::VectorXd harmonics_ls(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& values,
+                             int max_n = kHarmonics);
+
+// Amplitude c_n = hypot(a_n, b_n) of harmonic n >= 1 of a harmonics_ls vector h = (a0, a1, b1, ...).
+double harmonic_amplitude(const Eigen::VectorXd& h, int n);
+
+// A Spectrum (a0, a_n, b_n, c_n for n <= kHarmonics; pp = 0) from harmonics_ls coefficients.
+Spectrum spectrum_from_ls(const Eigen::VectorXd& h);
+
 }  // namespace magenc

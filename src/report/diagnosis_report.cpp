@@ -30,7 +30,7 @@ nlohmann::json harmonics_json(const Eigen::VectorXd& h) {
   for (int n = 1; 2 * n < h.size(); ++n) {
     j["a" + std::to_string(n) + "_deg"] = h[2 * n - 1];
     j["b" + std::to_string(n) + "_deg"] = h[2 * n];
-    j["c" + std::to_string(n) + "_deg"] = std::hypot(h[2 * n - 1], h[2 * n]);
+    j["c" + std::to_string(n) + "_deg"] = harmonic_amplitude(h, n);
   }
   return j;
 }
@@ -41,18 +41,6 @@ std::string sig(double v, int digits = 4) {
 }
 
 }  // namespace
-
-Spectrum spectrum_from_ls(const Eigen::VectorXd& h) {
-  Spectrum s;
-  s.a0_deg = h[0];
-  s.c_deg[0] = h[0];
-  for (int n = 1; n <= kHarmonics && 2 * n < h.size(); ++n) {
-    s.a_deg[n] = h[2 * n - 1];
-    s.b_deg[n] = h[2 * n];
-    s.c_deg[n] = std::hypot(s.a_deg[n], s.b_deg[n]);
-  }
-  return s;
-}
 
 std::string diagnosis_json(const std::vector<CurveInput>& curves, const DiagnosisResult& res,
                            const DiagnosisRunInfo& info) {
@@ -205,49 +193,32 @@ void write_diagnosis_plots(const std::filesystem::path& dir, const std::vector<C
   write_plot(dir, "harmonics", har);
 }
 
-std::string diagnosis_summary(const std::vector<CurveInput>& curves, const DiagnosisResult& res,
-                              const DiagnosisRunInfo& info) {
-  std::ostringstream md;
-  md << "# diagnose: which mounting state and signal-chain errors explain the measured curve\n\n"
-     << "Field `" << info.field_spec << "`; " << curves.size() << " curve(s), " << res.n_points << " samples, "
-     << res.n_free << " free variables; nonlinear least squares (Ceres " << CERES_VERSION_STRING
-     << ", Levenberg-Marquardt, central-difference Jacobian) on wrapped angle differences, " << info.options.starts
-     << " starts (seed " << info.options.seed << "), best start " << res.best_start << " after " << res.iterations
-     << " iterations; fit time " << fmt(res.fit_seconds, 2) << " s.\n\n";
+namespace {
+
+// summary.md: every curve's file, sampling, array and residual.
+void summary_curves_section(std::ostringstream& md, const std::vector<CurveInput>& curves, const DiagnosisResult& res) {
   md << "## Curves\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (std::size_t c = 0; c < curves.size(); ++c) {
-      const MeasuredCurve& m = curves[c].curve;
-      std::string ov;
-      for (const auto& o : curves[c].overrides)
-        ov += (ov.empty() ? "" : ", ") + fit_parameters()[o.param].key + (o.add ? " += " : " = ") + sig(o.value);
-      std::string gaps;
-      for (std::size_t g = 0; g < m.gaps.size() && g < 3; ++g)
-        gaps += (g ? "; " : "") + fmt(m.gaps[g].width_deg, 1) + " deg after " + fmt(m.gaps[g].from_deg, 1);
-      t.push_back({std::to_string(c + 1), "`" + m.path + "`", m.format, std::to_string(m.size()), fmt(m.turns, 2),
-                   fmt(m.largest_gap_deg, 2), gaps.empty() ? "none" : gaps, "`" + curves[c].base.setup.array.name + "`",
-                   fmt(curves[c].base.setup.r0_mm, 3), ov.empty() ? "-" : ov, sig(res.curves[c].residual_rms_deg, 3)});
-    }
-    md << md_table({"#", "file", "format", "samples", "turns", "largest gap [deg]", "gaps reported", "array", "r0 [mm]",
-                    "known per-curve values", "residual RMS [deg]"},
-                   t)
-       << "\n";
+  std::vector<std::vector<std::string>> t;
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const MeasuredCurve& m = curves[c].curve;
+    std::string ov;
+    for (const auto& o : curves[c].overrides)
+      ov += (ov.empty() ? "" : ", ") + fit_parameters()[o.param].key + (o.add ? " += " : " = ") + sig(o.value);
+    std::string gaps;
+    for (std::size_t g = 0; g < m.gaps.size() && g < 3; ++g)
+      gaps += (g ? "; " : "") + fmt(m.gaps[g].width_deg, 1) + " deg after " + fmt(m.gaps[g].from_deg, 1);
+    t.push_back({std::to_string(c + 1), "`" + m.path + "`", m.format, std::to_string(m.size()), fmt(m.turns, 2),
+                 fmt(m.largest_gap_deg, 2), gaps.empty() ? "none" : gaps, "`" + curves[c].base.setup.array.name + "`",
+                 fmt(curves[c].base.setup.r0_mm, 3), ov.empty() ? "-" : ov, sig(res.curves[c].residual_rms_deg, 3)});
   }
-  md << "## Parameters (1 sigma from the Jacobian at the optimum, scaled by the residual)\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    std::set<std::string> unid(res.not_identifiable.begin(), res.not_identifiable.end());
-    for (const auto& p : res.params) {
-      if (!p.free && p.value == 0) continue;
-      const std::string status = !p.free ? "fixed" : unid.count(p.json_name) ? "free, NOT identifiable" : "free";
-      t.push_back({"`" + p.json_name + "`", sig(p.value, 5), p.free ? sig(p.sigma, 3) : "-", p.unit, status});
-    }
-    md << md_table({"parameter", "value", "sigma", "unit", "status"}, t)
-       << "\n(fixed parameters at 0 are not listed; every table parameter is in fit.json)\n\n";
-  }
-  md << "Residual RMS " << sig(res.residual_rms_deg, 4) << " deg over all curves (RSS " << sig(res.rss_deg2, 4)
-     << " deg^2, N - p = " << res.n_points - res.n_free << ").\n\n";
+  md << md_table({"#", "file", "format", "samples", "turns", "largest gap [deg]", "gaps reported", "array", "r0 [mm]",
+                  "known per-curve values", "residual RMS [deg]"},
+                 t)
+     << "\n";
+}
+
+// summary.md: the directions the data do not fix and the equally good minima elsewhere.
+void summary_confounding_section(std::ostringstream& md, const DiagnosisResult& res, const DiagnosisRunInfo& info) {
   md << "## What one fit cannot tell apart\n\n";
   if (!res.default_free_note.empty()) md << res.default_free_note << "\n\n";
   if (res.confounded.empty())
@@ -270,6 +241,35 @@ std::string diagnosis_summary(const std::vector<CurveInput>& curves, const Diagn
     }
     md << "\n";
   }
+}
+
+}  // namespace
+
+std::string diagnosis_summary(const std::vector<CurveInput>& curves, const DiagnosisResult& res,
+                              const DiagnosisRunInfo& info) {
+  std::ostringstream md;
+  md << "# diagnose: which mounting state and signal-chain errors explain the measured curve\n\n"
+     << "Field `" << info.field_spec << "`; " << curves.size() << " curve(s), " << res.n_points << " samples, "
+     << res.n_free << " free variables; nonlinear least squares (Ceres " << CERES_VERSION_STRING
+     << ", Levenberg-Marquardt, central-difference Jacobian) on wrapped angle differences, " << info.options.starts
+     << " starts (seed " << info.options.seed << "), best start " << res.best_start << " after " << res.iterations
+     << " iterations; fit time " << fmt(res.fit_seconds, 2) << " s.\n\n";
+  summary_curves_section(md, curves, res);
+  md << "## Parameters (1 sigma from the Jacobian at the optimum, scaled by the residual)\n\n";
+  {
+    std::vector<std::vector<std::string>> t;
+    std::set<std::string> unid(res.not_identifiable.begin(), res.not_identifiable.end());
+    for (const auto& p : res.params) {
+      if (!p.free && p.value == 0) continue;
+      const std::string status = !p.free ? "fixed" : unid.count(p.json_name) ? "free, NOT identifiable" : "free";
+      t.push_back({"`" + p.json_name + "`", sig(p.value, 5), p.free ? sig(p.sigma, 3) : "-", p.unit, status});
+    }
+    md << md_table({"parameter", "value", "sigma", "unit", "status"}, t)
+       << "\n(fixed parameters at 0 are not listed; every table parameter is in fit.json)\n\n";
+  }
+  md << "Residual RMS " << sig(res.residual_rms_deg, 4) << " deg over all curves (RSS " << sig(res.rss_deg2, 4)
+     << " deg^2, N - p = " << res.n_points - res.n_free << ").\n\n";
+  summary_confounding_section(md, res, info);
   md << "## Correlation matrix of the free variables\n\n";
   {
     std::vector<std::string> h{""};
@@ -288,7 +288,7 @@ std::string diagnosis_summary(const std::vector<CurveInput>& curves, const Diagn
     std::vector<std::vector<std::string>> t;
     const auto row = [&](const std::string& name, const Eigen::VectorXd& h) {
       std::vector<std::string> r{name, fmt_auto(h[0], 4)};
-      for (int n = 1; n <= kHarmonics; ++n) r.push_back(fmt_auto(std::hypot(h[2 * n - 1], h[2 * n]), 4));
+      for (int n = 1; n <= kHarmonics; ++n) r.push_back(fmt_auto(harmonic_amplitude(h, n), 4));
       t.push_back(r);
     };
     row("measured", res.curves[c].measured_h);
@@ -421,7 +421,7 @@ std::string diagnosis_study_summary(const DiagnosisStudyResult& res) {
     for (const auto& [a, ex] : res.anomalies) {
       const auto& h = ex.target_h;
       md << "### " << ex.title << " (`" << a << "`)\n\nTarget: " << ex.target_label << ": a0 " << fmt_auto(h[0], 4);
-      for (int n = 1; n <= 4; ++n) md << ", c" << n << " " << fmt_auto(std::hypot(h[2 * n - 1], h[2 * n]), 4);
+      for (int n = 1; n <= 4; ++n) md << ", c" << n << " " << fmt_auto(harmonic_amplitude(h, n), 4);
       md << " deg.\n\n";
       std::vector<std::vector<std::string>> t;
       for (const auto& f : ex.fits) {

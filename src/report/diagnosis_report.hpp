@@ -29,9 +29,6 @@ struct DiagnosisRunInfo {
   double wall_s = 0;
 };
 
-// A Spectrum (a0, a_n, b_n, c_n; pp = 0) from harmonics_ls coefficients.
-Spectrum spectrum_from_ls(const Eigen::VectorXd& h);
-
 std::string diagnosis_json(const std::vector<CurveInput>& curves, const DiagnosisResult& res,
                            const DiagnosisRunInfo& info);
 std::string diagnosis_csv(const std::vector<CurveInput>& curves, const DiagnosisResult& res);

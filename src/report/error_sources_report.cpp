@@ -73,18 +73,10 @@ std::string harmonics_csv(const ErrorSourcesRun& run, double floor_deg, double r
   return os.str();
 }
 
-void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, StudyOutput& out) {
-  const double floor_deg = cfg.real("summary.floor_deg"), rel = cfg.real("summary.relative");
-  // 1. Tables.
-  std::vector<SpectrumRow> rows;
-  for (const auto& per_array : run.sweeps)
-    for (const auto& sw : per_array) rows.insert(rows.end(), sw.rows.begin(), sw.rows.end());
-  out.write_text("spectra.csv", spectra_csv(rows));
-  out.write_text("fits.csv", fits_csv(run.fits));
-  out.write_text("harmonics.csv", harmonics_csv(run, floor_deg, rel));
-  const auto sig = signatures(run);
+namespace {
 
-  // 2. Heat map: one row per (source, array), columns |a0|, c1..c8 at the source's largest value.
+// harmonics_heatmap: one row per (source, array), columns |a0|, c1..c8 at the source's largest value.
+void write_source_heatmap(StudyOutput& out, const ErrorSourcesRun& run, const std::vector<HarmonicSignature>& sig) {
   HeatmapSpec hm;
   hm.title = "Harmonics of each error source alone, at its largest swept value (" + run.field + " field, r_0 = " +
              fmt(run.setups.front().r0_mm, 2) + " mm)";
@@ -110,8 +102,11 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
   hm.width_px = 1200;
   hm.height_px = 160 + 26 * int(hm.row_labels.size());
   write_heatmap(out.dir(), "harmonics_heatmap", hm);
+}
 
-  // 3. Coefficients against each source, all arrays in one figure per source.
+// coefficients_<source>: the coefficients against each source, all arrays in one figure per source;
+// returns the PNG names.
+std::vector<std::string> write_source_coefficient_plots(StudyOutput& out, const ErrorSourcesRun& run) {
   std::vector<std::string> coef_pngs;
   const std::string what = run.field + " field, r_0 = " + fmt(run.setups.front().r0_mm, 2) + " mm";
   for (std::size_t s = 0; s < run.sources.size(); ++s) {
@@ -123,9 +118,11 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
                                   source_axis_label(*run.sources[s]), sc, run.fits, run.coefs));
     coef_pngs.push_back(name + ".png");
   }
+  return coef_pngs;
+}
 
-  // 4. summary.md.
-  std::ostringstream md;
+// summary.md: the field, the arrays and the swept sources.
+void error_sources_intro(std::ostringstream& md, const ErrorSourcesRun& run, const Config& cfg) {
   md << "# error_sources: the error sources beyond the five offsets, one at a time\n\n"
      << "Field `" << run.field << "` (magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2)
      << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
@@ -134,18 +131,20 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
   for (std::size_t a = 0; a < run.setups.size(); ++a) md << (a ? ", " : "") << "`" << run.setups[a].array.name << "`";
   md << ". Each source is swept alone from 0 (every other key as configured: an ideal mount by default) in "
      << cfg.integer("sweep.points") << " values:\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (std::size_t s = 0; s < run.sources.size(); ++s)
-      t.push_back({"`" + run.sources[s]->swept + "`", run.sources[s]->description, "`" + run.sources[s]->key + "`",
-                   "0 .. " + value_text(*run.sources[s], run.sweeps[s].front().spec.values_mm.back())});
-    md << md_table({"source (fits `swept`)", "what", "configuration key", "swept"}, t) << "\n";
-  }
+  std::vector<std::vector<std::string>> t;
+  for (std::size_t s = 0; s < run.sources.size(); ++s)
+    t.push_back({"`" + run.sources[s]->swept + "`", run.sources[s]->description, "`" + run.sources[s]->key + "`",
+                 "0 .. " + value_text(*run.sources[s], run.sweeps[s].front().spec.values_mm.back())});
+  md << md_table({"source (fits `swept`)", "what", "configuration key", "swept"}, t) << "\n";
   md << "Tables: `spectra.csv` (spectra table; extra columns `sweep`, `swept`, `value`), `fits.csv` (cubic fits "
         "p3 x^3 + p2 x^2 + p1 x + p0 of "
      << run.coefs.size() << " coefficients against the source's value in its unit; `swept` names the source), "
      << "`harmonics.csv` (the matrix below).\n\n";
+}
 
+// summary.md: which source makes which harmonic, per array (signatures and all amplitudes).
+void error_sources_matrix(std::ostringstream& md, const ErrorSourcesRun& run, const std::vector<HarmonicSignature>& sig,
+                          double floor_deg, double rel) {
   md << "## Which source makes which harmonic, per array\n\n"
      << "Each source alone at its largest swept value; the harmonics with amplitude >= max(" << floor_deg << " deg, "
      << rel << " x the largest), largest first (|a0| is the constant part). Amplitudes in deg.\n\n";
@@ -182,30 +181,56 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
       }
     md << md_table(header, t) << "\n";
   }
+}
 
+// summary.md: the sweeps' values at docs/physics.md's reference cases.
+void error_sources_references(std::ostringstream& md, const ErrorSourcesRun& run) {
   md << "## Against the reference values of docs/physics.md\n\n"
      << "docs/physics.md gives these for the exact field of the default magnet, r0 = 2.4 mm, `two`; listed when the "
         "sweep holds that value and array.\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (const auto& ref : physics_md_source_references())
-      for (std::size_t s = 0; s < run.sources.size(); ++s) {
-        if (run.sources[s]->swept != ref.swept) continue;
-        for (const auto& sw : run.sweeps[s]) {
-          if (sw.setup.array.name != "two") continue;
-          for (std::size_t v = 0; v < sw.rows.size(); ++v)
-            if (std::abs(sw.spec.values_mm[v] - ref.value) < 1e-9) {
-              const double got = sw.rows[v].spectrum.column(ref.coef);
-              t.push_back({"`" + ref.swept + "` = " + g_text(ref.value), ref.coef, fmt(got, 3), fmt(ref.expected_deg, 3),
-                           fmt(got - ref.expected_deg, 4)});
-            }
-        }
+  std::vector<std::vector<std::string>> t;
+  for (const auto& ref : physics_md_source_references())
+    for (std::size_t s = 0; s < run.sources.size(); ++s) {
+      if (run.sources[s]->swept != ref.swept) continue;
+      for (const auto& sw : run.sweeps[s]) {
+        if (sw.setup.array.name != "two") continue;
+        for (std::size_t v = 0; v < sw.rows.size(); ++v)
+          if (std::abs(sw.spec.values_mm[v] - ref.value) < 1e-9) {
+            const double got = sw.rows[v].spectrum.column(ref.coef);
+            t.push_back({"`" + ref.swept + "` = " + g_text(ref.value), ref.coef, fmt(got, 3), fmt(ref.expected_deg, 3),
+                         fmt(got - ref.expected_deg, 4)});
+          }
       }
-    if (t.empty())
-      md << "(none of the reference cases is in these sweeps)\n\n";
-    else
-      md << md_table({"case (`two`)", "column", "computed [deg]", "docs/physics.md [deg]", "difference [deg]"}, t) << "\n";
-  }
+    }
+  if (t.empty())
+    md << "(none of the reference cases is in these sweeps)\n\n";
+  else
+    md << md_table({"case (`two`)", "column", "computed [deg]", "docs/physics.md [deg]", "difference [deg]"}, t) << "\n";
+}
+
+}  // namespace
+
+void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, StudyOutput& out) {
+  const double floor_deg = cfg.real("summary.floor_deg"), rel = cfg.real("summary.relative");
+  // 1. Tables.
+  std::vector<SpectrumRow> rows;
+  for (const auto& per_array : run.sweeps)
+    for (const auto& sw : per_array) rows.insert(rows.end(), sw.rows.begin(), sw.rows.end());
+  out.write_text("spectra.csv", spectra_csv(rows));
+  out.write_text("fits.csv", fits_csv(run.fits));
+  out.write_text("harmonics.csv", harmonics_csv(run, floor_deg, rel));
+  const auto sig = signatures(run);
+
+  // 2. Heat map.
+  write_source_heatmap(out, run, sig);
+  // 3. Coefficients against each source.
+  const std::vector<std::string> coef_pngs = write_source_coefficient_plots(out, run);
+
+  // 4. summary.md.
+  std::ostringstream md;
+  error_sources_intro(md, run, cfg);
+  error_sources_matrix(md, run, sig, floor_deg, rel);
+  error_sources_references(md, run);
   md << "## Coefficients against each source (cubic fits)\n\n";
   for (std::size_t s = 0; s < coef_pngs.size(); ++s)
     md << md_image(run.sources[s]->description + ": coefficients vs value, per array", coef_pngs[s]) << "\n";

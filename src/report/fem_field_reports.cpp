@@ -15,22 +15,49 @@ namespace {
 // Whether the solve had a magnet permeability the exact field lacks (mu_r recorded and != 1).
 bool permeable(double mu_r) { return std::isfinite(mu_r) && mu_r != 1.0; }
 
-}  // namespace
+// summary.md: the acceptance rule and every cell's verdict at the reference offset.
+void real_field_acceptance_section(std::ostringstream& md, const RealFieldResult& result) {
+  const auto& offsets = result.options.offsets;
+  const double ref_mm = result.options.reference_mm;
+  const AcceptanceResult& acc = result.acceptance;
+  md << "## Acceptance at " << fmt(ref_mm, 2) << " mm: FEM vs exact\n\n"
+     << "Rule (issue \"FEM-driven probe studies\"): for arrays ";
+  for (std::size_t i = 0; i < acc.arrays.size(); ++i) md << (i ? ", " : "") << "`" << acc.arrays[i] << "`";
+  md << ", each of ";
+  for (std::size_t i = 0; i < acc.coefs.size(); ++i) md << (i ? ", " : "") << acc.coefs[i];
+  md << " through every FEM source agrees with the exact field within max(" << fmt(100 * acc.rule.rel, 0)
+     << " % of |exact|, " << fmt_sig(acc.rule.abs_deg, 6) << " deg). Values in deg; diff = FEM - exact.\n\n";
+  std::vector<std::string> failures;
+  {
+    std::vector<std::vector<std::string>> t;
+    for (const auto& c : acc.cells) {
+      const std::string sym = offset_symbol(offsets[c.offset]), coef = c.coef.substr(0, c.coef.find('_'));
+      if (c.judged && !c.pass) failures.push_back(sym + " " + c.array + " " + c.source + " " + coef);
+      t.push_back({sym + " = " + fmt(ref_mm, 2) + " mm", "`" + c.array + "`", c.source, coef, fmt(c.value_deg, 5),
+                   fmt(c.exact_deg, 5), fmt(c.value_deg - c.exact_deg, 5), fmt(c.tolerance_deg, 5),
+                   !c.judged ? "(not judged)" : c.pass ? "pass" : "**FAIL**"});
+    }
+    md << md_table({"case", "array", "source", "coef", "FEM", "exact", "diff", "tolerance", "verdict"}, t) << "\n";
+  }
+  const int n_pass = acc.passed(), n_cells = acc.judged();
+  md << "**Acceptance: " << n_pass << " of " << n_cells << " cells pass"
+     << (n_pass == n_cells ? " - all pass.**\n\n" : ".**");
+  if (n_pass != n_cells) {
+    md << " Failing cells: ";
+    for (std::size_t i = 0; i < failures.size(); ++i) md << (i ? "; " : "") << failures[i];
+    md << ".\n\n";
+  }
+}
 
-void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const Config& cfg) {
+// eps.png and harmonics.png on the first FEM source; coefficients (first FEM source and exact) and
+// FEM - exact (every source) per offset. Returns the per-offset PNG names.
+std::vector<std::string> write_real_field_plots(StudyOutput& out, const RealFieldResult& result) {
   const ComparisonInputs& in = result.inputs;
   const ComparisonRun& cr = result.run;
   const auto& runs = cr.arrays;
   const auto& offsets = result.options.offsets;
-  const auto& values = result.options.values_mm;
   const double ref_mm = result.options.reference_mm;
   const AcceptanceResult& acc = result.acceptance;
-
-  // 1. Tables.
-  write_comparison_tables(out, cr);
-
-  // 2. Plots: eps(theta) and harmonic bars on the first FEM source; coefficients
-  //    (first FEM source and exact) and FEM - exact (every source) per offset.
   const std::string primary = in.sources.front().label;
   const std::string what = "FEM field via " + primary + ", r_0 = " + fmt(in.setups.front().r0_mm, 2) + " mm";
   const int h = 60 + 330 * static_cast<int>(runs.size());
@@ -59,6 +86,93 @@ void write_real_field_report(StudyOutput& out, const RealFieldResult& result, co
                                  fmt(in.setups.front().r0_mm, 2) + " mm)"};
     for (const auto& p : write_comparison_plots(out.dir(), cr, k, text, acc.coefs)) pngs.push_back(p);
   }
+  return pngs;
+}
+
+// summary.md: the largest error and harmonics over the dz sweep with the base mount.
+void airgap_dz_alone_section(std::ostringstream& md, const AirgapResult& result) {
+  const ComparisonInputs& in = result.inputs;
+  const auto& runs = result.run.arrays;
+  const Mount& base = in.base;
+  md << "## dz alone (" << (base.sx_mm == 0 && base.sy_mm == 0 && base.dx_mm == 0 && base.dy_mm == 0
+                                ? std::string("ideal mount")
+                                : "base mount of [mount]")
+     << ")\n\nLargest peak-to-peak error and largest c1..c4 over the dz sweep (deg):\n\n";
+  {
+    std::vector<std::vector<std::string>> t;
+    for (const auto& r : runs)
+      for (const SourceRun* sr : r.all()) {
+        const SweepResult& s = sr->sweeps.front();
+        std::vector<std::string> row{"`" + r.setup.array.name + "`", sr->label};
+        for (const char* c : {"pp_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg"}) {
+          double m = 0;
+          for (double v : s.column(c)) m = std::max(m, std::abs(v));
+          row.push_back(fmt_deg(m));
+        }
+        t.push_back(row);
+      }
+    md << md_table({"array", "source", "max pp", "max c1", "max c2", "max c3", "max c4"}, t) << "\n";
+    double exact_worst = 0;
+    for (const auto& r : runs)
+      for (double v : r.exact.sweeps.front().column("pp_deg")) exact_worst = std::max(exact_worst, v);
+    md << (exact_worst < 1e-9 ? "On the exact field dz alone gives no error at any dz (peak-to-peak < 1e-9 deg), as "
+                                "docs/physics.md predicts; the FEM rows show the FE field's ideal-mount artefacts.\n\n"
+                              : "The exact field shows error with dz alone (peak-to-peak up to " +
+                                    fmt_auto(exact_worst, 4) + " deg): the base mount is not ideal.\n\n");
+  }
+}
+
+// summary.md: how dz moves c1 and c3 with the residual eccentricities (slopes and sweep ends).
+void airgap_harmonic_slopes_section(std::ostringstream& md, const AirgapResult& result) {
+  const auto& runs = result.run.arrays;
+  const auto& fits = result.run.fits;
+  const auto& dz = result.dz_mm;
+  const auto& cases = result.cases;
+  md << "## How dz moves the 1st and 3rd harmonics\n\n"
+     << "Slopes at dz = 0 (p1 of the cubic fits in `fits.csv`, deg/mm) and the values at the sweep ends (deg); "
+        "FEM rows with the exact field's slope beside them.\n\n";
+  {
+    const auto slope = [&](const SweepResult& s, const char* coef) {
+      const FitRow* f = find_fit(fits, s, coef);
+      return f ? fmt_deg(f->p[2]) : std::string("-");
+    };
+    std::vector<std::vector<std::string>> t;
+    for (std::size_t k = 1; k < cases.size(); ++k)
+      for (const auto& r : runs) {
+        const SweepResult& ex = r.exact.sweeps[k];
+        for (const auto& f : r.fem) {
+          const SweepResult& s = f.sweeps[k];
+          const auto c1 = s.column("c1_deg"), c3 = s.column("c3_deg");
+          t.push_back({cases[k].residual, "`" + r.setup.array.name + "`", f.label, fmt_deg(c1.front()),
+                       fmt_deg(c1.back()), slope(s, "c1_deg"), slope(ex, "c1_deg"), fmt_deg(c3.front()),
+                       fmt_deg(c3.back()), slope(s, "c3_deg"), slope(ex, "c3_deg")});
+        }
+      }
+    const std::string lo = fmt(dz.front(), 2), hi = fmt(dz.back(), 2);
+    md << md_table({"residual [mm]", "array", "source", "c1 at dz=" + lo, "c1 at dz=" + hi, "dc1/ddz FEM",
+                    "dc1/ddz exact", "c3 at dz=" + lo, "c3 at dz=" + hi, "dc3/ddz FEM", "dc3/ddz exact"},
+                   t)
+       << "\n(fits.csv has the full cubics; a slope needs c_n well above the FEM artefacts of the 'dz alone' table to "
+          "mean anything)\n\n";
+  }
+}
+
+}  // namespace
+
+void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const Config& cfg) {
+  const ComparisonInputs& in = result.inputs;
+  const ComparisonRun& cr = result.run;
+  const auto& runs = cr.arrays;
+  const auto& offsets = result.options.offsets;
+  const auto& values = result.options.values_mm;
+  const AcceptanceResult& acc = result.acceptance;
+
+  // 1. Tables.
+  write_comparison_tables(out, cr);
+
+  // 2. Plots.
+  const std::string primary = in.sources.front().label;
+  const std::vector<std::string> pngs = write_real_field_plots(out, result);
 
   // 3. Summary (every number from the runs above).
   std::ostringstream md;
@@ -90,33 +204,7 @@ void write_real_field_report(StudyOutput& out, const RealFieldResult& result, co
     md << md_table({"array", "source", "c1", "c2", "c3", "c4", "pp", "pp exact"}, t) << "\n(deg)\n\n";
   }
 
-  md << "## Acceptance at " << fmt(ref_mm, 2) << " mm: FEM vs exact\n\n"
-     << "Rule (issue \"FEM-driven probe studies\"): for arrays ";
-  for (std::size_t i = 0; i < acc.arrays.size(); ++i) md << (i ? ", " : "") << "`" << acc.arrays[i] << "`";
-  md << ", each of ";
-  for (std::size_t i = 0; i < acc.coefs.size(); ++i) md << (i ? ", " : "") << acc.coefs[i];
-  md << " through every FEM source agrees with the exact field within max(" << fmt(100 * acc.rule.rel, 0)
-     << " % of |exact|, " << fmt_sig(acc.rule.abs_deg, 6) << " deg). Values in deg; diff = FEM - exact.\n\n";
-  std::vector<std::string> failures;
-  {
-    std::vector<std::vector<std::string>> t;
-    for (const auto& c : acc.cells) {
-      const std::string sym = offset_symbol(offsets[c.offset]), coef = c.coef.substr(0, c.coef.find('_'));
-      if (c.judged && !c.pass) failures.push_back(sym + " " + c.array + " " + c.source + " " + coef);
-      t.push_back({sym + " = " + fmt(ref_mm, 2) + " mm", "`" + c.array + "`", c.source, coef, fmt(c.value_deg, 5),
-                   fmt(c.exact_deg, 5), fmt(c.value_deg - c.exact_deg, 5), fmt(c.tolerance_deg, 5),
-                   !c.judged ? "(not judged)" : c.pass ? "pass" : "**FAIL**"});
-    }
-    md << md_table({"case", "array", "source", "coef", "FEM", "exact", "diff", "tolerance", "verdict"}, t) << "\n";
-  }
-  const int n_pass = acc.passed(), n_cells = acc.judged();
-  md << "**Acceptance: " << n_pass << " of " << n_cells << " cells pass"
-     << (n_pass == n_cells ? " - all pass.**\n\n" : ".**");
-  if (n_pass != n_cells) {
-    md << " Failing cells: ";
-    for (std::size_t i = 0; i < failures.size(); ++i) md << (i ? "; " : "") << failures[i];
-    md << ".\n\n";
-  }
+  real_field_acceptance_section(md, result);
 
   md << "## Largest |FEM - exact| over each sweep (deg)\n\n" << max_difference_table(cr, "offset", acc.coefs) << "\n";
 
@@ -131,7 +219,6 @@ void write_airgap_report(StudyOutput& out, const AirgapResult& result) {
   const ComparisonInputs& in = result.inputs;
   const ComparisonRun& cr = result.run;
   const auto& runs = cr.arrays;
-  const auto& fits = cr.fits;
   const auto& dz = result.dz_mm;
   const auto& cases = result.cases;
 
@@ -172,61 +259,9 @@ void write_airgap_report(StudyOutput& out, const AirgapResult& result) {
     md << "Note: the solve used magnet mu_r = " << fmt(result.solve_mu_r, 3)
        << "; the exact field has mu_r = 1, so part of each FEM - exact difference is that physics.\n\n";
 
-  const Mount& base = in.base;
-  md << "## dz alone (" << (base.sx_mm == 0 && base.sy_mm == 0 && base.dx_mm == 0 && base.dy_mm == 0
-                                ? std::string("ideal mount")
-                                : "base mount of [mount]")
-     << ")\n\nLargest peak-to-peak error and largest c1..c4 over the dz sweep (deg):\n\n";
-  {
-    std::vector<std::vector<std::string>> t;
-    for (const auto& r : runs)
-      for (const SourceRun* sr : r.all()) {
-        const SweepResult& s = sr->sweeps.front();
-        std::vector<std::string> row{"`" + r.setup.array.name + "`", sr->label};
-        for (const char* c : {"pp_deg", "c1_deg", "c2_deg", "c3_deg", "c4_deg"}) {
-          double m = 0;
-          for (double v : s.column(c)) m = std::max(m, std::abs(v));
-          row.push_back(fmt_deg(m));
-        }
-        t.push_back(row);
-      }
-    md << md_table({"array", "source", "max pp", "max c1", "max c2", "max c3", "max c4"}, t) << "\n";
-    double exact_worst = 0;
-    for (const auto& r : runs)
-      for (double v : r.exact.sweeps.front().column("pp_deg")) exact_worst = std::max(exact_worst, v);
-    md << (exact_worst < 1e-9 ? "On the exact field dz alone gives no error at any dz (peak-to-peak < 1e-9 deg), as "
-                                "docs/physics.md predicts; the FEM rows show the FE field's ideal-mount artefacts.\n\n"
-                              : "The exact field shows error with dz alone (peak-to-peak up to " +
-                                    fmt_auto(exact_worst, 4) + " deg): the base mount is not ideal.\n\n");
-  }
+  airgap_dz_alone_section(md, result);
 
-  md << "## How dz moves the 1st and 3rd harmonics\n\n"
-     << "Slopes at dz = 0 (p1 of the cubic fits in `fits.csv`, deg/mm) and the values at the sweep ends (deg); "
-        "FEM rows with the exact field's slope beside them.\n\n";
-  {
-    const auto slope = [&](const SweepResult& s, const char* coef) {
-      const FitRow* f = find_fit(fits, s, coef);
-      return f ? fmt_deg(f->p[2]) : std::string("-");
-    };
-    std::vector<std::vector<std::string>> t;
-    for (std::size_t k = 1; k < cases.size(); ++k)
-      for (const auto& r : runs) {
-        const SweepResult& ex = r.exact.sweeps[k];
-        for (const auto& f : r.fem) {
-          const SweepResult& s = f.sweeps[k];
-          const auto c1 = s.column("c1_deg"), c3 = s.column("c3_deg");
-          t.push_back({cases[k].residual, "`" + r.setup.array.name + "`", f.label, fmt_deg(c1.front()),
-                       fmt_deg(c1.back()), slope(s, "c1_deg"), slope(ex, "c1_deg"), fmt_deg(c3.front()),
-                       fmt_deg(c3.back()), slope(s, "c3_deg"), slope(ex, "c3_deg")});
-        }
-      }
-    const std::string lo = fmt(dz.front(), 2), hi = fmt(dz.back(), 2);
-    md << md_table({"residual [mm]", "array", "source", "c1 at dz=" + lo, "c1 at dz=" + hi, "dc1/ddz FEM",
-                    "dc1/ddz exact", "c3 at dz=" + lo, "c3 at dz=" + hi, "dc3/ddz FEM", "dc3/ddz exact"},
-                   t)
-       << "\n(fits.csv has the full cubics; a slope needs c_n well above the FEM artefacts of the 'dz alone' table to "
-          "mean anything)\n\n";
-  }
+  airgap_harmonic_slopes_section(md, result);
 
   md << "## Largest |FEM - exact| over each dz sweep (deg)\n\n"
      << max_difference_table(cr, "case", result.diff_coefs) << "\n";

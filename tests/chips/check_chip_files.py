@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Chip definitions (chips/*.toml, chips/README.md) keep to the configuration keys of interfaces.md
+"""Chip definitions (chips/*.toml, chips/README.md) keep to the configuration keys of docs/interfaces.md
 "Sensor principles, environment, calibration (keys)" and name a source for every number.
 
 Each chips/*.toml must

@@ -23,6 +23,6 @@ inline DomainSpec coarse_domain(double h_zone_mm, double h_magnet_mm = 1.0, int 
   return d;
 }
 
-inline constexpr double kPlaneZ = 4.55;  // z_s of the default magnet (mm)
+inline constexpr double kPlaneZ = magenc::defaults::kPlaneZ_mm;  // z_s of the default magnet (mm)
 
 }  // namespace magenc::fem::test

@@ -31,7 +31,7 @@ struct Solved {
 
 Solved solve(const std::string& backend, const std::vector<std::string>& sets) {
   FemSettings s = coarse_settings(sets);
-  s.solver.solver = backend;
+  s.solver.solver = linear_solver_from_string(backend);
   MagnetostaticSolver solver(s.domain, s.solver);
   solver.run();
   return {solver.solution().psi_Tmm, solver.stats().iterations, solver.stats().residual, solver.stats().solved_dofs};
@@ -40,9 +40,16 @@ Solved solve(const std::string& backend, const std::vector<std::string>& sets) {
 }  // namespace
 
 TEST_CASE("fem.solver: auto resolves to a backend this build has, and bad names are refused", "[field_solver][bad-input]") {
-  CHECK(resolve_linear_solver("auto") == (petsc_available() ? "petsc-hypre" : "eigen-pcg"));
-  CHECK(resolve_linear_solver("eigen-pcg") == "eigen-pcg");
+  CHECK(to_string(resolve_linear_solver(LinearSolverKind::Auto)) == (petsc_available() ? "petsc-hypre" : "eigen-pcg"));
+  CHECK(resolve_linear_solver(LinearSolverKind::EigenPcg) == LinearSolverKind::EigenPcg);
   CHECK_THROWS(coarse_settings({"fem.solver=amg"}));
+  // Names and values correspond one to one; an unknown name names the key.
+  for (const std::string& n : linear_solver_names()) CHECK(to_string(linear_solver_from_string(n)) == n);
+  for (const std::string& n : preconditioner_names()) CHECK(to_string(preconditioner_from_string(n)) == n);
+  for (const std::string& n : potential_names()) CHECK(to_string(potential_from_string(n)) == n);
+  CHECK_THROWS_WITH(linear_solver_from_string("amg"), Catch::Contains("fem.solver = amg"));
+  CHECK_THROWS_WITH(preconditioner_from_string("ilu"), Catch::Contains("fem.preconditioner = ilu"));
+  CHECK_THROWS_WITH(potential_from_string("half"), Catch::Contains("fem.potential = half"));
 }
 
 TEST_CASE("PETSc multigrid and Eigen PCG give the same potential on the coarse mesh", "[field_solver][cross-check]") {

@@ -43,7 +43,7 @@ const std::vector<std::string> kShaft = {"shaft.enabled=true", "shaft.radius_mm=
 TEST_CASE("split potential without a shaft is the reduced potential: the exact field", "[field_solver][physics][cross-check]") {
   for (const std::string pot : {"split", "auto"}) {
     const auto s = solved({"magnet.mu_r=1"}, pot);
-    CHECK(s->options().potential == (pot == "auto" ? "reduced" : "split"));
+    CHECK(s->options().potential == (pot == "auto" ? Potential::Reduced : Potential::Split));
     CHECK(s->stats().iterations == 0);
     CHECK_FALSE(s->solution().split());
     const magenc::AnalyticField exact(s->domain().magnet);
@@ -56,7 +56,7 @@ TEST_CASE("split potential without a shaft is the reduced potential: the exact f
 TEST_CASE("split potential with a mu_r = 1 shaft: the correction is only the shaft's interpolation error", "[field_solver][physics]") {
   const auto sets = with(kShaft, {"magnet.mu_r=1", "shaft.mu_r=1"});
   const auto split = solved(sets, "auto");
-  REQUIRE(split->options().potential == "split");
+  REQUIRE(split->options().potential == Potential::Split);
   REQUIRE(split->solution().split());
   const auto total = solved(sets, "total");
   const magenc::AnalyticField exact(split->domain().magnet);
