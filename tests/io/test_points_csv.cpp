@@ -48,3 +48,30 @@ TEST_CASE("points CSV: bad files are refused with one line naming the line and c
   CHECK_THROWS_AS(magenc::parse_points_csv("x_m,y_m,z_m\n1,2,3\n", "f"), magenc::InputError);
   CHECK_THROWS_WITH(magenc::read_points_csv("/nonexistent/p.csv"), Contains("--points /nonexistent/p.csv: cannot open"));
 }
+
+TEST_CASE("scan CSV: mT or T columns in any order, converted to T", "[io][contract]") {
+  const auto a = magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n1,2,3,-20,0.5,7\n", "s");
+  CHECK(a.unit == "mT");
+  CHECK(a.p_mm(2, 0) == 3);
+  CHECK(a.B_T(0, 0) == Approx(-0.020).epsilon(1e-15));
+  CHECK(a.B_T(2, 0) == Approx(0.007).epsilon(1e-15));
+  const auto b = magenc::parse_scan_csv("# T\r\nBz_T,Bx_T,By_T,z_mm,y_mm,x_mm\r\n0.01,-0.02,0,5,0,1\r\n", "s");
+  CHECK(b.unit == "T");
+  CHECK(b.p_mm(0, 0) == 1);
+  CHECK(b.B_T(0, 0) == -0.02);
+  CHECK(b.B_T(2, 0) == 0.01);
+}
+
+TEST_CASE("scan CSV: bad files are refused with one line", "[io][bad-input]") {
+  using Catch::Contains;
+  CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_T,Bz_mT\n0,0,4,1,2,3\n", "s"),
+                    Contains("field columns in both mT and T"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT\n0,0,4,1,2\n", "s"),
+                    Contains("missing column 'Bz_mT'"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm\n0,0,4\n", "s"), Contains("missing column 'Bx_mT'"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n0,0,4,1,inf,3\n", "s"),
+                    Contains("s:2: column By_mT = 'inf' is not a finite number"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT,T_C\n", "s"),
+                    Contains("unknown column 'T_C'"));
+  CHECK_THROWS_WITH(magenc::read_scan_csv("/nonexistent/s.csv"), Contains("--scan /nonexistent/s.csv: cannot open"));
+}
