@@ -29,6 +29,9 @@ PKGS=(
   libpetsc-real-dev        # PETSc 3.18 (pulls OpenMPI): fem.solver = petsc-gamg / petsc-hypre, mpirun solves
   openmpi-bin              # mpirun (the 2-rank solve_field test)
   python3                  # tests/layering/check_includes.py (the include-layering test)
+  python3-dev python3-pybind11 pybind11-dev  # the Python module (python/)
+  python3-numpy python3-pytest               # its arrays and its tests (ctest python_module_pytest)
+  libboost-dev             # Boost.Math quadrature: the independent reference of tests/fields/test_field_at.cpp
 )
 [ "$with_getdp" = 1 ] && PKGS+=(getdp gmsh)   # GetDP 3.2, gmsh 4.8 (scripts/bench_getdp.sh)
 # ParaView (pvbatch) for the ParaView state tests is installed at the end by

@@ -193,6 +193,10 @@ Required required_inputs(const fs::path& exe) {
   const std::string n = exe.filename().string();
   if (n == "diagnose") return {{"--measured", "good_curve.csv"}, {{"good_curve.csv", good_curve()}}};
   if (n == "table_to_vti") return {{"--table", "good_table.csv"}, {{"good_table.csv", good_table()}}};
+  if (n == "field_at") return {{"--points", "good_points.csv"}, {{"good_points.csv", "x_mm,y_mm,z_mm\n0,0,4.55\n"}}};
+  if (n == "inspect")
+    return {{"--scan", "good_scan.csv"},
+            {{"good_scan.csv", "x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n0,0,4.55,-20,0,0\n1,0,4.55,-15,0,10\n0,1,4.55,-18,1,0\n"}}};
   return {};
 }
 // Writes exe's required files into s, adds their names to `inputs`, returns args preceded by the
@@ -211,7 +215,7 @@ std::vector<std::string> with_required(const fs::path& exe, const ScratchDir& s,
 
 // The executables whose output is one file (--out FILE); all others write a directory (--out DIR).
 bool file_output(const fs::path& exe) {
-  return exe.filename() == "error_spectrum" || exe.filename() == "table_to_vti";
+  return exe.filename() == "error_spectrum" || exe.filename() == "table_to_vti" || exe.filename() == "field_at";
 }
 
 }  // namespace
@@ -225,7 +229,8 @@ Group group_of(const fs::path& exe) {
   const std::string n = exe.filename().string();
   if (n == "solve_field") return Group::SolveField;
   if (n == "fem_vs_exact") return Group::FemVsExact;
-  if (n == "error_spectrum" || n == "diagnose" || n == "table_to_vti") return Group::OtherApps;
+  if (n == "error_spectrum" || n == "diagnose" || n == "table_to_vti" || n == "field_at" || n == "inspect")
+    return Group::OtherApps;
   return Group::Studies;
 }
 void key_matrix(Group group, std::size_t min_exes, const std::string& label) {
@@ -278,9 +283,9 @@ TEST_CASE("bad-input matrix: fem_vs_exact x every declared key x its bad values 
   key_matrix(Group::FemVsExact, 1, "fem_vs_exact");
 }
 
-TEST_CASE("bad-input matrix: error_spectrum diagnose table_to_vti x every declared key x its bad values",
+TEST_CASE("bad-input matrix: error_spectrum diagnose table_to_vti field_at inspect x every declared key x its bad values",
           "[apps][bad-input][cli]") {
-  key_matrix(Group::OtherApps, 3, "error_spectrum, diagnose, table_to_vti");
+  key_matrix(Group::OtherApps, 5, "error_spectrum, diagnose, table_to_vti, field_at, inspect");
 }
 
 TEST_CASE("bad-input matrix: every study x every declared key x its bad values (--set and TOML)",

@@ -1,0 +1,361 @@
+// The Python module `magenc` (interfaces.md "Python module"): numpy in, numpy out, the names and units of
+// the executables. Wiring only, like apps/: configuration -> library -> numbers.
+//   field_at(points_mm, field, config, interp, **keys)      B (T) at (N, 3) points in the magnet frame
+//   angle_error(field, array, config, interp, **keys)       (theta_deg, eps_deg) of the configured mount
+//   spectrum(eps_deg)                                       the spectra table's coefficients
+//   diagnose(measured, field, array, r0_mm, free, ...)      diagnose's fit.json as a dict
+//   inspect(scan, free, config, **keys)                     inspect's fit.json as a dict
+//   config_keys()                                           every key: default, allowed range, unit, help
+// Keys come as a dict {"mount.sx_mm": 0.1} and/or keyword arguments (mount_sx_mm=0.1 or
+// **{"mount.sx_mm": 0.1}), checked by the executables' schema (core/config); InputError -> ValueError
+// with the same one-line message.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "analysis/diagnosis_fit.hpp"
+#include "analysis/inspect_fit.hpp"
+#include "analysis/measured_curve.hpp"
+#include "analysis/sweep.hpp"
+#include "core/config.hpp"
+#include "core/errors.hpp"
+#include "fields/field_at.hpp"
+#include "fields/field_factory.hpp"
+#include "fields/magnet.hpp"
+#include "probe/angle_error.hpp"
+#include "probe/mounting.hpp"
+#include "probe/spectrum.hpp"
+#include "io/points_csv.hpp"
+#include "report/diagnosis_report.hpp"
+#include "report/inspect_report.hpp"
+
+namespace py = pybind11;
+using magenc::Config;
+using magenc::InputError;
+
+namespace {
+
+// A Python value as the text --set takes: numbers with 17 significant digits, bool as true/false,
+// lists as TOML arrays, strings as they are.
+std::string value_text(const py::handle& v, bool in_list = false) {
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(v)) return std::to_string(v.cast<long long>());
+  if (py::isinstance<py::float_>(v)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v.cast<double>());
+    return buf;
+  }
+  if (py::isinstance<py::str>(v)) {
+    const std::string s = v.cast<std::string>();
+    return in_list ? "\"" + s + "\"" : s;
+  }
+  if (py::isinstance<py::sequence>(v) || py::isinstance<py::array>(v)) {
+    std::string out = "[";
+    bool first = true;
+    for (const auto& e : py::iter(v)) {
+      out += (first ? "" : ", ") + value_text(e, true);
+      first = false;
+    }
+    return out + "]";
+  }
+  if (py::hasattr(v, "__float__")) return value_text(py::float_(py::reinterpret_borrow<py::object>(v)));
+  throw InputError("value " + py::repr(v).cast<std::string>() + " has no configuration form: allowed a number, bool, "
+                   "string or list");
+}
+
+// A keyword name (mount_sx_mm) or a dotted key (mount.sx_mm) -> the dotted key of the schema.
+std::string key_of(const Config& cfg, const std::string& name) {
+  if (name.find('.') != std::string::npos) return name;
+  std::string match;
+  for (const auto& s : cfg.schema()) {
+    std::string flat = s.key;
+    const auto dot = flat.find('.');
+    if (dot != std::string::npos) flat[dot] = '_';
+    if (flat == name) match = s.key;
+  }
+  if (match.empty())
+    throw InputError("unknown configuration keyword '" + name + "': allowed section_name keywords such as "
+                     "mount_sx_mm or dotted keys {\"mount.sx_mm\": 0.1} (magenc.config_keys() lists them)");
+  return match;
+}
+
+// The executables' configuration: defaults, then the dict, then the keyword arguments (each checked).
+Config make_config(const py::object& config, const py::kwargs& keys) {
+  Config cfg(magenc::common_keys());
+  auto apply = [&](const std::string& name, const py::handle& value) {
+    cfg.set(key_of(cfg, name) + "=" + value_text(value));
+  };
+  if (!config.is_none()) {
+    if (!py::isinstance<py::dict>(config))
+      throw InputError("config must be a dict of keys such as {\"mount.sx_mm\": 0.1}: allowed a dict or None");
+    for (const auto& [k, v] : config.cast<py::dict>()) apply(py::str(k).cast<std::string>(), v);
+  }
+  for (const auto& [k, v] : keys) apply(py::str(k).cast<std::string>(), v);
+  return cfg;
+}
+
+magenc::FieldSourcePtr open_field(const std::string& field, const Config& cfg, const std::string& interp) {
+  if (field.rfind("fem:", 0) == 0)
+    throw InputError("field '" + field + "': fem:DIR is not available in the Python module: allowed analytic, "
+                     "grid:FILE.vti (e.g. DIR/box.vti of solve_field), table:FILE, linear");
+  magenc::FieldOptions opts;
+  opts.interp = magenc::parse_interp(interp, "interp");
+  return magenc::make_field_source(field, cfg, opts);
+}
+
+Eigen::Matrix3Xd points_from(const py::object& points_mm) {
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  Array a = Array::ensure(points_mm);
+  if (!a) throw InputError("points_mm is not an array of numbers: allowed an (N, 3) array in mm");
+  std::string shape = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(a.shape(d));
+  shape += a.ndim() == 1 ? ",)" : ")";
+  const bool one_point = a.ndim() == 1 && a.shape(0) == 3;
+  if (!one_point && (a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) < 1))
+    throw InputError("points_mm has shape " + shape + ": allowed (N, 3) with N >= 1 or (3,) (x, y, z in mm, magnet frame)");
+  const py::ssize_t n = one_point ? 1 : a.shape(0);
+  Eigen::Matrix3Xd p(3, n);
+  const double* d = a.data();
+  for (py::ssize_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) p(k, i) = d[3 * i + k];
+  return p;
+}
+
+py::array_t<double> rows_of(const Eigen::Matrix3Xd& m) {
+  py::array_t<double> out({m.cols(), Eigen::Index(3)});
+  auto w = out.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < m.cols(); ++i)
+    for (int k = 0; k < 3; ++k) w(i, k) = m(k, i);
+  return out;
+}
+
+py::array_t<double> vector_of(const Eigen::VectorXd& v) {
+  py::array_t<double> out(v.size());
+  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
+  return out;
+}
+
+std::string array_spec(const Config& cfg, const py::object& array) {
+  return array.is_none() ? cfg.str("sensor.array") : array.cast<std::string>();
+}
+
+// ---- the functions ----
+
+py::array_t<double> py_field_at(const py::object& points_mm, const std::string& field, const py::object& config,
+                                const std::string& interp, const py::kwargs& keys) {
+  const Config cfg = make_config(config, keys);
+  const Eigen::Matrix3Xd p = points_from(points_mm);
+  const auto source = open_field(field, cfg, interp);
+  Eigen::Matrix3Xd B;
+  {
+    py::gil_scoped_release unlocked;
+    B = magenc::field_at(*source, p);
+  }
+  return rows_of(B);
+}
+
+py::tuple py_angle_error(const std::string& field, const py::object& array, const py::object& config,
+                         const std::string& interp, const py::kwargs& keys) {
+  Config cfg = make_config(config, keys);
+  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
+  const magenc::ProbeSetup setup =
+      magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"), array.is_none() ? "sensor.array" : "array");
+  const magenc::Mount mount = magenc::Mount::from_config(cfg);
+  const auto source = open_field(field, cfg, interp);
+  magenc::AngleErrorResult res;
+  {
+    py::gil_scoped_release unlocked;
+    res = magenc::angle_error(*source, setup, mount);
+  }
+  return py::make_tuple(vector_of(res.theta_deg), vector_of(res.eps_deg));
+}
+
+py::dict spectrum_dict(const magenc::Spectrum& s) {
+  py::dict d;
+  for (const auto& c : magenc::spectrum_columns()) d[py::str(c)] = s.column(c);
+  return d;
+}
+
+py::dict py_spectrum(const py::object& eps_deg) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(eps_deg);
+  if (!a || a.ndim() != 1 || a.shape(0) < 2 * magenc::kHarmonics + 1)
+    throw InputError("eps_deg must be a 1-D array of at least " + std::to_string(2 * magenc::kHarmonics + 1) +
+                     " angle errors (deg) at uniform theta over one turn: allowed shape (M,), M >= 17");
+  Eigen::VectorXd e(a.shape(0));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+    e[i] = a.at(i);
+    if (!std::isfinite(e[i]))
+      throw InputError("eps_deg[" + std::to_string(i) + "] is not finite: allowed finite angle errors (deg)");
+  }
+  return spectrum_dict(magenc::spectrum_of(e));
+}
+
+py::dict py_diagnose(const py::object& measured, const std::string& field, const py::object& array,
+                     const py::object& r0_mm, const py::object& free, const py::object& config, bool fixed_zero,
+                     int error_sign, double max_gap_deg, int starts, unsigned seed, double cond_limit,
+                     const std::string& interp, const py::kwargs& keys) {
+  Config cfg = make_config(config, keys);
+  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
+  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + value_text(r0_mm));
+  if (!(max_gap_deg > 0 && max_gap_deg <= 180))
+    throw InputError("max_gap_deg " + magenc::num(max_gap_deg) + " is out of range: allowed (0, 180] deg");
+  std::vector<std::string> paths;
+  if (py::isinstance<py::str>(measured) || py::hasattr(measured, "__fspath__"))
+    paths.push_back(py::str(measured).cast<std::string>());
+  else
+    for (const auto& m : py::iter(measured)) paths.push_back(py::str(m).cast<std::string>());
+  if (paths.empty()) throw InputError("measured: no curve files: allowed one path or a list of paths");
+  magenc::CurveReadOptions ro;
+  ro.error_sign = error_sign;
+  ro.max_gap_deg = max_gap_deg;
+  magenc::ModelState base{magenc::Mount::from_config(cfg),
+                          magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"),
+                                                          array.is_none() ? "sensor.array" : "array")};
+  std::vector<magenc::CurveInput> curves;
+  for (const auto& path : paths) curves.push_back({magenc::read_measured_curve(path, ro), base, {}});
+  magenc::DiagnosisOptions opts;
+  if (!free.is_none()) {
+    if (py::isinstance<py::str>(free)) {
+      std::stringstream ss(free.cast<std::string>());
+      for (std::string x; std::getline(ss, x, ',');)
+        if (!x.empty()) opts.free.push_back(x);
+    } else {
+      for (const auto& n : py::iter(free)) opts.free.push_back(py::str(n).cast<std::string>());
+    }
+  }
+  for (const auto& n : magenc::expand_free_names(opts.free)) magenc::fit_parameter(n);  // unknown: one line
+  opts.free_zero = !fixed_zero;
+  opts.starts = starts;
+  opts.seed = seed;
+  opts.cond_limit = cond_limit;
+  const auto source = open_field(field, cfg, interp);
+  magenc::FieldSourcePtr exact;
+  if (source->name() != "analytic" && source->name() != "linear") {  // as diagnose does
+    exact = magenc::make_field_source("analytic", cfg);
+    opts.identifiability_field = exact.get();
+    opts.fd_step = 1e-2;
+  }
+  magenc::DiagnosisResult res;
+  {
+    py::gil_scoped_release unlocked;
+    res = magenc::diagnose_curves(*source, curves, opts);
+  }
+  magenc::DiagnosisRunInfo info;
+  info.program = "magenc.diagnose";
+  info.command_line = "magenc.diagnose (Python)";
+  info.field_spec = field;
+  info.config_json = cfg.to_json();
+  info.config_toml = cfg.to_toml();
+  info.options = opts;
+  const std::string json = magenc::diagnosis_json(curves, res, info);
+  return py::module_::import("json").attr("loads")(json).cast<py::dict>();
+}
+
+py::dict py_inspect(const py::object& scan, const py::object& free, const py::object& config, double cond_limit,
+                    const py::kwargs& keys) {
+  const Config cfg = make_config(config, keys);
+  const magenc::Magnet magnet = magenc::Magnet::from_config(cfg);
+  magenc::InspectOptions opts;
+  if (!free.is_none()) {
+    std::string text;
+    if (py::isinstance<py::str>(free)) {
+      text = free.cast<std::string>();
+    } else {
+      for (const auto& g : py::iter(free)) text += py::str(g).cast<std::string>() + ",";
+    }
+    opts.groups = magenc::parse_inspect_groups(text, "free");
+  }
+  if (!(cond_limit > 1 && std::isfinite(cond_limit)))
+    throw InputError("cond_limit " + magenc::num(cond_limit) + " is out of range: allowed (1, inf)");
+  opts.cond_limit = cond_limit;
+  const magenc::ScanTable table = magenc::read_scan_csv(py::str(scan).cast<std::string>());
+  const magenc::FieldScan fs{table.p_mm, table.B_T};
+  magenc::InspectResult res;
+  {
+    py::gil_scoped_release unlocked;
+    res = magenc::inspect_scan(magnet, fs, opts);
+  }
+  magenc::InspectRunInfo info;
+  info.command_line = "magenc.inspect (Python)";
+  info.scan_file = py::str(scan).cast<std::string>();
+  info.unit = table.unit;
+  info.config_json = cfg.to_json();
+  return py::module_::import("json").attr("loads")(magenc::inspect_json(fs, res, info)).cast<py::dict>();
+}
+
+py::list py_config_keys() {
+  py::list out;
+  for (const auto& s : magenc::common_keys()) {
+    py::dict d;
+    d["key"] = s.key;
+    d["default"] = s.default_value;
+    d["allowed"] = magenc::allowed_range(s);
+    d["unit"] = s.unit;
+    d["help"] = s.help;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(magenc, m) {
+  m.doc() =
+      "magenc: angle error of magnetic rotary encoders (the library behind build/bin/*).\n"
+      "Lengths in mm, angles in degrees, fields in tesla; points in the magnet frame (magnet at rest,\n"
+      "centred at the origin, axis z). Configuration keys as a dict {\"mount.sx_mm\": 0.1} or keyword\n"
+      "arguments (mount_sx_mm=0.1), the same keys as --set; a bad key or value raises ValueError with\n"
+      "the executables' one-line message. Field sources: 'analytic' (exact field of the [magnet] keys),\n"
+      "'grid:FILE.vti', 'table:FILE', 'linear' (not fem:DIR: sample it as grid:DIR/box.vti).";
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<magenc::ComputeError>(m, "ComputeError", PyExc_RuntimeError);
+
+  m.def("field_at", &py_field_at, py::arg("points_mm"), py::arg("field") = "analytic", py::arg("config") = py::none(),
+        py::arg("interp") = "cubic",
+        "B at points, like a field library's getB (the field_at executable).\n\n"
+        "points_mm: (N, 3) array (or one point of shape (3,)), x, y, z in mm in the magnet frame.\n"
+        "field: 'analytic' (exact field of the configured magnet, inside it too: B = mu0 (H + M)),\n"
+        "  'grid:FILE.vti', 'table:FILE' (fem:DIR: use grid:DIR/box.vti). interp: nearest | linear | cubic (grid:/table:).\n"
+        "config: dict of keys, e.g. {'magnet.magnetization_elevation_deg': 30}; **keys: the same as keywords.\n"
+        "Returns an (N, 3) float64 array: Bx, By, Bz in T.\n"
+        "Raises ValueError naming the first point on the magnet's surface or outside a grid.");
+  m.def("angle_error", &py_angle_error, py::arg("field") = "analytic", py::arg("array") = py::none(),
+        py::arg("config") = py::none(), py::arg("interp") = "cubic",
+        "Angle error of one turn for the configured mount (what error_spectrum evaluates).\n\n"
+        "field: as for field_at (also 'linear'). array: 'two' | 'diff4' | 'ring:N' (None: sensor.array,\n"
+        "default 'two'). config / **keys: every key of error_spectrum (mount.*, sensor.*, magnet.*, ...).\n"
+        "Returns (theta_deg, eps_deg): two (M,) float64 arrays, M = sensor.steps, theta_m = 360 m / M deg,\n"
+        "eps = wrap(phi - theta) in deg (physics.md).");
+  m.def("spectrum", &py_spectrum, py::arg("eps_deg"),
+        "Fourier coefficients of an angle-error curve, the spectra table's columns.\n\n"
+        "eps_deg: (M,) array of errors in deg at theta_m = 360 m / M (uniform, one turn), M >= 17.\n"
+        "Returns a dict {'a0_deg', 'a1_deg'..'a8_deg', 'b1_deg'..'b8_deg', 'c1_deg'..'c8_deg', 'pp_deg'}\n"
+        "of floats in deg (c_n = hypot(a_n, b_n), pp = peak-to-peak).");
+  m.def("diagnose", &py_diagnose, py::arg("measured"), py::arg("field") = "analytic", py::arg("array") = py::none(),
+        py::arg("r0_mm") = py::none(), py::arg("free") = py::none(), py::arg("config") = py::none(),
+        py::arg("fixed_zero") = false, py::arg("error_sign") = 1, py::arg("max_gap_deg") = 30.0,
+        py::arg("starts") = 6, py::arg("seed") = 1u, py::arg("cond_limit") = 1e4, py::arg("interp") = "cubic",
+        "Fit mounting and signal-chain errors to measured angle-error curves (the diagnose executable).\n\n"
+        "measured: a path or a list of paths of curve CSVs (theta_deg,error_deg | theta_deg,phi_deg |\n"
+        "  theta_deg,u_cos,u_sin; >= 64 rows over one turn). field, array, r0_mm (mm), free (list or\n"
+        "  comma-separated names: sx, sy, dx, dy, dz, tilt_x, ...; None: what the curves identify),\n"
+        "  fixed_zero, error_sign (+1 | -1), max_gap_deg, starts, seed, cond_limit: diagnose's flags.\n"
+        "Returns diagnose's fit.json as a dict: parameters {name: {value, sigma, free, ...}},\n"
+        "residual_rms_deg, not_identifiable, ...");
+  m.def("inspect", &py_inspect, py::arg("scan"), py::arg("free") = py::none(), py::arg("config") = py::none(),
+        py::arg("cond_limit") = 1e6,
+        "Fit a magnet's polarization and a sensor's pose to a 3-axis field scan (the inspect executable).\n\n"
+        "scan: path of a CSV x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT (or _T): nominal positions in the magnet frame\n"
+        "  and the readings in the sensor's axes. free: groups among 'offset', 'rotation', 'polarization',\n"
+        "  'direction' (list or comma-separated; None: the first three). config / **keys: the magnet's size\n"
+        "  and nominal polarization ([magnet] keys).\n"
+        "Returns inspect's fit.json as a dict: parameters {offset_x_mm, ..., rot_x_deg, ..., polarization_T,\n"
+        "magnetization_deg, magnetization_elevation_deg: {value, sigma, free, unit}}, residual_rms_mT, ...");
+  m.def("config_keys", &py_config_keys,
+        "Every configuration key: a list of dicts {key, default, allowed, unit, help}.");
+}

@@ -1,0 +1,206 @@
+"""The Python module against the executables: same numbers for the same inputs, bad input raises."""
+import csv
+import io
+import json
+import math
+
+import numpy as np
+import pytest
+
+import magenc
+
+
+def read_csv(text):
+    rows = list(csv.DictReader(io.StringIO(text)))
+    assert rows, "empty table"
+    return rows
+
+
+# ---- field_at ----
+
+MAGNET = {"magnet.radius_mm": 3.0, "magnet.height_mm": 5.0, "magnet.magnetization_deg": 40.0,
+          "magnet.magnetization_elevation_deg": -35.0, "magnet.br_T": 1.35}
+
+
+def test_field_at_equals_the_executable_to_the_last_bit(tmp_path, run_exe):
+    rng = np.random.default_rng(7)
+    pts = rng.uniform(-8, 8, size=(50, 3))
+    pts[:5] = rng.uniform(-1, 1, size=(5, 3))  # inside the magnet too
+    f = tmp_path / "pts.csv"
+    f.write_text("x_mm,y_mm,z_mm\n" + "".join(f"{x:.17g},{y:.17g},{z:.17g}\n" for x, y, z in pts))
+    sets = [a for k, v in MAGNET.items() for a in ("--set", f"{k}={v!r}")]
+    r = run_exe("field_at", "--points", f, *sets)
+    assert r.returncode == 0, r.stderr
+    rows = read_csv(r.stdout)
+    exe = np.array([[float(row[c]) for c in ("Bx_T", "By_T", "Bz_T")] for row in rows])
+    B = magenc.field_at(pts, config=MAGNET)
+    assert B.shape == (50, 3) and B.dtype == np.float64
+    np.testing.assert_array_equal(B, exe)
+    # keyword arguments are the same keys
+    kw = {k.replace(".", "_", 1): v for k, v in MAGNET.items()}
+    np.testing.assert_array_equal(magenc.field_at(pts, **kw), exe)
+
+
+def test_field_at_one_point_and_physics_sanity():
+    # default magnet (R 2, L 4, Br 1.2 T, diametric along x): at the centre B = Br - demagnetizing field
+    B = magenc.field_at([0.0, 0.0, 0.0])
+    assert B.shape == (1, 3)
+    assert 0.5 < B[0, 0] < 1.2 and abs(B[0, 1]) < 1e-15 and abs(B[0, 2]) < 1e-15
+    # closed form on the axis of an axially magnetized cylinder (docs/field_at.md)
+    R, L, Br, z = 2.0, 4.0, 1.2, 3.1
+    Bz = Br / 2 * ((z + L / 2) / math.hypot(R, z + L / 2) - (z - L / 2) / math.hypot(R, z - L / 2))
+    B = magenc.field_at([[0, 0, z]], magnet_magnetization_elevation_deg=90)
+    assert B[0, 2] == pytest.approx(Bz, rel=1e-13)
+
+
+def test_field_at_refuses_what_the_executable_refuses(tmp_path, run_exe):
+    f = tmp_path / "pts.csv"
+    f.write_text("x_mm,y_mm,z_mm\n0,0,5\n0.5,0.5,2\n")
+    r = run_exe("field_at", "--points", f)
+    assert r.returncode == 2
+    with pytest.raises(ValueError) as e:
+        magenc.field_at([[0, 0, 5], [0.5, 0.5, 2]])
+    assert str(e.value) in r.stderr  # the same one-line message
+    assert "point 2" in str(e.value) and "surface" in str(e.value)
+    with pytest.raises(ValueError, match="not finite"):
+        magenc.field_at([[0, 0, math.nan]])
+    with pytest.raises(ValueError, match=r"allowed \(N, 3\)"):
+        magenc.field_at(np.zeros((4, 2)))
+    with pytest.raises(ValueError, match="fem:DIR is not available"):
+        magenc.field_at([[0, 0, 5]], field="fem:output/field")
+
+
+# ---- configuration ----
+
+def test_unknown_key_and_bad_value_raise_the_executables_message(run_exe, tmp_path):
+    f = tmp_path / "pts.csv"
+    f.write_text("x_mm,y_mm,z_mm\n0,0,5\n")
+    r = run_exe("field_at", "--points", f, "--set", "magnet.colour=1")
+    assert r.returncode == 2
+    with pytest.raises(ValueError) as e:
+        magenc.field_at([[0, 0, 5]], config={"magnet.colour": 1})
+    assert str(e.value) in r.stderr
+    r = run_exe("field_at", "--points", f, "--set", "magnet.radius_mm=-1")
+    with pytest.raises(ValueError) as e:
+        magenc.field_at([[0, 0, 5]], magnet_radius_mm=-1)
+    assert str(e.value) in r.stderr
+    with pytest.raises(ValueError, match="unknown configuration keyword 'radius'"):
+        magenc.field_at([[0, 0, 5]], radius=1)
+    with pytest.raises(ValueError, match="must be a dict"):
+        magenc.angle_error(config=[("mount.sx_mm", 1)])
+
+
+def test_config_keys_lists_every_key_with_its_range():
+    keys = {k["key"]: k for k in magenc.config_keys()}
+    assert keys["mount.sx_mm"]["unit"] == "mm"
+    assert "magnet.magnetization_elevation_deg" in keys
+    assert keys["sensor.array"]["default"] == "two"
+
+
+# ---- angle error and spectrum ----
+
+CASES = [
+    ("two", {"mount.dx_mm": 0.1, "mount.sx_mm": 0.05}),
+    ("diff4", {"mount.sy_mm": 0.08, "mount.dz_mm": 0.2, "mount.tilt_x_deg": 1.0,
+               "magnet.magnetization_elevation_deg": 3.0}),
+    ("ring:6", {"mount.dy_mm": 0.05, "sensor.r0_mm": 2.0, "sensor.steps": 720, "sensor.gain_mismatch": 0.01}),
+]
+
+
+@pytest.mark.parametrize("array,keys", CASES)
+def test_angle_error_spectrum_equals_error_spectrum(array, keys, run_exe):
+    sets = [a for k, v in keys.items() for a in ("--set", f"{k}={v!r}")]
+    r = run_exe("error_spectrum", "--field", "analytic", "--array", array, *sets)
+    assert r.returncode == 0, r.stderr
+    row = read_csv(r.stdout)[0]
+    theta, eps = magenc.angle_error(array=array, config=keys)
+    steps = keys.get("sensor.steps", 3600)
+    assert theta.shape == (steps,) and eps.shape == (steps,)
+    np.testing.assert_allclose(theta, 360.0 * np.arange(steps) / steps, rtol=0, atol=1e-12)
+    s = magenc.spectrum(eps)
+    assert list(s) == [f"a{n}_deg" for n in range(9)] + [f"b{n}_deg" for n in range(1, 9)] + \
+        [f"c{n}_deg" for n in range(1, 9)] + ["pp_deg"]
+    for name, value in s.items():
+        # the table prints 10 significant digits
+        assert value == pytest.approx(float(row[name]), rel=1e-9, abs=1e-15), name
+    assert s["c1_deg"] > 0
+
+
+def test_spectrum_of_a_known_series():
+    m = 720
+    theta = np.arange(m) * 2 * np.pi / m
+    eps = 0.1 + 0.3 * np.cos(theta) - 0.2 * np.sin(2 * theta) + 0.05 * np.cos(8 * theta)
+    s = magenc.spectrum(eps)
+    assert s["a0_deg"] == pytest.approx(0.1, abs=1e-15)
+    assert s["a1_deg"] == pytest.approx(0.3, abs=1e-15)
+    assert s["b2_deg"] == pytest.approx(-0.2, abs=1e-15)
+    assert s["c8_deg"] == pytest.approx(0.05, abs=1e-15)
+    assert s["pp_deg"] == pytest.approx(eps.max() - eps.min(), abs=1e-15)
+    with pytest.raises(ValueError, match="M >= 17"):
+        magenc.spectrum(np.zeros(10))
+    with pytest.raises(ValueError, match="not finite"):
+        magenc.spectrum(np.r_[np.zeros(20), np.inf])
+
+
+# ---- diagnose ----
+
+def test_diagnose_equals_the_executable_and_recovers_the_truth(tmp_path, run_exe):
+    truth = {"mount.sx_mm": 0.04, "mount.dx_mm": 0.06}
+    theta, eps = magenc.angle_error(config=dict(truth, **{"sensor.steps": 360}))
+    curve = tmp_path / "curve.csv"
+    curve.write_text("theta_deg,error_deg\n" + "".join(f"{t:.17g},{e:.17g}\n" for t, e in zip(theta, eps)))
+    fit = magenc.diagnose(curve, free=["sx", "dx"], starts=2)
+    r = run_exe("diagnose", "--measured", curve, "--field", "analytic", "--array", "two", "--r0", "2.4",
+                "--free", "sx,dx", "--starts", "2", "--out", tmp_path / "out")
+    assert r.returncode == 0, r.stderr
+    exe = json.loads((tmp_path / "out" / "fit.json").read_text())
+    assert set(fit["parameters"]) == set(exe["parameters"])
+    for name, p in exe["parameters"].items():
+        assert fit["parameters"][name]["free"] == p["free"]
+        assert fit["parameters"][name]["value"] == pytest.approx(p["value"], rel=1e-9, abs=1e-12), name
+    assert fit["residual_rms_deg"] == pytest.approx(exe["residual_rms_deg"], rel=1e-6, abs=1e-12)
+    assert fit["parameters"]["sx_mm"]["value"] == pytest.approx(0.04, abs=1e-6)
+    assert fit["parameters"]["dx_mm"]["value"] == pytest.approx(0.06, abs=1e-6)
+    with pytest.raises(ValueError, match="nosuch"):
+        magenc.diagnose(curve, free="nosuch")
+    with pytest.raises(ValueError):
+        magenc.diagnose(tmp_path / "missing.csv")
+
+
+# ---- inspect ----
+
+def rot(axis, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return {"x": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
+            "y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
+            "z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])}[axis]
+
+
+def test_inspect_equals_the_executable_and_recovers_the_truth(tmp_path, run_exe):
+    # truth: offset (0.05, -0.03, 0.08) mm, rotations (1, -0.5, 2) deg, Br 1.17 T, direction (3, 2) deg
+    g = np.arange(-3.0, 3.5, 1.0)
+    p = np.array([[x, y, z] for z in (4.55, 5.55) for x in g for y in g])
+    B = magenc.field_at(p + [0.05, -0.03, 0.08], magnet_br_T=1.17, magnet_magnetization_deg=3.0,
+                        magnet_magnetization_elevation_deg=2.0)
+    R = rot("z", 2.0) @ rot("y", -0.5) @ rot("x", 1.0)
+    readings = B @ R  # rows: R^T b
+    readings += np.random.default_rng(3).normal(0.0, 0.05e-3, readings.shape)
+    scan = tmp_path / "scan.csv"
+    np.savetxt(scan, np.column_stack([p, 1e3 * readings]), delimiter=",", fmt="%.12g",
+               header="x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT", comments="")
+    fit = magenc.inspect(scan, free="offset,rotation,polarization,direction")
+    r = run_exe("inspect", "--scan", scan, "--free", "offset,rotation,polarization,direction",
+                "--out", tmp_path / "out")
+    assert r.returncode == 0, r.stderr
+    exe = json.loads((tmp_path / "out" / "fit.json").read_text())
+    truth = {"offset_x_mm": 0.05, "offset_y_mm": -0.03, "offset_z_mm": 0.08, "rot_x_deg": 1.0,
+             "rot_y_deg": -0.5, "rot_z_deg": 2.0, "polarization_T": 1.17, "magnetization_deg": 3.0,
+             "magnetization_elevation_deg": 2.0}
+    for name, t in truth.items():
+        e, f = exe["parameters"][name], fit["parameters"][name]
+        assert f["value"] == pytest.approx(e["value"], rel=1e-9, abs=1e-12), name
+        assert f["sigma"] == pytest.approx(e["sigma"], rel=1e-6), name
+        assert abs(f["value"] - t) < 4 * f["sigma"], name
+    assert fit["residual_rms_mT"] == pytest.approx(0.05, rel=0.2)
+    with pytest.raises(ValueError, match="not a parameter group"):
+        magenc.inspect(scan, free=["tilt"])
