@@ -1,90 +1,29 @@
 #include "io/points_csv.hpp"
 
 #include <algorithm>
-#include <array>
-#include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
-#include "core/fp_trap.hpp"
+#include "core/text_table.hpp"
 
 namespace magenc {
 
 namespace {
 
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char ch : line) {
-    if (ch == ',') {
-      out.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += ch;
-    }
-  }
-  out.push_back(trim(cur));
-  return out;
-}
-
-// A CSV of numbers with a header naming columns among `known`: '#' comments and blank lines ignored,
-// CR LF accepted. Returns one vector per known column (empty when the column is absent); `allowed` is
-// the text after "allowed" in errors; `unit` names the units of the numbers.
+// A table of numbers under a header naming columns among `known`, through the one text-table reader
+// (core/text_table.hpp: byte-order mark, CRLF, ';' with decimal commas, '#' comments). Returns one vector
+// per known column (empty when the column is absent).
 std::vector<std::vector<double>> parse_columns(const std::string& text, const std::string& where,
-                                               const std::vector<std::string>& known, const std::string& allowed,
-                                               const std::string& unit) {
-  std::istringstream in(text);
-  std::vector<int> column_of_cell;  // header cell i -> index in known
+                                               const std::vector<std::string>& known) {
+  const NumericTable t = parse_numeric_table(text, where, known);
   std::vector<std::vector<double>> cols(known.size());
-  std::string line;
-  int line_no = 0;
-  bool header = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string t = trim(line);
-    if (t.empty() || t.front() == '#') continue;
-    const auto cells = split_commas(t);
-    const std::string at = where + ":" + std::to_string(line_no);
-    if (!header) {
-      header = true;
-      std::vector<bool> seen(known.size(), false);
-      for (const auto& name : cells) {
-        int c = -1;
-        for (std::size_t k = 0; k < known.size(); ++k)
-          if (name == known[k]) c = static_cast<int>(k);
-        if (c < 0) throw InputError(at + ": unknown column '" + name + "': allowed columns " + allowed);
-        if (seen[c]) throw InputError(at + ": column '" + name + "' appears twice: allowed columns " + allowed);
-        seen[c] = true;
-        column_of_cell.push_back(c);
-      }
-      continue;
-    }
-    if (cells.size() != column_of_cell.size())
-      throw InputError(at + ": " + std::to_string(cells.size()) + " cells, header has " +
-                       std::to_string(column_of_cell.size()) + ": allowed exactly one number per column");
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const std::string& cell = cells[i];
-      char* end = nullptr;
-      double v = NAN;
-      if (!cell.empty()) {
-        const FpTrapPause parsing_input;  // strtod raises FE_OVERFLOW for 1e999 (refused below)
-        v = std::strtod(cell.c_str(), &end);
-      }
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
-        throw InputError(at + ": column " + known[column_of_cell[i]] + " = '" + cell +
-                         "' is not a finite number: allowed finite numbers (" + unit + ")");
-      cols[column_of_cell[i]].push_back(v);
-    }
+  for (std::size_t k = 0; k < known.size(); ++k) {
+    const int c = t.column(known[k]);
+    if (c < 0) continue;
+    cols[k].reserve(t.rows());
+    for (std::size_t r = 0; r < t.rows(); ++r) cols[k].push_back(t.at(r, static_cast<std::size_t>(c)));
   }
-  if (!header) throw InputError(where + ": no header row: allowed a header naming the columns " + allowed);
-  std::size_t rows = 0;
-  for (const auto& c : cols) rows = std::max(rows, c.size());
-  if (rows == 0) throw InputError(where + ": no rows: allowed one or more rows after the header");
   return cols;
 }
 
@@ -98,7 +37,7 @@ void require_column(const std::vector<std::vector<double>>& cols, std::size_t k,
 Eigen::Matrix3Xd parse_points_csv(const std::string& text, const std::string& where) {
   const std::vector<std::string> known{"x_mm", "y_mm", "z_mm"};
   const std::string allowed = "x_mm, y_mm, z_mm (mm, magnet frame)";
-  const auto cols = parse_columns(text, where, known, allowed, "mm");
+  const auto cols = parse_columns(text, where, known);
   for (std::size_t k = 0; k < 3; ++k) require_column(cols, k, known[k], where, allowed);
   Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(cols[0].size()));
   for (int k = 0; k < 3; ++k)
@@ -109,7 +48,7 @@ Eigen::Matrix3Xd parse_points_csv(const std::string& text, const std::string& wh
 ScanTable parse_scan_csv(const std::string& text, const std::string& where) {
   const std::vector<std::string> known{"x_mm", "y_mm", "z_mm", "Bx_mT", "By_mT", "Bz_mT", "Bx_T", "By_T", "Bz_T"};
   const std::string allowed = "x_mm, y_mm, z_mm and Bx_mT, By_mT, Bz_mT or Bx_T, By_T, Bz_T";
-  const auto cols = parse_columns(text, where, known, allowed, "mm, mT or T");
+  const auto cols = parse_columns(text, where, known);
   for (std::size_t k = 0; k < 3; ++k) require_column(cols, k, known[k], where, allowed);
   const bool mT = !cols[3].empty() || !cols[4].empty() || !cols[5].empty();
   const bool T = !cols[6].empty() || !cols[7].empty() || !cols[8].empty();
@@ -129,24 +68,15 @@ ScanTable parse_scan_csv(const std::string& text, const std::string& where) {
   return s;
 }
 
-namespace {
-std::string slurp_file(const std::filesystem::path& path, const std::string& where) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(where + ": cannot open file: allowed a readable CSV file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-}  // namespace
 
 ScanTable read_scan_csv(const std::filesystem::path& path) {
   const std::string where = "--scan " + path.string();
-  return parse_scan_csv(slurp_file(path, where), where);
+  return parse_scan_csv(read_text_file(path, where), where);
 }
 
 Eigen::Matrix3Xd read_points_csv(const std::filesystem::path& path) {
   const std::string where = "--points " + path.string();
-  return parse_points_csv(slurp_file(path, where), where);
+  return parse_points_csv(read_text_file(path, where), where);
 }
 
 std::string points_field_csv(const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& B) {

@@ -160,19 +160,19 @@ TEST_CASE("field_at CLI: bad input is one line, exit 2 and no output", "[apps][c
   const std::vector<Case> cases = {
       {"missing column", "x_mm,y_mm\n1,2\n", "", "missing column 'z_mm'"},
       {"unknown column", "x_mm,y_mm,z_mm,w\n1,2,3,4\n", "", "unknown column 'w'"},
-      {"non-finite value", "x_mm,y_mm,z_mm\n1,2,3\n1,nan,3\n", "", "pts.csv:3: column y_mm = 'nan' is not a finite"},
-      {"infinite value", "x_mm,y_mm,z_mm\n1,2,1e999\n", "", "column z_mm = '1e999' is not a finite"},
+      {"non-finite value", "x_mm,y_mm,z_mm\n1,2,3\n1,nan,3\n", "", "pts.csv line 3: column y_mm = 'nan' is not finite"},
+      {"infinite value", "x_mm,y_mm,z_mm\n1,2,1e999\n", "", "column z_mm = '1e999' is not finite"},
       {"text value", "x_mm,y_mm,z_mm\n1,2,abc\n", "", "column z_mm = 'abc'"},
-      {"short row", "x_mm,y_mm,z_mm\n1,2\n", "", "2 cells, header has 3"},
-      {"no rows", "x_mm,y_mm,z_mm\n", "", "no rows"},
-      {"empty file", "", "", "no header row"},
+      {"short row", "x_mm,y_mm,z_mm\n1,2\n", "", "2 cells, the header has 3"},
+      {"no rows", "x_mm,y_mm,z_mm\n", "", "has a header but no data rows"},
+      {"empty file", "", "", "is empty: expected a header row"},
       {"point on the top face", "x_mm,y_mm,z_mm\n0,0,5\n0.5,0.5,2\n", "", "point 2 (x_mm = 0.5, y_mm = 0.5, z_mm = 2) lies on the magnet's surface"},
       {"point on the curved face", "x_mm,y_mm,z_mm\n2,0,1\n", "", "point 1 (x_mm = 2, y_mm = 0, z_mm = 1) lies on"},
       {"unknown key", "x_mm,y_mm,z_mm\n0,0,5\n", "--set magnet.colour=red", "magnet.colour"},
       {"bad magnet", "x_mm,y_mm,z_mm\n0,0,5\n", "--set magnet.radius_mm=-1", "magnet.radius_mm"},
       {"plane-only source", "x_mm,y_mm,z_mm\n0,0,5\n", "--field linear", "gives Bz on the sensing plane only"},
       {"unknown source", "x_mm,y_mm,z_mm\n0,0,5\n", "--field magic", "magic"},
-      {"missing file", nullptr, "", "cannot open"},
+      {"missing file", nullptr, "", "does not exist"},
   };
   for (const auto& c : cases) {
     Scratch s;

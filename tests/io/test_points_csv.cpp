@@ -41,12 +41,12 @@ TEST_CASE("points CSV: the answer table reads back to the same doubles", "[io][c
 
 TEST_CASE("points CSV: bad files are refused with one line naming the line and column", "[io][bad-input]") {
   using Catch::Contains;
-  CHECK_THROWS_WITH(magenc::parse_points_csv("x_mm,y_mm,x_mm\n", "f"), Contains("f:1: column 'x_mm' appears twice"));
+  CHECK_THROWS_WITH(magenc::parse_points_csv("x_mm,y_mm,x_mm\n", "f"), Contains("f line 1: column 'x_mm' appears twice"));
   CHECK_THROWS_WITH(magenc::parse_points_csv("x_mm,y_mm,z_mm\n1,,3\n", "f"),
-                    Contains("f:2: column y_mm = '' is not a finite number"));
-  CHECK_THROWS_WITH(magenc::parse_points_csv("x_mm,y_mm,z_mm\n1,2,3,4\n", "f"), Contains("4 cells, header has 3"));
+                    Contains("f line 2: column y_mm is empty"));
+  CHECK_THROWS_WITH(magenc::parse_points_csv("x_mm,y_mm,z_mm\n1,2,3,4\n", "f"), Contains("4 cells, the header has 3"));
   CHECK_THROWS_AS(magenc::parse_points_csv("x_m,y_m,z_m\n1,2,3\n", "f"), magenc::InputError);
-  CHECK_THROWS_WITH(magenc::read_points_csv("/nonexistent/p.csv"), Contains("--points /nonexistent/p.csv: cannot open"));
+  CHECK_THROWS_WITH(magenc::read_points_csv("/nonexistent/p.csv"), Contains("--points /nonexistent/p.csv does not exist"));
 }
 
 TEST_CASE("scan CSV: mT or T columns in any order, converted to T", "[io][contract]") {
@@ -70,8 +70,20 @@ TEST_CASE("scan CSV: bad files are refused with one line", "[io][bad-input]") {
                     Contains("missing column 'Bz_mT'"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm\n0,0,4\n", "s"), Contains("missing column 'Bx_mT'"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n0,0,4,1,inf,3\n", "s"),
-                    Contains("s:2: column By_mT = 'inf' is not a finite number"));
+                    Contains("s line 2: column By_mT = 'inf' is not finite"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv("x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT,T_C\n", "s"),
                     Contains("unknown column 'T_C'"));
-  CHECK_THROWS_WITH(magenc::read_scan_csv("/nonexistent/s.csv"), Contains("--scan /nonexistent/s.csv: cannot open"));
+  CHECK_THROWS_WITH(magenc::read_scan_csv("/nonexistent/s.csv"), Contains("--scan /nonexistent/s.csv does not exist"));
+}
+
+TEST_CASE("points and scan CSV: files as spreadsheet programs save them (byte-order mark, ';', decimal comma)",
+          "[io][contract]") {
+  const auto p = magenc::parse_points_csv("\xEF\xBB\xBFx_mm;y_mm;z_mm\r\n0,5;-1,25;4,55\r\n", "pts.csv");
+  REQUIRE(p.cols() == 1);
+  CHECK(p(0, 0) == 0.5);
+  CHECK(p(1, 0) == -1.25);
+  CHECK(p(2, 0) == 4.55);
+  const auto s = magenc::parse_scan_csv("x_mm;y_mm;z_mm;Bx_mT;By_mT;Bz_mT\n0;0;4,55;-20,5;0;7\n", "s");
+  CHECK(s.B_T(0, 0) == -20.5e-3);
+  CHECK(s.p_mm(2, 0) == 4.55);
 }
