@@ -31,17 +31,19 @@ std::string mechanism(const std::string& c) {
   if (c == "dx" || c == "dy")
     return "The magnet's centre orbits the axis. Bz probes on r0 see the magnet come and go once per turn (c1; "
            "differential arrays cancel most of it and keep the field's higher angular harmonics). The in-plane spot "
-           "stays at the fixed magnet-frame point -d, where the field turns rigidly with the rotor: a constant, no pp.";
+           "is a point of the rotor frame (on the axis), where any field fixed to the rotor turns rigidly with it: "
+           "a constant, no pp.";
   if (c == "dz")
     return "A common change of the field's scale cancels in atan2 for every principle; what is left is the residual "
-           "dx's error at the new gap.";
+           "dx's error at the new gap (none for the in-plane spot, as for dx alone).";
   if (c == "tilt_x" || c == "tilt_y")
     return "A tilted Hall plate reads n.B and picks up the in-plane field (b sin a), which differential arrays "
            "largely cancel. A tilted in-plane die sees the turning field through cos a on one axis: a gain error "
            "cos a - 1, c2 = tan^2(a/2) rad.";
   if (c == "magnet_tilt")
-    return "The tilted magnet wobbles: its field at the sensor tilts once per turn, a 1st harmonic for every "
-           "principle.";
+    return "The tilted magnet wobbles under Bz probes on r0: once per turn (c1, c3 for `two`; the differential "
+           "arrays cancel most of it). For the in-plane spot on the axis the tilted magnet is, like an eccentric one, "
+           "fixed to the rotor: its field there turns rigidly with it, a constant only.";
   return "";
 }
 
@@ -173,7 +175,8 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
       }
       xt += (i ? ", \"" : "\"") + plot_literal(s.label) + "\" " + std::to_string(i);
     }
-    p.commands = {xt + ")", "set xrange [-0.6:" + std::to_string(S - 0.4) + "]", "set yrange [0:*]", "set grid ytics",
+    p.commands = {xt + ")", "set xrange [-0.6:" + std::to_string(S - 0.4) + "]", "set yrange [0:*]",
+                  "set offsets 0, 0, 10, 0", "set grid ytics",
                   "set key bottom right"};
     p.series = {lo, hi, wlo, whi};
     ps.panels.push_back(p);
@@ -255,9 +258,21 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
     md << "- **" << case_words(r.cases[c].first) << "** (" << case_value(r.cases[c].first, r.cases[c].second)
        << "): least error `" << best.label << "` (pp " << fmt_deg(pb) << " deg), most `" << worst.label << "` (pp "
        << fmt_deg(pw) << " deg";
-    if (pb > kRoundingZeroDeg) md << ", " << fmt_auto(pw / pb, 3) << " times more";
+    if (pb > kRoundingZeroDeg) md << ", " << (pw / pb < 10 ? fmt(pw / pb, 2) : fmt(pw / pb, 0)) << " times more";
     md << "). " << mechanism(r.cases[c].first) << "\n";
   }
+  md << "\nPer sensor, the errors it shrugs off (pp < 0.01 deg at the values above) and those it does not:\n\n";
+  for (const auto& sen : r.sensors) {
+    std::string ok, bad;
+    for (std::size_t c = 0; c < C; ++c) {
+      const double pp = sen.cases[c].spectrum.pp_deg;
+      std::string& to = pp < 0.01 ? ok : bad;
+      to += (to.empty() ? "" : ", ") + r.cases[c].first + (pp < 0.01 ? "" : " (" + fmt_deg(pp) + ")");
+    }
+    md << "- `" << sen.label << "`: tolerates " << (ok.empty() ? std::string("none") : ok) << "; sensitive to "
+       << (bad.empty() ? std::string("none") : bad) << ".\n";
+  }
+  md << "\n";
   md << "- `inplane`, `xmr` and `amr` read the same field angle at the same spot: for mounting errors alone their "
         "spectra agree (AMR's doubled angle is halved again while |eps| < 90 deg). They differ in the signal chain "
         "(offsets in mT against relative offsets; on `amr` a relative offset o makes c2 = o/2 rad and a gain error g "
@@ -285,7 +300,7 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
     for (std::size_t i = 0; i < S; ++i)
       if (i != best && r.sensors[best].mc.p99 > 0 && std::isfinite(r.sensors[i].mc.p99))
         md << "; `" << r.sensors[i].label << "` " << fmt_deg(r.sensors[i].mc.p99) << " deg ("
-           << fmt_auto(r.sensors[i].mc.p99 / r.sensors[best].mc.p99, 3) << "x)";
+           << fmt(r.sensors[i].mc.p99 / r.sensors[best].mc.p99, 2) << "x)";
     md << ". ";
     long out_total = 0;
     for (const auto& s : r.sensors) out_total += s.mc_out_of_window;
