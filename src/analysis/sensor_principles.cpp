@@ -152,7 +152,7 @@ SensorPrinciplesResult run_sensor_principles(const FieldSource& field, const Pro
       SpectrumRow row;
       row.field = field.name();
       row.array = s.setup.array.name;
-      row.r0_mm = s.setup.r0_mm;
+      row.r0_mm = s.setup.array.is_point() ? 0.0 : s.setup.r0_mm;  // the point array has no radius
       row.mount = mount;
       row.spectrum = r.cases.back().spectrum;
       auto g10 = [](double v) { return fmt_sig(v, 10); };

@@ -391,7 +391,6 @@ Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const
 }
 
 ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
-  check_principle_keys(cfg);
   ProbeSetup s;
   s.principle = parse_principle(cfg.str("sensor.principle"));
   std::string spec = array_spec;
@@ -406,6 +405,7 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   } else if (!reads_in_plane(s.principle) && spec == "point") {
     throw InputError(what + " = 'point' does not apply to sensor.principle = bz: allowed two, diff4, ring:N");
   }
+  check_principle_keys(cfg);  // after the array (named as given: --array or a study list), then the other keys
   s.array = ProbeArray::parse(spec, what);
   s.r0_mm = cfg.real("sensor.r0_mm");
   s.plane_z_mm = sensing_plane_z_mm(cfg);
