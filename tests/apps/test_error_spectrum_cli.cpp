@@ -177,6 +177,20 @@ TEST_CASE("error_spectrum: sensing principles and field windows", "[apps][contra
   REQUIRE(r.exit_code == 0);
   csv = slurp(s.dir / "b.csv");
   CHECK(csv.substr(csv.size() - 3) == ",0\n");
+  // A chip definition as a config file (interfaces.md keys; inf is TOML's infinity): a window of 30 .. 50 mT
+  // that the spot's 50.84 .. 50.86 mT leaves on the high side; with inf it is inside.
+  s.file("chip.toml", "[sensor]\nprinciple = \"xmr\"\narray = \"point\"\nfield_min_mT = 30.0\nfield_max_mT = 50.0\n"
+                      "offset_cos_rel = 0.002\n");
+  r = s.run("--config chip.toml --sx 0.05 --steps 64");
+  CAPTURE(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find(",xmr,50.8") != std::string::npos);
+  CHECK(r.out.substr(r.out.size() - 3) == ",0\n");
+  s.file("chip2.toml", "[sensor]\nprinciple = \"amr\"\nfield_min_mT = 31.4\nfield_max_mT = inf\n");
+  r = s.run("--config chip2.toml --steps 64");
+  CAPTURE(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.substr(r.out.size() - 3) == ",1\n");
   // bz, default: the columns are there too; in_window 1 without a window.
   r = s.run("--field linear --sx 0.1");
   REQUIRE(r.exit_code == 0);
