@@ -394,6 +394,9 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
     throw InputError("sensor.principle = " + cfg.str("sensor.principle") +
                      ": the radius study scans the probe radius of Hall arrays: allowed bz (compare the principles "
                      "with the sensor_principles study)");
+  if (cfg.has("sensor.plate_mm") && cfg.real("sensor.plate_mm") != 0.0)
+    throw InputError("sensor.plate_mm = " + num(cfg.real("sensor.plate_mm")) +
+                     ": the radius study's surrogate reads Bz at points: allowed 0");
   if (cfg.has("sensor.field_min_mT")) {
     o.window.min_mT = cfg.real("sensor.field_min_mT");
     o.window.max_mT = cfg.real("sensor.field_max_mT");

@@ -126,7 +126,9 @@ TEST_CASE("radius study: bad input exits non-zero with one line and no output", 
   const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
                                    "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
                                    "--set radius.arrays=three", "--set radius.r0_min_mm=0.2",
-                                   "--set sensor.offset_cos_mT=0.5");
+                                   "--set sensor.offset_cos_mT=0.5", "--set sensor.plate_mm=0.2",
+                                   "--set sensor.principle=inplane",
+                                   "--set sensor.field_min_mT=70 --set sensor.field_max_mT=40");
   CAPTURE(bad);
   fs::remove_all(out);
   const Run r = run_radius(tiny() + " " + bad, out);
