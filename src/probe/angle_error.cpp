@@ -196,12 +196,13 @@ AreaSamples area_samples(const ProbeSetup& setup, const Mount& mount, const Eige
   }
   const Eigen::Vector3d x_fixed = kin.Rs.col(0), y_fixed = kin.Rs.col(1);
   for (Eigen::Index m = 0; m < M; ++m) {
+    const double c = std::cos(theta_rad[m]), s = std::sin(theta_rad[m]);  // once per theta
     for (Eigen::Index j = 0; j < K * Q; ++j)
-      a.p_mm.col(m * K * Q + j) = kin.point_to_magnet(fixed[static_cast<std::size_t>(j)], theta_rad[m]);
-    if (normals) a.n.col(m) = kin.direction_to_magnet(kin.n_fixed, theta_rad[m]);
+      a.p_mm.col(m * K * Q + j) = kin.point_to_magnet(fixed[static_cast<std::size_t>(j)], c, s);
+    if (normals) a.n.col(m) = kin.direction_to_magnet(kin.n_fixed, c, s);
     if (axes) {
-      a.ex.col(m) = kin.direction_to_magnet(x_fixed, theta_rad[m]);
-      a.ey.col(m) = kin.direction_to_magnet(y_fixed, theta_rad[m]);
+      a.ex.col(m) = kin.direction_to_magnet(x_fixed, c, s);
+      a.ey.col(m) = kin.direction_to_magnet(y_fixed, c, s);
     }
   }
   return a;
