@@ -2,14 +2,15 @@
 // case (flags) or many (--cases FILE.csv), docs/interfaces.md.
 //
 //   error_spectrum --field linear|analytic|grid:FILE.vti|table:FILE|fem:DIR
-//                  --array two|diff4|ring:N  --r0 MM
+//                  --array two|diff4|ring:N|point  --r0 MM  [--principle bz|inplane|xmr|amr]
 //                  [--sx MM] [--sy MM] [--dx MM] [--dy MM] [--dz MM]
 //                  [--cases FILE.csv] [--steps M] [--interp nearest|linear|cubic]
 //                  [--config F.toml] [--set key=value]... [--out FILE.csv]
 //                  [--paths FILE.vtp]
 //
 // Flags are shorthands for config keys (--r0 -> sensor.r0_mm, --array ->
-// sensor.array, --steps -> sensor.steps, --sx.. --dz -> mount.*) applied after
+// sensor.array, --principle -> sensor.principle, --steps -> sensor.steps,
+// --sx.. --dz -> mount.*) applied after
 // --config and --set, so the config's range checks apply to them. With
 // --cases, each row is a complete mount (missing columns = 0) and the mount
 // flags/keys are not used; combining --cases with --sx..--dz is an error.
@@ -19,6 +20,12 @@
 // magnet.magnetization_elevation_deg, sensor.offset_cos_mT, ...) or, for the
 // tilts, as --cases columns; when any case is tilted the table gains the
 // columns tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnet_tilt_azimuth_deg.
+// Every table then ends with the field-window columns principle,
+// field_min_mT,field_max_mT,in_window (docs/physics.md "Sensor principles": the
+// extremes of the magnitude the principle uses; in_window 1 or 0 against
+// sensor.field_min_mT/field_max_mT, always 1 when no window is set).
+// The in-plane principles (inplane, xmr, amr) use the array point (the
+// default array two stands for it; an explicit --array two is refused).
 // Writes the spectra table to --out atomically, or to stdout. --paths (one
 // case only) also writes the probe paths of that case as .vtp polylines with
 // Bz and theta_deg (src/io/probe_paths_vtk.hpp; ParaView's probe_paths.pvsm).
@@ -46,7 +53,7 @@ using magenc::InputError;
 // Command-line flags (all text, parsed by the config or the probe-array parser).
 struct Flags {
   std::string field = "analytic";          // --field
-  std::optional<std::string> array, r0, steps, sx, sy, dx, dy, dz;  // config shorthands
+  std::optional<std::string> array, principle, r0, steps, sx, sy, dx, dy, dz;  // config shorthands
   std::string cases;                        // --cases FILE.csv (empty: one case)
   std::string interp = "cubic";            // --interp (grid: fields only)
   std::string paths;                        // --paths FILE.vtp (one case only; empty: none)
@@ -69,6 +76,7 @@ void apply_flag(Config& cfg, const std::string& flag, const std::string& key,
 
 void apply_flags(Config& cfg, const Flags& f) {
   apply_flag(cfg, "--array", "sensor.array", f.array);
+  apply_flag(cfg, "--principle", "sensor.principle", f.principle);
   apply_flag(cfg, "--r0", "sensor.r0_mm", f.r0);
   apply_flag(cfg, "--steps", "sensor.steps", f.steps);
   apply_flag(cfg, "--sx", "mount.sx_mm", f.sx);
@@ -86,7 +94,8 @@ int run(int argc, char** argv) {
   const auto schema = magenc::common_keys();
   magenc::add_common_options(app, common, schema);
   app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, table:FILE, fem:DIR (default analytic)");
-  app.add_option("--array", f.array, "probe array: two, diff4, ring:N (sensor.array)");
+  app.add_option("--array", f.array, "probe array: two, diff4, ring:N (principle bz); point (inplane, xmr, amr) (sensor.array)");
+  app.add_option("--principle", f.principle, "sensing principle: bz, inplane, xmr, amr (sensor.principle)");
   app.add_option("--r0", f.r0, "probe radius r0 in mm (sensor.r0_mm)");
   app.add_option("--sx", f.sx, "static eccentricity x in mm (mount.sx_mm)");
   app.add_option("--sy", f.sy, "static eccentricity y in mm (mount.sy_mm)");
@@ -112,13 +121,11 @@ int run(int argc, char** argv) {
     throw InputError("--paths writes one mounting case: it cannot be combined with --cases");
 
   // 3. Setup, mounting cases and field.
-  magenc::ProbeSetup setup;
-  setup.array = magenc::ProbeArray::parse(cfg.str("sensor.array"), f.array ? "--array" : "sensor.array");
-  setup.r0_mm = cfg.real("sensor.r0_mm");
-  setup.steps = static_cast<int>(cfg.integer("sensor.steps"));
-  setup.plane_z_mm = magenc::sensing_plane_z_mm(cfg);
-  setup.chain = magenc::SignalChain::from_config(cfg);
-  setup.magnet_height_mm = cfg.real("magnet.height_mm");
+  const magenc::ProbeSetup setup =
+      magenc::sensor_setup_from_config(cfg, cfg.str("sensor.array"), f.array ? "--array" : "sensor.array");
+  if (!f.paths.empty() && magenc::reads_in_plane(setup.principle))
+    throw InputError("--paths writes the Bz probe paths of a Hall array: allowed with sensor.principle = bz, not " +
+                     magenc::principle_name(setup.principle));
   const std::vector<magenc::Mount> cases =
       f.cases.empty() ? std::vector<magenc::Mount>{magenc::Mount::from_config(cfg)}
                       : magenc::read_cases_csv(f.cases);
@@ -135,7 +142,7 @@ int run(int argc, char** argv) {
     magenc::SpectrumRow row;
     row.field = field->name();
     row.array = setup.array.name;
-    row.r0_mm = setup.r0_mm;
+    row.r0_mm = setup.array.is_point() ? 0.0 : setup.r0_mm;  // the point array has no radius
     row.mount = mount;
     if (any_tilt) {  // the tilts of each case, as extra columns after the standard ones
       auto g10 = [](double v) { return magenc::fmt_sig(v, 10); };
@@ -146,6 +153,11 @@ int run(int argc, char** argv) {
     }
     magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
     row.spectrum = res.spectrum;
+    auto g10 = [](double v) { return magenc::fmt_sig(v, 10); };
+    row.extra.push_back({"principle", magenc::principle_name(setup.principle)});
+    row.extra.push_back({"field_min_mT", g10(res.field_min_mT)});
+    row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});
+    row.extra.push_back({"in_window", res.in_window ? "1" : "0"});
     if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));
   }

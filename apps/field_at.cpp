@@ -1,4 +1,4 @@
-// field_at: the flux density B at a list of points from any field source (interfaces.md "field_at"),
+// field_at: the flux density B at a list of points from any field source (docs/interfaces.md "field_at"),
 // like a field library's getB.
 //
 //   field_at --field analytic|fem:DIR|grid:FILE.vti|table:FILE --points FILE.csv
@@ -26,7 +26,7 @@ namespace {
 
 int run(int argc, char** argv) {
   // 1. Options.
-  CLI::App app{"B at points from any field source, in the magnet frame (interfaces.md, field_at)"};
+  CLI::App app{"B at points from any field source, in the magnet frame (docs/interfaces.md, field_at)"};
   magenc::CommonOptions common;
   std::string field = "analytic", points, interp = "cubic";
   const auto schema = magenc::common_keys();

@@ -1,4 +1,4 @@
-// inspect: a magnet's polarization and a sensor's pose from a measured 3-axis field scan (interfaces.md
+// inspect: a magnet's polarization and a sensor's pose from a measured 3-axis field scan (docs/interfaces.md
 // "inspect"): fits offset, rotation, polarization magnitude and/or direction (analysis/inspect_fit.hpp) with
 // 1-sigma uncertainties and what the scan cannot separate; writes DIR/fit.json, fit.csv, summary.md,
 // components.png, config.toml, all or nothing (AtomicDir).
@@ -23,7 +23,7 @@
 namespace {
 
 int run(int argc, char** argv) {
-  CLI::App app{"inspect: magnet polarization and sensor pose from a 3-axis field scan (interfaces.md)"};
+  CLI::App app{"inspect: magnet polarization and sensor pose from a 3-axis field scan (docs/interfaces.md)"};
   magenc::CommonOptions common;
   std::string scan_file, free = "offset,rotation,polarization";
   double cond_limit = 1e6;

@@ -1,4 +1,4 @@
-// The Python module `magenc` (interfaces.md "Python module"): numpy in, numpy out, the names and units of
+// The Python module `magenc` (docs/interfaces.md "Python module"): numpy in, numpy out, the names and units of
 // the executables. Wiring only, like apps/: configuration -> library -> numbers.
 //   field_at(points_mm, field, config, interp, **keys)      B (T) at (N, 3) points in the magnet frame
 //   angle_error(field, array, config, interp, **keys)       (theta_deg, eps_deg) of the configured mount
@@ -330,7 +330,7 @@ PYBIND11_MODULE(magenc, m) {
         "field: as for field_at (also 'linear'). array: 'two' | 'diff4' | 'ring:N' (None: sensor.array,\n"
         "default 'two'). config / **keys: every key of error_spectrum (mount.*, sensor.*, magnet.*, ...).\n"
         "Returns (theta_deg, eps_deg): two (M,) float64 arrays, M = sensor.steps, theta_m = 360 m / M deg,\n"
-        "eps = wrap(phi - theta) in deg (physics.md).");
+        "eps = wrap(phi - theta) in deg (docs/physics.md).");
   m.def("spectrum", &py_spectrum, py::arg("eps_deg"),
         "Fourier coefficients of an angle-error curve, the spectra table's columns.\n\n"
         "eps_deg: (M,) array of errors in deg at theta_m = 360 m / M (uniform, one turn), M >= 17.\n"

@@ -43,7 +43,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // 3. Tables, plots, summary.
-  out.write_text("radius.csv", radius_csv(result));
+  out.write_text("radius.csv", radius_csv(result, opt.window.active()));
   out.write_text("radius_spectra.csv", spectra_csv(result.spectra));
   out.write_text("radius_recommendation.csv", recommendation_csv(result));
   out.write_text("radius_validation.csv", validation_csv(result));

@@ -67,10 +67,25 @@ std::vector<FitParameter> make_table() {
                    [](ModelState& s, double v) { set_magnet_tilt(s.mount, magnet_tilt_component(s.mount, true), v); },
                    [](const ModelState& s) { return magnet_tilt_component(s.mount, false); },
                    "magnet tilt component leaning towards +y (g sin psi)"},
-      MAGENC_CHAIN_PARAM("offset_cos", offset_cos_mT, "mT", -5.0, 5.0, 0.5, "offset of the cos channel"),
-      MAGENC_CHAIN_PARAM("offset_sin", offset_sin_mT, "mT", -5.0, 5.0, 0.5, "offset of the sin channel"),
+      // Channel offsets: in mT on bz/inplane, relative on xmr/amr (probe/signal_chain.hpp). Each pair acts only
+      // on the principles it applies to (elsewhere its setter does nothing, so it moves no curve and is left
+      // out of the default free set, or reported not identifiable when asked for).
+      FitParameter{"offset_cos", "sensor.offset_cos_mT", "offset_cos_mT", "mT", -5.0, 5.0, 0.5,
+                   [](ModelState& s, double v) { if (!relative_offsets(s.setup.principle)) s.setup.chain.offset_cos_mT = v; },
+                   [](const ModelState& s) { return s.setup.chain.offset_cos_mT; }, "offset of the cos channel"},
+      FitParameter{"offset_sin", "sensor.offset_sin_mT", "offset_sin_mT", "mT", -5.0, 5.0, 0.5,
+                   [](ModelState& s, double v) { if (!relative_offsets(s.setup.principle)) s.setup.chain.offset_sin_mT = v; },
+                   [](const ModelState& s) { return s.setup.chain.offset_sin_mT; }, "offset of the sin channel"},
       MAGENC_CHAIN_PARAM("gain", gain_mismatch, "", -0.2, 0.2, 0.01, "gain mismatch of the sin channel"),
       MAGENC_CHAIN_PARAM("phase", phase_error_deg, "deg", -10.0, 10.0, 0.5, "phase error of the sin channel"),
+      FitParameter{"offset_cos_rel", "sensor.offset_cos_rel", "offset_cos_rel", "", -0.5, 0.5, 0.005,
+                   [](ModelState& s, double v) { if (relative_offsets(s.setup.principle)) s.setup.chain.offset_cos_rel = v; },
+                   [](const ModelState& s) { return s.setup.chain.offset_cos_rel; },
+                   "relative offset of the cos channel (xmr, amr)"},
+      FitParameter{"offset_sin_rel", "sensor.offset_sin_rel", "offset_sin_rel", "", -0.5, 0.5, 0.005,
+                   [](ModelState& s, double v) { if (relative_offsets(s.setup.principle)) s.setup.chain.offset_sin_rel = v; },
+                   [](const ModelState& s) { return s.setup.chain.offset_sin_rel; },
+                   "relative offset of the sin channel (xmr, amr)"},
       // Not fitted: magnet.magnetization_elevation_deg. It is a property of the field source (the exact field
       // is built with it, an FE solution has it baked in), and its effect is a common offset on every probe:
       // for `two` the same 1st harmonic as offset_cos = offset_sin, for diff4 and ring:N nothing.

@@ -19,6 +19,10 @@ const std::vector<ErrorSource>& error_sources() {
        "magnetization elevation", "deg", true, "sweep.elevation_max_deg"},
       {"offset_cos_mT", "sensor.offset_cos_mT", "o_c", "offset of the cos channel", "mT", false, "sweep.offset_max_mT"},
       {"offset_sin_mT", "sensor.offset_sin_mT", "o_s", "offset of the sin channel", "mT", false, "sweep.offset_max_mT"},
+      {"offset_cos_rel", "sensor.offset_cos_rel", "o_{c,rel}", "relative offset of the cos channel (xmr, amr)", "", false,
+       "sweep.offset_max_rel"},
+      {"offset_sin_rel", "sensor.offset_sin_rel", "o_{s,rel}", "relative offset of the sin channel (xmr, amr)", "", false,
+       "sweep.offset_max_rel"},
       {"gain_mismatch", "sensor.gain_mismatch", "g", "gain mismatch of the sin channel", "", false, "sweep.gain_max"},
       {"phase_error_deg", "sensor.phase_error_deg", "{/Symbol d}", "phase error of the sin channel", "deg", false, "sweep.phase_max_deg"},
   };
@@ -41,6 +45,8 @@ std::vector<KeySpec> error_source_sweep_keys() {
       real_key("sweep.magnet_tilt_max_deg", 2.0, 0, 10, "deg", "magnet tilt swept over 0..this", true),
       real_key("sweep.elevation_max_deg", 5.0, 0, 45, "deg", "magnetization elevation swept over 0..this", true),
       real_key("sweep.offset_max_mT", 1.0, 0, 100, "mT", "channel offsets o_c, o_s swept over 0..this", true),
+      real_key("sweep.offset_max_rel", 0.02, 0, 1, "",
+               "relative channel offsets of xmr/amr swept over 0..this (fraction of the amplitude)", true),
       real_key("sweep.gain_max", 0.02, 0, 0.5, "", "gain mismatch g swept over 0..this (fraction)", true),
       real_key("sweep.phase_max_deg", 2.0, 0, 20, "deg", "phase error delta swept over 0..this", true),
   };
@@ -89,7 +95,8 @@ SweepResult run_source_sweep(const Config& cfg, const std::string& field_spec, c
     row.r0_mm = s.r0_mm;
     row.mount = m;
     row.spectrum = error_spectrum(f, s, m);
-    row.extra = {{"sweep", src.symbol}, {"swept", src.swept}, {"value", num_text(v)}};
+    row.extra = {{"sweep", src.symbol}, {"swept", src.swept}, {"value", num_text(v)},
+                 {"principle", principle_name(s.principle)}};
     res.rows.push_back(std::move(row));
   }
   return res;
@@ -117,6 +124,15 @@ ErrorSourcesRun run_error_sources(const Config& cfg, const std::vector<ProbeSetu
     const auto values = linspace(0.0, cfg.real(src->range_key), points);
     std::vector<SweepResult> per_array;
     for (const auto& setup : setups) {
+      if (!source_applies(*src, setup.principle)) {  // e.g. an mT offset on xmr: an empty sweep marks it
+        SweepResult none;
+        none.spec.label = src->symbol;
+        none.spec.swept = src->swept;
+        none.field = field->name();
+        none.setup = setup;
+        per_array.push_back(std::move(none));
+        continue;
+      }
       per_array.push_back(run_source_sweep(cfg, run.field_spec, *field, setup, *src, values));
       const auto f = fit_sweep(per_array.back(), study, run.coefs);
       run.fits.insert(run.fits.end(), f.begin(), f.end());
@@ -124,6 +140,16 @@ ErrorSourcesRun run_error_sources(const Config& cfg, const std::vector<ProbeSetu
     run.sweeps.push_back(std::move(per_array));
   }
   return run;
+}
+
+bool source_applies(const ErrorSource& src, SensorPrinciple p) {
+  if (src.key == "sensor.offset_cos_mT" || src.key == "sensor.offset_sin_mT") return !relative_offsets(p);
+  if (src.key == "sensor.offset_cos_rel" || src.key == "sensor.offset_sin_rel") return relative_offsets(p);
+  return true;
+}
+
+std::string sensor_label(const ProbeSetup& s) {
+  return reads_in_plane(s.principle) ? principle_name(s.principle) : s.array.name;
 }
 
 HarmonicSignature harmonic_signature(const SweepResult& sweep, double value) {
@@ -135,7 +161,7 @@ HarmonicSignature harmonic_signature(const SweepResult& sweep, double value) {
   }
   HarmonicSignature h;
   h.swept = sweep.spec.swept;
-  h.array = sweep.setup.array.name;
+  h.array = sensor_label(sweep.setup);
   h.value = sweep.spec.values_mm[k];
   const Spectrum& s = sweep.rows[k].spectrum;
   h.c_deg[0] = std::abs(s.a0_deg);

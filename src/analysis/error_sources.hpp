@@ -57,6 +57,13 @@ std::string source_axis_label(const ErrorSource& src);
 SweepResult run_source_sweep(const Config& cfg, const std::string& field_spec, const FieldSource& field,
                              const ProbeSetup& base_setup, const ErrorSource& src, const std::vector<double>& values);
 
+// Whether a source applies to a principle: the mT channel offsets not to xmr/amr, the relative ones
+// only to them (probe/signal_chain.hpp). A sweep of a source that does not apply is left empty.
+bool source_applies(const ErrorSource& src, SensorPrinciple p);
+// The name of a sensor in tables and plots: its array (two, diff4, ring:N) or, for the one-spot
+// principles, the principle (inplane, xmr, amr).
+std::string sensor_label(const ProbeSetup& s);
+
 // Harmonic signature of a source on an array: |a0| and c1..c8 at one value.
 struct HarmonicSignature {
   std::string swept, array;     // source and array

@@ -1,4 +1,4 @@
-// inspect: a magnet and a sensor pose from a measured 3-axis field scan (interfaces.md "inspect").
+// inspect: a magnet and a sensor pose from a measured 3-axis field scan (docs/interfaces.md "inspect").
 // Model: the scan's nominal positions p_i (magnet frame, mm) are off by one offset o (mm) for the whole
 // scan; the sensor's axes are turned by R = Rz(c) Ry(b) Rx(a) (extrinsic x, then y, then z), so a reading
 // is R^T B(p_i + o); B is the exact field (AnalyticField) of the configured cylinder with polarization

@@ -192,7 +192,7 @@ void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalCh
 }
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
-                              std::vector<Eigen::VectorXd>& eps_deg) const {
+                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
@@ -206,6 +206,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
     fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
   std::vector<double> u(T), Bn(angle_index_.size());
+  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
   double B[3], Ba[3];
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
@@ -225,6 +226,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
         for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
       }
       Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(Bn[i]));
     }
     angles_at(m, Bn, chain, eps_deg);
   }
@@ -243,8 +245,9 @@ void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps
 }
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
-                             std::vector<Eigen::VectorXd>& eps_deg) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg);
+                             std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T);
+  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
   const int N = model_.nodes();
   const int T = model_.terms();
   eps_deg.resize(arrays_.size());
@@ -262,6 +265,7 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       int j = angle_index_[i] - m;
       if (j < 0) j += N;
       B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
+      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
     }
     angles_at(m, B, chain, eps_deg);
   }
@@ -283,6 +287,26 @@ void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(c, e);
   peak_to_peak(e, pp_deg);
+}
+
+void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  c.chain.validate();
+  std::vector<Eigen::VectorXd> e;
+  std::vector<double> peak_T;
+  eps_mount(c.mount, c.chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T);
+  peak_to_peak(e, pp_deg);
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    for (int slot : slot_[a]) {
+      lo = std::min(lo, peak_T[static_cast<std::size_t>(slot)]);
+      hi = std::max(hi, peak_T[static_cast<std::size_t>(slot)]);
+    }
+    fmin_mT[a] = lo * 1e3;
+    fmax_mT[a] = hi * 1e3;
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -366,6 +390,18 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.validate_radii = static_cast<int>(cfg.integer("radius.validate_radii"));
   o.validate_samples = static_cast<int>(cfg.integer("radius.validate_samples"));
   o.band_rel = cfg.real("radius.band_rel");
+  if (cfg.has("sensor.principle") && cfg.str("sensor.principle") != "bz")
+    throw InputError("sensor.principle = " + cfg.str("sensor.principle") +
+                     ": the radius study scans the probe radius of Hall arrays: allowed bz (compare the principles "
+                     "with the sensor_principles study)");
+  if (cfg.has("sensor.plate_mm") && cfg.real("sensor.plate_mm") != 0.0)
+    throw InputError("sensor.plate_mm = " + num(cfg.real("sensor.plate_mm")) +
+                     ": the radius study's surrogate reads Bz at points: allowed 0");
+  if (cfg.has("sensor.field_min_mT")) {
+    o.window.min_mT = cfg.real("sensor.field_min_mT");
+    o.window.max_mT = cfg.real("sensor.field_max_mT");
+    o.window.validate();
+  }
   // The study's mounts and signal chains come from its tolerance box (mount.* keys are not read
   // here): refuse a configured chain rather than ignore it.
   if (!SignalChain::from_config(cfg).ideal())
@@ -584,8 +620,14 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     std::vector<double> ideal_pp(A);
     fast.pp(Mount{}, ideal_pp.data());
     auto pp_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp(c, o); };
-    const Eigen::MatrixXd corner_pp = evaluate_cases(corners, static_cast<int>(A), pp_of);
-    const Eigen::MatrixXd mc_pp = evaluate_cases(samples, static_cast<int>(A), pp_of);
+    // With a field window: pp, field min, field max per array (columns a, A + a, 2A + a).
+    auto pp_field_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp_field(c, o, o + A, o + 2 * A); };
+    const bool windowed = opt.window.active();
+    const int n_out = static_cast<int>(windowed ? 3 * A : A);
+    const ToleranceCaseFunction case_fn =
+        windowed ? ToleranceCaseFunction(pp_field_of) : ToleranceCaseFunction(pp_of);
+    const Eigen::MatrixXd corner_pp = evaluate_cases(corners, n_out, case_fn);
+    const Eigen::MatrixXd mc_pp = evaluate_cases(samples, n_out, case_fn);
     for (std::size_t a = 0; a < A; ++a) {
       RadiusRow row;
       row.field = field.name();
@@ -593,10 +635,45 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
       row.r0_mm = r0;
       row.bz_amplitude_T = models.amplitude_T;
       row.ideal_pp_deg = ideal_pp[a];
-      const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
-      row.worst_pp_deg = w.value;
-      row.worst_corner = corner_text(corners[w.row]);
-      row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
+      if (!windowed) {
+        const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
+        row.worst_pp_deg = w.value;
+        row.worst_corner = corner_text(corners[w.row]);
+        row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
+      } else {
+        const auto ia = static_cast<Eigen::Index>(a), iA = static_cast<Eigen::Index>(A);
+        auto inside = [&](const Eigen::MatrixXd& v, Eigen::Index i) {
+          return opt.window.contains(v(i, iA + ia), v(i, 2 * iA + ia));
+        };
+        row.worst_pp_deg = 0;
+        row.worst_corner = "none in the field window";
+        bool any = false;
+        for (Eigen::Index i = 0; i < corner_pp.rows(); ++i) {
+          if (!inside(corner_pp, i)) {
+            ++row.corners_out_of_window;
+            continue;
+          }
+          if (!any || corner_pp(i, ia) > row.worst_pp_deg) {
+            row.worst_pp_deg = corner_pp(i, ia);
+            row.worst_corner = corner_text(corners[static_cast<std::size_t>(i)]);
+          }
+          any = true;
+        }
+        std::vector<double> kept;
+        row.field_min_mT = mc_pp.col(iA + ia).minCoeff();
+        row.field_max_mT = mc_pp.col(2 * iA + ia).maxCoeff();
+        for (Eigen::Index i = 0; i < mc_pp.rows(); ++i) {
+          if (inside(mc_pp, i)) kept.push_back(mc_pp(i, ia));
+          else ++row.mc_out_of_window;
+        }
+        // No sample in the window: the statistics are +inf (this radius fails), n = 0.
+        if (kept.empty()) {
+          const double inf = std::numeric_limits<double>::infinity();
+          row.mc = SampleStats{0, inf, inf, inf, inf};
+        } else {
+          row.mc = sample_stats(Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<Eigen::Index>(kept.size())));
+        }
+      }
       row.noise = angle_noise(opt.arrays[a], models.amplitude_T, opt.noise);
       row.total_p99_pp_deg = row.mc.p99 + row.noise.pp_deg;
       row.total_worst_pp_deg = row.worst_pp_deg + row.noise.pp_deg;

@@ -41,6 +41,7 @@
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
+#include "probe/sensor.hpp"
 #include "analysis/sensor_noise.hpp"
 #include "probe/spectrum.hpp"
 #include "io/tables.hpp"
@@ -127,6 +128,9 @@ class FastPipeline {
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
   void pp(const ToleranceCase& c, double* pp_deg) const;
+  // pp and the field-window magnitude of every array (docs/physics.md "Sensor principles", bz): the
+  // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
+  void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
 
  private:
   const CircleFieldModel& model_;
@@ -137,10 +141,11 @@ class FastPipeline {
   double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
+  // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                 std::vector<Eigen::VectorXd>& eps_deg) const;
+                 std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                  std::vector<Eigen::VectorXd>& eps_deg) const;
+                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr) const;
   void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
                  std::vector<Eigen::VectorXd>& eps_deg) const;
 };
@@ -165,6 +170,11 @@ struct RadiusScanOptions {
   int validate_radii = 4;               // radii (spread over the scan) checked against the direct pipeline
   int validate_samples = 4;             // MC samples checked per validation radius
   double band_rel = 0.05;               // near-optimal band: total_p99 <= (1 + band_rel) * min
+  // The chip's field window (sensor.field_min_mT, sensor.field_max_mT; off by default). When it is
+  // set, corners and Monte Carlo samples whose peak |Bz| (per probe, min and max over the probes)
+  // leaves it are counted apart and left out of the pp statistics (a design whose field leaves the
+  // window fails whatever its angle error); off, the outputs are those without a window.
+  FieldWindow window;
 
   static std::vector<KeySpec> keys();   // [radius] keys (noise keys: SensorNoise::keys())
   static RadiusScanOptions from_config(const Config& cfg);
@@ -186,6 +196,12 @@ struct RadiusRow {
   AngleNoise noise;                // sensor noise contribution
   double total_p99_pp_deg = 0;     // mc.p99 + noise.pp_deg (linear sum, conservative)
   double total_worst_pp_deg = 0;   // worst_pp + noise.pp_deg
+  // Field window (only with RadiusScanOptions::window set): samples and corners whose field left it
+  // (counted apart: mc and worst_pp are over the in-window ones), and the field extremes over all
+  // MC samples (the peak |Bz| of a probe, mT).
+  long mc_out_of_window = 0;
+  long corners_out_of_window = 0;
+  double field_min_mT = 0, field_max_mT = 0;
 };
 
 // Surrogate vs direct pipeline on one case.

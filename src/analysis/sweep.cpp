@@ -18,14 +18,7 @@ const std::vector<std::string>& swept_names() {
 }  // namespace
 
 ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
-  ProbeSetup s;
-  s.array = ProbeArray::parse(array_spec, what);
-  s.r0_mm = cfg.real("sensor.r0_mm");
-  s.plane_z_mm = sensing_plane_z_mm(cfg);
-  s.steps = static_cast<int>(cfg.integer("sensor.steps"));
-  s.chain = SignalChain::from_config(cfg);
-  s.magnet_height_mm = cfg.real("magnet.height_mm");
-  return s;
+  return sensor_setup_from_config(cfg, array_spec, what);
 }
 
 void check_swept_name(const std::string& swept, const std::string& what) {

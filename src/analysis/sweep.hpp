@@ -40,7 +40,8 @@ std::vector<double> linspace(double a, double b, int n);
 void check_coef_names(const std::vector<std::string>& coefs, const std::string& what);
 
 // ProbeSetup from [sensor] keys and the magnet height (z_s = L/2 + h); the
-// array from array_spec ("two", "diff4", "ring:N"; `what` names it in errors).
+// array from array_spec ("two", "diff4", "ring:N", "point"; `what` names it in
+// errors): sensor_setup_from_config() of probe/angle_error.hpp.
 ProbeSetup probe_setup_from_config(const Config& cfg, const std::string& array_spec,
                                    const std::string& what = "sensor.array");
 

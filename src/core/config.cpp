@@ -559,7 +559,9 @@ ConfigValue checked_scalar(const KeySpec& s, const ConfigValue& v, const std::st
       if (auto p = std::get_if<double>(&v)) d = *p;
       else if (auto q = std::get_if<long>(&v)) d = static_cast<double>(*q);
       else throw InputError(where + s.key + " must be a number: allowed " + allowed_range(s));
-      const bool ok = std::isfinite(d) && (s.min_exclusive ? d > s.min : d >= s.min) &&
+      // +inf only for a key whose declared upper bound is +inf (inclusive): "no limit" (sensor.field_max_mT).
+      const bool inf_ok = std::isinf(s.max) && !s.max_exclusive && d == s.max;
+      const bool ok = (std::isfinite(d) || inf_ok) && (s.min_exclusive ? d > s.min : d >= s.min) &&
                       (s.max_exclusive ? d < s.max : d <= s.max);
       if (!ok) range_fail(fmt_sig(d, 12));
       return d;
@@ -892,6 +894,7 @@ std::string Config::to_json() const {
     if (auto str = std::get_if<std::string>(&v)) os << quoted(*str);
     else if (std::holds_alternative<ConfigList>(v)) os << quoted(value_text(v));
     else if (auto t = std::get_if<ConfigTables>(&v)) os << tables_json(*t);
+    else if (auto d = std::get_if<double>(&v); d && !std::isfinite(*d)) os << quoted(real_text(*d));  // "inf": JSON has no infinity
     else os << value_text(v);
   }
   os << "}";
@@ -919,6 +922,7 @@ std::vector<KeySpec> merge_schemas(std::vector<KeySpec> a, const std::vector<Key
 
 std::vector<KeySpec> common_keys() {
   const double big = 1000.0;  // mm: a sanity bound on every length
+  const double inf = std::numeric_limits<double>::infinity();
   return {
       real_key("magnet.radius_mm", defaults::kMagnetRadius_mm, 0, big, "mm", "magnet radius R", true),
       real_key("magnet.height_mm", defaults::kMagnetHeight_mm, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
@@ -931,7 +935,7 @@ std::vector<KeySpec> common_keys() {
       real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, 0, big, "mm", "sensing plane height h above the top face",
                true),
       real_key("sensor.r0_mm", defaults::kProbeRadius_mm, 0, big, "mm", "nominal probe radius r0", true),
-      string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3)"),
+      string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3) for principle bz; point for the others"),
       int_key("sensor.steps", 3600, 16, 10000000, "samples M of theta over one turn"),
       real_key("sensor.offset_cos_mT", 0.0, -1000, 1000, "mT", "offset added to the cos channel (signal chain)"),
       real_key("sensor.offset_sin_mT", 0.0, -1000, 1000, "mT", "offset added to the sin channel (signal chain)"),
@@ -939,6 +943,23 @@ std::vector<KeySpec> common_keys() {
                "gain mismatch g: sin channel scaled by 1 + g (signal chain)", true),
       real_key("sensor.phase_error_deg", 0.0, -90, 90, "deg",
                "phase error delta of the sin channel: u_s' = (1+g)(u_s cos delta + u_c sin delta) + os", true, true),
+      // Sensing principles, field window, sensing area (docs/physics.md "Sensor principles"; probe/sensor.hpp).
+      string_key("sensor.principle", "bz", {"bz", "inplane", "xmr", "amr"},
+                 "sensing principle: bz (Hall plates on r0), inplane (3-D Hall at one spot), xmr (saturated "
+                 "GMR/TMR), amr (anisotropic MR, twice the field angle); arrays: bz two|diff4|ring:N, others point"),
+      real_key("sensor.field_min_mT", 0.0, 0, 1e6, "mT",
+               "field window: least field magnitude the chip needs (bz: each probe's peak |reading|; in-plane "
+               "principles: hypot(b1, b2)); 0 = no lower limit"),
+      real_key("sensor.field_max_mT", inf, 0, inf, "mT",
+               "field window: largest field magnitude the chip allows; inf = no upper limit", true),
+      real_key("sensor.plate_mm", 0.0, 0, 10.0, "mm",
+               "side of the square sensing area centred on each probe or spot in the die plane (0 = a point)"),
+      int_key("sensor.plate_points", 4, 1, 32,
+              "n of the n x n Gauss-Legendre rule over the sensing area (sensor.plate_mm > 0)"),
+      real_key("sensor.offset_cos_rel", 0.0, -1, 1, "",
+               "xmr/amr: offset of the cos channel as a fraction of the unit amplitude (signal chain)"),
+      real_key("sensor.offset_sin_rel", 0.0, -1, 1, "",
+               "xmr/amr: offset of the sin channel as a fraction of the unit amplitude (signal chain)"),
       real_key("mount.sx_mm", 0.0, -big, big, "mm", "static eccentricity x (sensor off axis)"),
       real_key("mount.sy_mm", 0.0, -big, big, "mm", "static eccentricity y"),
       real_key("mount.dx_mm", 0.0, -big, big, "mm", "dynamic eccentricity x (magnet off axis)"),

@@ -1,4 +1,4 @@
-// B at a list of points from any field source (interfaces.md "field_at"; the
+// B at a list of points from any field source (docs/interfaces.md "field_at"; the
 // field_at executable and the Python module's magenc.field_at).
 #pragma once
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// Point lists of field_at and field scans of inspect (interfaces.md "field_at"): a CSV with the header
+// Point lists of field_at and field scans of inspect (docs/interfaces.md "field_at"): a CSV with the header
 // x_mm,y_mm,z_mm (any column order, no other columns; '#' comment lines and
 // blank lines ignored), one point per row in the magnet frame (mm), and the
 // answer table x_mm,y_mm,z_mm,Bx_T,By_T,Bz_T.

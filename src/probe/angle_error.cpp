@@ -5,6 +5,7 @@
 #include <string>
 
 #include "fields/analytic_field.hpp"
+#include "fields/magnet.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 
@@ -14,7 +15,14 @@ namespace {
 
 // Setup and mount must describe a usable probe path (see angle_error()).
 void validate_setup(const ProbeSetup& setup, const Mount& mount) {
-  if (!(std::isfinite(setup.r0_mm) && setup.r0_mm > 0))
+  const bool point = reads_in_plane(setup.principle);
+  if (point != setup.array.is_point())
+    throw InputError("sensor.array = '" + setup.array.name + "' does not apply to sensor.principle = " +
+                     principle_name(setup.principle) + ": allowed " +
+                     (point ? "point" : "two, diff4, ring:N"));
+  setup.area.validate();
+  setup.window.validate();
+  if (!point && !(std::isfinite(setup.r0_mm) && setup.r0_mm > 0))
     throw InputError("sensor.r0_mm = " + num(setup.r0_mm) + " is out of range: allowed (0, 1000] mm");
   if (setup.steps < 16)
     throw InputError("sensor.steps = " + std::to_string(setup.steps) +
@@ -25,12 +33,12 @@ void validate_setup(const ProbeSetup& setup, const Mount& mount) {
   if (K == 0 || setup.array.w_cos.size() != K || setup.array.w_sin.size() != K)
     throw InputError("sensor.array '" + setup.array.name + "' has no probes or inconsistent weights");
   mount.validate();
-  setup.chain.validate();
+  setup.chain.validate_for(setup.principle);
   if (mount.magnet_tilted() && !(std::isfinite(setup.magnet_height_mm) && setup.magnet_height_mm > 0))
     throw InputError("magnet.height_mm = " + num(setup.magnet_height_mm) +
                      " (pivot of the magnet tilt) is out of range: allowed (0, 1000] mm");
   const double offsets_mm = std::hypot(mount.sx_mm, mount.sy_mm) + std::hypot(mount.dx_mm, mount.dy_mm);
-  if (setup.r0_mm - offsets_mm <= 0)
+  if (!point && setup.r0_mm - offsets_mm <= 0)
     throw InputError("mounting offsets |s| + |d| = " + num(offsets_mm) + " mm reach the probe radius r0 = " +
                      num(setup.r0_mm) + " mm (degenerate probe path): allowed |s| + |d| < r0");
 }
@@ -49,11 +57,31 @@ void check_source_serves_tilt(const FieldSource& field, const Mount& mount) {
                    "(use analytic, fem:DIR or a 3-D box.vti grid)");
 }
 
+// The in-plane principles need Bx, By.
+void check_source_serves_principle(const FieldSource& field, const ProbeSetup& setup) {
+  if (!reads_in_plane(setup.principle) || field.gives_full_vector()) return;
+  throw InputError("sensor.principle = " + principle_name(setup.principle) +
+                   " reads the in-plane field Bx, By, but the " + field.name() +
+                   " field source gives only Bz on a plane: allowed bz with this source (use analytic, fem:DIR, "
+                   "a 3-D box.vti grid or a table with Bx, By)");
+}
+
+// Nominal sensor-frame position of probe k: r0 (cos b_k, sin b_k), or the die centre for the point array.
+Eigen::Vector2d nominal_xy_mm(const ProbeSetup& setup, std::size_t k) {
+  if (setup.array.is_point()) return Eigen::Vector2d::Zero();
+  const double b_rad = deg_to_rad(setup.array.angle_deg[k]);
+  return {setup.r0_mm * std::cos(b_rad), setup.r0_mm * std::sin(b_rad)};
+}
+
 // Fixed-frame probe positions (sensor tilt included) and their rotor-frame
 // circles: radius rho_k about the axis, height z_k.
 std::vector<Eigen::Vector3d> fixed_probe_positions(const ProbeSetup& setup, const MountKinematics& kin) {
   std::vector<Eigen::Vector3d> out;
   for (std::size_t k = 0; k < setup.array.size(); ++k) {
+    if (setup.array.is_point()) {
+      out.push_back(kin.fixed_position_mm(0.0, 0.0));
+      continue;
+    }
     const double b_rad = deg_to_rad(setup.array.angle_deg[k]);
     out.push_back(kin.fixed_position_mm(setup.r0_mm * std::cos(b_rad), setup.r0_mm * std::sin(b_rad)));
   }
@@ -77,7 +105,8 @@ void check_paths_outside_magnet(const AnalyticField& field, const ProbeSetup& se
   const double sg = std::abs(std::sin(deg_to_rad(mount.magnet_tilt_deg)));
   const double cg = std::cos(deg_to_rad(mount.magnet_tilt_deg));
   const double half = mag.top_z_mm(), L = mag.height_mm;
-  const double r_hull = mag.radius_mm + L * sg;
+  // A sensing area reaches half its diagonal from each probe (conservative: the test uses the centre's circle).
+  const double r_hull = mag.radius_mm + L * sg + (setup.area.point() ? 0.0 : setup.area.plate_mm * std::sqrt(0.5));
   const double z_lo = mount.magnet_tilted() ? -half - mag.radius_mm * sg : -half;
   const double z_hi = mount.magnet_tilted() ? -half + L * cg + mag.radius_mm * sg : half;
   const MountKinematics kin(mount, setup.plane_z_mm, mag.height_mm);
@@ -134,52 +163,197 @@ Eigen::Matrix3Xd probe_paths_at_rad(const ProbeSetup& setup, const Mount& mount,
   return p;
 }
 
+// Sampling points of the probes with a sensing area (or of the in-plane spot): 3 x (M*K*Q) positions,
+// column (m*K + k)*Q + q = node q of probe k at theta_m (Q = 1 for points: then the columns of
+// probe_paths_at_rad), and the per-theta directions in the magnet frame: the die normal n and, for the
+// in-plane principles, the die axes x' = Rs x, y' = Rs y (3 x M each).
+struct AreaSamples {
+  Eigen::Matrix3Xd p_mm;
+  Eigen::Matrix3Xd n, ex, ey;
+  std::vector<double> w;  // Q weights (sum 1)
+};
+
+AreaSamples area_samples(const ProbeSetup& setup, const Mount& mount, const Eigen::VectorXd& theta_rad,
+                         bool normals, bool axes) {
+  AreaSamples a;
+  std::vector<double> u, v;
+  setup.area.nodes(u, v, a.w);
+  const auto M = theta_rad.size();
+  const auto K = static_cast<Eigen::Index>(setup.array.size());
+  const auto Q = static_cast<Eigen::Index>(a.w.size());
+  const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm);
+  std::vector<Eigen::Vector3d> fixed;  // K*Q fixed-frame points
+  for (Eigen::Index k = 0; k < K; ++k) {
+    const Eigen::Vector2d c = nominal_xy_mm(setup, static_cast<std::size_t>(k));
+    for (Eigen::Index q = 0; q < Q; ++q)
+      fixed.push_back(kin.fixed_position_mm(c.x() + u[static_cast<std::size_t>(q)], c.y() + v[static_cast<std::size_t>(q)]));
+  }
+  a.p_mm.resize(3, M * K * Q);
+  if (normals) a.n.resize(3, M);
+  if (axes) {
+    a.ex.resize(3, M);
+    a.ey.resize(3, M);
+  }
+  const Eigen::Vector3d x_fixed = kin.Rs.col(0), y_fixed = kin.Rs.col(1);
+  for (Eigen::Index m = 0; m < M; ++m) {
+    const double c = std::cos(theta_rad[m]), s = std::sin(theta_rad[m]);  // once per theta
+    for (Eigen::Index j = 0; j < K * Q; ++j)
+      a.p_mm.col(m * K * Q + j) = kin.point_to_magnet(fixed[static_cast<std::size_t>(j)], c, s);
+    if (normals) a.n.col(m) = kin.direction_to_magnet(kin.n_fixed, c, s);
+    if (axes) {
+      a.ex.col(m) = kin.direction_to_magnet(x_fixed, c, s);
+      a.ey.col(m) = kin.direction_to_magnet(y_fixed, c, s);
+    }
+  }
+  return a;
+}
+
+// The bz readings (M*K, column m*K + k) of probes with a sensing area: the weighted mean of n.B (Bz
+// without a tilt) over each probe's nodes.
+Eigen::VectorXd bz_area_readings(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+                                 const Eigen::VectorXd& theta_rad) {
+  const bool tilted = mount.tilted();
+  const AreaSamples a = area_samples(setup, mount, theta_rad, tilted, false);
+  const auto M = theta_rad.size();
+  const auto K = static_cast<Eigen::Index>(setup.array.size());
+  const auto Q = static_cast<Eigen::Index>(a.w.size());
+  Eigen::VectorXd comp;
+  if (!tilted) {
+    comp = field.Bz_T(a.p_mm);
+  } else {
+    const Eigen::Matrix3Xd Bv = field.B_T(a.p_mm);
+    comp.resize(Bv.cols());
+    for (Eigen::Index m = 0; m < M; ++m)
+      for (Eigen::Index j = 0; j < K * Q; ++j) comp[m * K * Q + j] = a.n.col(m).dot(Bv.col(m * K * Q + j));
+  }
+  Eigen::VectorXd B = Eigen::VectorXd::Zero(M * K);
+  for (Eigen::Index i = 0; i < M * K; ++i)
+    for (Eigen::Index q = 0; q < Q; ++q) B[i] += a.w[static_cast<std::size_t>(q)] * comp[i * Q + q];
+  return B;
+}
+
+// The in-plane components (M x 2: b1 = x'.B, b2 = y'.B, T) at the spot, mean over its sensing area.
+Eigen::MatrixXd inplane_readings(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+                                 const Eigen::VectorXd& theta_rad) {
+  const AreaSamples a = area_samples(setup, mount, theta_rad, false, true);
+  const auto M = theta_rad.size();
+  const auto Q = static_cast<Eigen::Index>(a.w.size());
+  const Eigen::Matrix3Xd Bv = field.B_T(a.p_mm);
+  Eigen::MatrixXd b(M, 2);
+  for (Eigen::Index m = 0; m < M; ++m) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (Eigen::Index q = 0; q < Q; ++q) mean += a.w[static_cast<std::size_t>(q)] * Bv.col(m * Q + q);
+    b(m, 0) = a.ex.col(m).dot(mean);
+    b(m, 1) = a.ey.col(m).dot(mean);
+  }
+  return b;
+}
+
 // The pipeline at rotor angles theta_rad (theta_deg: the same angles in degrees, as reported).
+// check_winding (uniform samples of a whole turn, in-plane principles): the field direction at the spot,
+// atan2(-b2, -b1), must turn once per turn.
 AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
-                                    const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& theta_rad) {
+                                    const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& theta_rad,
+                                    bool check_winding = false) {
   // 1. Validate the setup, the mount, the source's ability to serve a tilt and
-  //    (exact field) that no path enters the magnet.
+  //    the principle, and (exact field) that no path enters the magnet.
   validate_setup(setup, mount);
   check_source_serves_tilt(field, mount);
+  check_source_serves_principle(field, setup);
   if (const auto* exact = dynamic_cast<const AnalyticField*>(&field))
     check_paths_outside_magnet(*exact, setup, mount);
 
-  // 2. All probe positions, then one batch field evaluation (OpenMP inside).
-  //    No tilt: every normal is z, so the reading is Bz (cheaper kernel).
-  //    A tilt: reading n.B from the full vector.
   const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());
-  Eigen::VectorXd B;
-  if (!mount.tilted()) {
-    B = field.Bz_T(probe_paths_at_rad(setup, mount, theta_rad));
-  } else {
-    Eigen::Matrix3Xd normals;
-    const Eigen::Matrix3Xd p = probe_paths_at_rad(setup, mount, theta_rad, &normals);
-    const Eigen::Matrix3Xd Bv = field.B_T(p);
-    B = (Bv.array() * normals.array()).colwise().sum().transpose();
-  }
-
-  // 3. Channels, signal chain, angle and error per theta.
-  const SignalChain::Applied chain = setup.chain.applied();
+  const SignalChain::Applied chain = setup.chain.applied(setup.principle);
   AngleErrorResult res;
   res.theta_deg = theta_deg;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
-  for (Eigen::Index m = 0; m < M; ++m) {
-    double ch_cos = 0, ch_sin = 0;
-    for (Eigen::Index k = 0; k < K; ++k) {
-      const double b = B[m * K + k];
-      res.probe_B_T(m, k) = b;
-      ch_cos += setup.array.w_cos[k] * b;
-      ch_sin += setup.array.w_sin[k] * b;
-    }
-    chain(ch_cos, ch_sin);
-    const double phi_rad = std::atan2(ch_sin, ch_cos);
-    res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
+  auto check_finite = [&](Eigen::Index m) {
     if (!std::isfinite(res.eps_deg[m]))
       throw ComputeError(field.name() + " field gave a non-finite angle at theta = " + num(theta_deg[m]) +
                          " deg");
+  };
+
+  if (setup.principle == SensorPrinciple::Bz) {
+    // 2. All probe positions, then one batch field evaluation (OpenMP inside).
+    //    No tilt: every normal is z, so the reading is Bz (cheaper kernel).
+    //    A tilt: reading n.B from the full vector. A sensing area: the mean over its nodes.
+    Eigen::VectorXd B;
+    if (!setup.area.point()) {
+      B = bz_area_readings(field, setup, mount, theta_rad);
+    } else if (!mount.tilted()) {
+      B = field.Bz_T(probe_paths_at_rad(setup, mount, theta_rad));
+    } else {
+      Eigen::Matrix3Xd normals;
+      const Eigen::Matrix3Xd p = probe_paths_at_rad(setup, mount, theta_rad, &normals);
+      const Eigen::Matrix3Xd Bv = field.B_T(p);
+      B = (Bv.array() * normals.array()).colwise().sum().transpose();
+    }
+
+    // 3. Channels, signal chain, angle and error per theta.
+    for (Eigen::Index m = 0; m < M; ++m) {
+      double ch_cos = 0, ch_sin = 0;
+      for (Eigen::Index k = 0; k < K; ++k) {
+        const double b = B[m * K + k];
+        res.probe_B_T(m, k) = b;
+        ch_cos += setup.array.w_cos[k] * b;
+        ch_sin += setup.array.w_sin[k] * b;
+      }
+      chain(ch_cos, ch_sin);
+      const double phi_rad = std::atan2(ch_sin, ch_cos);
+      res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
+      check_finite(m);
+    }
+    // Field window: the peak |reading| of each probe over the turn; min and max over the probes.
+    const Eigen::VectorXd peak_T = res.probe_B_T.cwiseAbs().colwise().maxCoeff().transpose();
+    res.field_min_mT = peak_T.minCoeff() * 1e3;
+    res.field_max_mT = peak_T.maxCoeff() * 1e3;
+  } else {
+    // 2. The in-plane components at the spot (mean over its area), from the full vector.
+    res.inplane_B_T = inplane_readings(field, setup, mount, theta_rad);
+    // 3. Channels by principle, signal chain, angle (electrical angle psi; amr: phi = psi/2) and error.
+    const int turns = electrical_turns(setup.principle);
+    double winding_deg = 0, field_prev = 0, field_first = 0;
+    for (Eigen::Index m = 0; m < M; ++m) {
+      const double b1 = res.inplane_B_T(m, 0), b2 = res.inplane_B_T(m, 1);
+      const double mag = std::hypot(b1, b2);
+      res.probe_B_T(m, 0) = mag;
+      double u_c = -b1, u_s = -b2;  // inplane: the field points against M above a diametric magnet
+      if (setup.principle == SensorPrinciple::Xmr) {
+        u_c /= mag;
+        u_s /= mag;
+      } else if (setup.principle == SensorPrinciple::Amr) {
+        const double alpha = std::atan2(-b2, -b1);
+        u_c = std::cos(2.0 * alpha);
+        u_s = std::sin(2.0 * alpha);
+      }
+      chain(u_c, u_s);
+      const double psi_deg = rad_to_deg(std::atan2(u_s, u_c));
+      // eps = wrap(phi - theta); amr: phi = psi/2 modulo 180, eps = wrap(psi - 2 theta)/2 in (-90, 90].
+      res.eps_deg[m] = wrap_deg(psi_deg - turns * theta_deg[m]) / turns;
+      check_finite(m);
+      // The field's own direction (before the channels and the chain) must turn once per turn.
+      const double field_deg = rad_to_deg(std::atan2(-b2, -b1));
+      if (m == 0) field_first = field_deg;
+      else winding_deg += wrap_deg(field_deg - field_prev);
+      field_prev = field_deg;
+    }
+    if (check_winding && M > 1) {
+      winding_deg += wrap_deg(field_first - field_prev);
+      if (std::abs(winding_deg - 360.0) > 180.0)
+        throw InputError("the field direction at the sensing spot turns " + num(winding_deg / 360.0) +
+                         " times per turn, not once (mount |s| + |d| = " +
+                         num(std::hypot(mount.sx_mm, mount.sy_mm) + std::hypot(mount.dx_mm, mount.dy_mm)) +
+                         " mm, the spot too far off the axis): allowed mounts where the in-plane field turns with "
+                         "the rotor");
+    }
+    const Eigen::VectorXd mag = res.probe_B_T.col(0);
+    res.field_min_mT = mag.minCoeff() * 1e3;
+    res.field_max_mT = mag.maxCoeff() * 1e3;
   }
+  res.in_window = setup.window.contains(res.field_min_mT, res.field_max_mT);
   return res;
 }
 
@@ -206,8 +380,8 @@ AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setu
 
 AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, const Mount& mount) {
   validate_setup(setup, mount);  // before the sample grid is built from setup.steps
-  AngleErrorResult res =
-      angle_error_at_rad(field, setup, mount, uniform_theta_deg(setup.steps), uniform_theta_rad(setup.steps));
+  AngleErrorResult res = angle_error_at_rad(field, setup, mount, uniform_theta_deg(setup.steps),
+                                            uniform_theta_rad(setup.steps), /*check_winding=*/true);
   // 4. Spectrum of the uniform samples.
   res.spectrum = spectrum_of(res.eps_deg);
   return res;
@@ -215,6 +389,38 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
 
 Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const Mount& mount) {
   return angle_error(field, setup, mount).spectrum;
+}
+
+ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
+  ProbeSetup s;
+  s.principle = parse_principle(cfg.str("sensor.principle"));
+  std::string spec = array_spec;
+  if (reads_in_plane(s.principle) && spec != "point") {
+    std::string def;
+    for (const auto& k : cfg.schema())
+      if (k.key == "sensor.array") def = k.default_value;
+    if (what == "sensor.array" && spec == def) spec = "point";  // the default is not a choice
+    else
+      throw InputError(what + " = '" + array_spec + "' does not apply to sensor.principle = " +
+                       principle_name(s.principle) + ": allowed point");
+  } else if (!reads_in_plane(s.principle) && spec == "point") {
+    throw InputError(what + " = 'point' does not apply to sensor.principle = bz: allowed two, diff4, ring:N");
+  }
+  check_principle_keys(cfg);  // after the array (named as given: --array or a study list), then the other keys
+  s.array = ProbeArray::parse(spec, what);
+  s.r0_mm = cfg.real("sensor.r0_mm");
+  s.plane_z_mm = sensing_plane_z_mm(cfg);
+  s.steps = static_cast<int>(cfg.integer("sensor.steps"));
+  s.chain = SignalChain::from_config(cfg);
+  s.chain.validate_for(s.principle);
+  s.magnet_height_mm = cfg.real("magnet.height_mm");
+  s.area.plate_mm = cfg.real("sensor.plate_mm");
+  s.area.plate_points = static_cast<int>(cfg.integer("sensor.plate_points"));
+  s.area.validate();
+  s.window.min_mT = cfg.real("sensor.field_min_mT");
+  s.window.max_mT = cfg.real("sensor.field_max_mT");
+  s.window.validate();
+  return s;
 }
 
 }  // namespace magenc

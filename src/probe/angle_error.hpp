@@ -6,15 +6,17 @@
 #include "core/defaults.hpp"
 #include "fields/field_source.hpp"
 #include "probe/mounting.hpp"
+#include "core/config.hpp"
 #include "probe/probe_array.hpp"
+#include "probe/sensor.hpp"
 #include "probe/signal_chain.hpp"
 #include "probe/spectrum.hpp"
 
 namespace magenc {
 
 struct ProbeSetup {
-  ProbeArray array;           // probe angles and channel weights
-  double r0_mm = defaults::kProbeRadius_mm;  // nominal probe radius
+  ProbeArray array;           // probe angles and channel weights ("point" for the in-plane principles)
+  double r0_mm = defaults::kProbeRadius_mm;  // nominal probe radius (unused by the point array)
   double plane_z_mm = defaults::kPlaneZ_mm;  // sensing plane height in the magnet frame (z_s)
   int steps = 3600;           // M samples of theta over one turn (>= 16)
   SignalChain chain;          // channel offsets, gain mismatch, phase error (applied before atan2)
@@ -24,13 +26,33 @@ struct ProbeSetup {
   // mount.magnet_tilt_deg != 0. With the exact field a mismatch with the field's
   // magnet is an InputError.
   double magnet_height_mm = defaults::kMagnetHeight_mm;
+  // How the die turns the field into channels (probe/sensor.hpp, docs/physics.md "Sensor principles"):
+  // bz reads n.B at the array's probes; inplane, xmr, amr read b1 = x'.B, b2 = y'.B at one spot.
+  SensorPrinciple principle = SensorPrinciple::Bz;
+  SensingArea area;           // finite sensing area (plate_mm = 0: points)
+  FieldWindow window;         // the field magnitude the chip needs (off by default)
 };
+
+// The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),
+// the sensing plane z_s = L/2 + h and the magnet height; the array from array_spec (`what` names it in
+// errors). check_principle_keys() first. Under an in-plane principle the array is point: array_spec
+// "point", or sensor.array's default ("two") when what is "sensor.array" (the default is not a choice);
+// any other array is an InputError naming `what` and the principle.
+ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_spec,
+                                    const std::string& what = "sensor.array");
 
 struct AngleErrorResult {
   Eigen::VectorXd theta_deg;  // M rotor angles, 360*m/M
   Eigen::VectorXd eps_deg;    // angle error wrap(phi - theta), degrees
-  Eigen::MatrixXd probe_B_T;  // M x K probe readings n.B (measured component, T; before the signal chain)
+  Eigen::MatrixXd probe_B_T;  // M x K probe readings (T; before the signal chain): bz n.B of each probe,
+                              // in-plane principles hypot(b1, b2) of the spot (K = 1)
+  Eigen::MatrixXd inplane_B_T;// in-plane principles: M x 2, the components b1 = x'.B, b2 = y'.B (T); bz: empty
   Spectrum spectrum;
+  // Field window (docs/physics.md "Sensor principles"): the extremes of the magnitude the principle uses, mT:
+  // bz the peak |reading| over the turn of each probe, min and max over the probes; in-plane principles
+  // hypot(b1, b2), min and max over theta. in_window: both lie in setup.window (always true when it is off).
+  double field_min_mT = 0, field_max_mT = 0;
+  bool in_window = true;
 };
 
 // Probe positions for every theta: returns 3 x (M*K) in the magnet frame (mm),
@@ -48,11 +70,22 @@ Eigen::Matrix3Xd probe_normals(const ProbeSetup& setup, const Mount& mount, cons
 // a tilt, normals), one batch field call (OpenMP inside the source), readings
 // n.B, channels, signal chain, atan2, wrap, spectrum. Without any tilt the
 // readings are Bz (the source's cheaper Bz kernel); with a tilt, n.B from the
-// full vector.
+// full vector. With a sensing area each probe is n x n points of the die plane
+// (weights of sensing.hpp) and its reading their weighted mean. The in-plane
+// principles read b1, b2 at the spot from the full vector (die axes Rs x, Rs y
+// through the same kinematics); xmr normalizes them, amr doubles their angle
+// and wraps eps into (-90, 90].
 // Throws InputError when
-//  * the setup is invalid: r0 <= 0 or NaN, steps < 16, non-finite plane height,
-//    non-finite mount values, |tilt| > 45 deg, invalid signal chain, magnet
-//    height <= 0 when the magnet is tilted;
+//  * the setup is invalid: r0 <= 0 or NaN (bz arrays), steps < 16, non-finite
+//    plane height, non-finite mount values, |tilt| > 45 deg, invalid signal
+//    chain (or offsets of the other kind for the principle), magnet height <= 0
+//    when the magnet is tilted, an array that does not fit the principle
+//    (point for the in-plane ones, two/diff4/ring:N for bz), a negative or
+//    non-finite plate, plate_points outside [1, 32], a field window min > max;
+//  * an in-plane principle is asked of a source that gives only Bz on a plane
+//    (gives_full_vector() false);
+//  * (angle_error, in-plane principles) the field direction at the spot does
+//    not turn once per turn (the spot is too far off the axis);
 //  * a tilt (sensor or magnet) is asked of a source that only knows Bz on a
 //    plane (gives_full_vector() false: linear, a 2-D grid);
 //  * the path is degenerate: r0 - |s| - |d| <= 0 (a probe circle may pass over

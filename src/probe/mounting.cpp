@@ -102,6 +102,19 @@ Eigen::Vector3d MountKinematics::direction_to_magnet(const Eigen::Vector3d& f, d
   return magnet_tilted ? Eigen::Vector3d(RtT * r) : r;
 }
 
+// The same with cos and sin of theta given (the in-plane and sensing-area paths share them per theta).
+Eigen::Vector3d MountKinematics::point_to_magnet(const Eigen::Vector3d& f, double c, double s) const {
+  // Rz(-theta) f, written out as in docs/physics.md (x = cos X + sin Y, y = -sin X + cos Y).
+  const Eigen::Vector3d r(c * f.x() + s * f.y(), -s * f.x() + c * f.y(), f.z());
+  if (!magnet_tilted) return r - d_mm;  // the five-offset kinematics, bit for bit
+  return RtT * (r - d_mm - P_mm) + P_mm;
+}
+
+Eigen::Vector3d MountKinematics::direction_to_magnet(const Eigen::Vector3d& f, double c, double s) const {
+  const Eigen::Vector3d r(c * f.x() + s * f.y(), -s * f.x() + c * f.y(), f.z());
+  return magnet_tilted ? Eigen::Vector3d(RtT * r) : r;
+}
+
 Eigen::Vector3d probe_position_mm(const Mount& m, double px_mm, double py_mm, double theta_rad,
                                   double plane_z_mm, double magnet_height_mm) {
   const MountKinematics k(m, plane_z_mm, magnet_height_mm);

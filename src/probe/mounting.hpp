@@ -64,6 +64,9 @@ struct MountKinematics {
   // Fixed-frame point / direction -> magnet frame at rotor angle theta.
   Eigen::Vector3d point_to_magnet(const Eigen::Vector3d& fixed_mm, double theta_rad) const;
   Eigen::Vector3d direction_to_magnet(const Eigen::Vector3d& fixed_dir, double theta_rad) const;
+  // The same with cos(theta), sin(theta) given (several points at one theta share them).
+  Eigen::Vector3d point_to_magnet(const Eigen::Vector3d& fixed_mm, double cos_theta, double sin_theta) const;
+  Eigen::Vector3d direction_to_magnet(const Eigen::Vector3d& fixed_dir, double cos_theta, double sin_theta) const;
 };
 
 // Rotations (right-handed), angles in radians.

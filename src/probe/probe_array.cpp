@@ -8,7 +8,9 @@
 namespace magenc {
 
 namespace {
-std::string allowed_arrays() { return "allowed two, diff4, ring:N with 3 <= N <= 1024"; }
+std::string allowed_arrays() {
+  return "allowed two, diff4, ring:N with 3 <= N <= 1024 (sensor.principle bz), point (inplane, xmr, amr)";
+}
 }  // namespace
 
 ProbeArray ProbeArray::parse(const std::string& spec, const std::string& what) {
@@ -24,6 +26,12 @@ ProbeArray ProbeArray::parse(const std::string& spec, const std::string& what) {
     a.angle_deg = {0.0, 90.0, 180.0, 270.0};
     a.w_cos = {1.0, 0.0, -1.0, 0.0};
     a.w_sin = {0.0, 1.0, 0.0, -1.0};
+    return a;
+  }
+  if (spec == "point") {
+    a.angle_deg = {0.0};
+    a.w_cos = {1.0};
+    a.w_sin = {0.0};
     return a;
   }
   const std::string prefix = "ring:";

@@ -37,14 +37,28 @@ std::string value_text(const ErrorSource& src, double v) {
 
 std::vector<HarmonicSignature> signatures(const ErrorSourcesRun& run) {
   std::vector<HarmonicSignature> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& per_array : run.sweeps)
-    for (const auto& sw : per_array) out.push_back(harmonic_signature(sw, std::numeric_limits<double>::quiet_NaN()));
+    for (const auto& sw : per_array) {
+      if (!sw.rows.empty()) {
+        out.push_back(harmonic_signature(sw, nan));
+        continue;
+      }
+      HarmonicSignature none;  // the source does not apply to this sensor (e.g. an mT offset on xmr)
+      none.swept = sw.spec.swept;
+      none.array = sensor_label(sw.setup);
+      none.value = nan;
+      none.c_deg.fill(nan);
+      none.pp_deg = nan;
+      out.push_back(none);
+    }
   return out;
 }
 
 }  // namespace
 
 std::string signature_text(const HarmonicSignature& h, double floor_deg, double rel, int max_count) {
+  if (std::isnan(h.pp_deg)) return "n/a";
   const double largest = *std::max_element(h.c_deg.begin(), h.c_deg.end());
   const double thr = std::max(floor_deg, rel * largest);
   std::vector<int> n;
@@ -65,6 +79,7 @@ std::string harmonics_csv(const ErrorSourcesRun& run, double floor_deg, double r
   os << ",pp_deg,dominant\n";
   os << std::setprecision(10);
   for (const auto& h : signatures(run)) {
+    if (std::isnan(h.pp_deg)) continue;  // the source does not apply to this sensor
     const ErrorSource& src = find_error_source(h.swept);
     os << h.swept << "," << h.array << "," << h.value << "," << src.unit;
     for (double c : h.c_deg) os << "," << c;
@@ -90,11 +105,17 @@ void write_source_heatmap(StudyOutput& out, const ErrorSourcesRun& run, const st
     if (s > 0) hm.row_separators.push_back(int(k));
     for (std::size_t a = 0; a < run.setups.size(); ++a, ++k) {
       const HarmonicSignature& h = sig[k];
-      hm.row_labels.push_back(run.sources[s]->symbol + " = " + plot_literal(value_text(*run.sources[s], h.value)) +
+      hm.row_labels.push_back(run.sources[s]->symbol + " = " +
+                              (std::isnan(h.value) ? std::string("n/a") : plot_literal(value_text(*run.sources[s], h.value))) +
                               ", " + plot_literal(h.array));
       std::vector<double> v(h.c_deg.begin(), h.c_deg.end());
       std::vector<std::string> t;
-      for (double c : v) t.push_back(c < kRoundingZeroDeg ? "0" : (c < 1e-4 ? "<1e-4" : g_text(c, 2)));
+      for (double c : v)
+        t.push_back(std::isnan(c) ? "n/a" : c < kRoundingZeroDeg ? "0" : (c < 1e-4 ? "<1e-4" : g_text(c, 2)));
+      // A source that does not apply: the lowest colour with the text n/a (write_heatmap's NaN cells are
+      // dropped by gnuplot's `with image`, which shifts the cells after them).
+      for (double& c : v)
+        if (std::isnan(c)) c = 0.0;
       hm.values.push_back(v);
       hm.cell_text.push_back(t);
     }
@@ -111,7 +132,8 @@ std::vector<std::string> write_source_coefficient_plots(StudyOutput& out, const 
   const std::string what = run.field + " field, r_0 = " + fmt(run.setups.front().r0_mm, 2) + " mm";
   for (std::size_t s = 0; s < run.sources.size(); ++s) {
     std::vector<SweepCase> sc;
-    for (const auto& sw : run.sweeps[s]) sc.push_back({plot_literal(sw.setup.array.name), &sw});
+    for (const auto& sw : run.sweeps[s])
+      if (!sw.rows.empty()) sc.push_back({plot_literal(sensor_label(sw.setup)), &sw});
     const std::string name = "coefficients_" + run.sources[s]->swept;
     write_plot(out.dir(), name,
                coefficient_figure(run.sources[s]->description + " alone (" + what + ")",
@@ -128,14 +150,20 @@ void error_sources_intro(std::ostringstream& md, const ErrorSourcesRun& run, con
      << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
      << " T; sensing plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face), r0 = "
      << fmt(run.setups.front().r0_mm, 3) << " mm, " << run.setups.front().steps << " samples per turn, arrays ";
-  for (std::size_t a = 0; a < run.setups.size(); ++a) md << (a ? ", " : "") << "`" << run.setups[a].array.name << "`";
+  for (std::size_t a = 0; a < run.setups.size(); ++a) md << (a ? ", " : "") << "`" << sensor_label(run.setups[a]) << "`";
   md << ". Each source is swept alone from 0 (every other key as configured: an ideal mount by default) in "
      << cfg.integer("sweep.points") << " values:\n\n";
-  std::vector<std::vector<std::string>> t;
-  for (std::size_t s = 0; s < run.sources.size(); ++s)
-    t.push_back({"`" + run.sources[s]->swept + "`", run.sources[s]->description, "`" + run.sources[s]->key + "`",
-                 "0 .. " + value_text(*run.sources[s], run.sweeps[s].front().spec.values_mm.back())});
-  md << md_table({"source (fits `swept`)", "what", "configuration key", "swept"}, t) << "\n";
+  {
+    std::vector<std::vector<std::string>> t;
+    for (std::size_t s = 0; s < run.sources.size(); ++s) {
+      double top = std::numeric_limits<double>::quiet_NaN();
+      for (const auto& sw : run.sweeps[s])
+        if (!sw.spec.values_mm.empty()) top = sw.spec.values_mm.back();
+      t.push_back({"`" + run.sources[s]->swept + "`", run.sources[s]->description, "`" + run.sources[s]->key + "`",
+                   std::isnan(top) ? std::string("n/a") : "0 .. " + value_text(*run.sources[s], top)});
+    }
+    md << md_table({"source (fits `swept`)", "what", "configuration key", "swept"}, t) << "\n";
+  }
   md << "Tables: `spectra.csv` (spectra table; extra columns `sweep`, `swept`, `value`), `fits.csv` (cubic fits "
         "p3 x^3 + p2 x^2 + p1 x + p0 of "
      << run.coefs.size() << " coefficients against the source's value in its unit; `swept` names the source), "
@@ -150,11 +178,14 @@ void error_sources_matrix(std::ostringstream& md, const ErrorSourcesRun& run, co
      << rel << " x the largest), largest first (|a0| is the constant part). Amplitudes in deg.\n\n";
   {
     std::vector<std::string> header = {"source", "value"};
-    for (const auto& s : run.setups) header.push_back("`" + s.array.name + "`");
+    for (const auto& s : run.setups) header.push_back("`" + sensor_label(s) + "`");
     std::vector<std::vector<std::string>> t;
     std::size_t i = 0;
     for (const auto* src : run.sources) {
-      std::vector<std::string> r = {src->description, value_text(*src, sig[i].value)};
+      double v = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t a = 0; a < run.setups.size(); ++a)
+        if (!std::isnan(sig[i + a].value)) v = sig[i + a].value;
+      std::vector<std::string> r = {src->description, std::isnan(v) ? std::string("n/a") : value_text(*src, v)};
       for (std::size_t a = 0; a < run.setups.size(); ++a, ++i) {
         std::string text = signature_text(sig[i], floor_deg, rel);
         for (std::size_t p = text.find('|'); p != std::string::npos; p = text.find('|', p + 2)) text.insert(p, 1, '\\');
@@ -175,8 +206,8 @@ void error_sources_matrix(std::ostringstream& md, const ErrorSourcesRun& run, co
     for (const auto* src : run.sources)
       for (std::size_t a = 0; a < run.setups.size(); ++a, ++i) {
         std::vector<std::string> r = {"`" + src->swept + "`", "`" + sig[i].array + "`"};
-        for (double c : sig[i].c_deg) r.push_back(fmt_auto(c, 4, kRoundingZeroDeg));
-        r.push_back(fmt_auto(sig[i].pp_deg, 4, kRoundingZeroDeg));
+        for (double c : sig[i].c_deg) r.push_back(std::isnan(c) ? std::string("n/a") : fmt_auto(c, 4, kRoundingZeroDeg));
+        r.push_back(std::isnan(sig[i].pp_deg) ? std::string("n/a") : fmt_auto(sig[i].pp_deg, 4, kRoundingZeroDeg));
         t.push_back(r);
       }
     md << md_table(header, t) << "\n";

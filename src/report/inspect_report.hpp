@@ -1,4 +1,4 @@
-// inspect's outputs (interfaces.md "inspect"): fit.json, fit.csv (measured, fitted and residual components
+// inspect's outputs (docs/interfaces.md "inspect"): fit.json, fit.csv (measured, fitted and residual components
 // per reading), summary.md, components.png (measured vs fitted Bx, By, Bz along the scan).
 #pragma once
 #include <filesystem>

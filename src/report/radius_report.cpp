@@ -59,16 +59,24 @@ std::string file_tag(const std::string& name) {
   return t;
 }
 
-std::string radius_csv(const RadiusScanResult& r) {
+std::string radius_csv(const RadiusScanResult& r, bool windowed) {
   std::ostringstream os;
   os << "field,array,r0_mm,bz_amplitude_T,ideal_pp_deg,worst_pp_deg,worst_corner,mc_mean_pp_deg,mc_p95_pp_deg,mc_p99_pp_deg,"
-        "mc_max_pp_deg,mc_samples,noise_sigma_deg,noise_pp_deg,adc_clipped,total_p99_pp_deg,total_worst_pp_deg\n";
-  for (const auto& x : r.rows)
+        "mc_max_pp_deg,mc_samples,noise_sigma_deg,noise_pp_deg,adc_clipped,total_p99_pp_deg,total_worst_pp_deg";
+  // With a field window: its counts and the field extremes, after the standard columns.
+  if (windowed) os << ",mc_out_of_window,corners_out_of_window,field_min_mT,field_max_mT";
+  os << "\n";
+  for (const auto& x : r.rows) {
     os << x.field << "," << x.array << "," << num10(x.r0_mm) << "," << num10(x.bz_amplitude_T) << "," << num10(x.ideal_pp_deg)
        << "," << num10(x.worst_pp_deg)
        << "," << x.worst_corner << "," << num10(x.mc.mean) << "," << num10(x.mc.p95) << "," << num10(x.mc.p99) << ","
        << num10(x.mc.max) << "," << x.mc.n << "," << num10(x.noise.sigma_deg) << "," << num10(x.noise.pp_deg) << ","
-       << (x.noise.adc_clipped ? 1 : 0) << "," << num10(x.total_p99_pp_deg) << "," << num10(x.total_worst_pp_deg) << "\n";
+       << (x.noise.adc_clipped ? 1 : 0) << "," << num10(x.total_p99_pp_deg) << "," << num10(x.total_worst_pp_deg);
+    if (windowed)
+      os << "," << x.mc_out_of_window << "," << x.corners_out_of_window << "," << num10(x.field_min_mT) << ","
+         << num10(x.field_max_mT);
+    os << "\n";
+  }
   return os.str();
 }
 
@@ -346,6 +354,28 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
   md << "- Spectra cases (radius_spectra.csv): " << fmt(opt.case_offset_mm, 2) << " mm of each of sx, sy, dx, dy; dz = +-"
      << fmt(opt.case_dz_mm, 2) << " mm with dx = " << fmt(opt.case_residual_dx_mm, 2) << " mm.\n\n";
 
+  if (opt.window.active()) {
+    md << "Field window (sensor.field_min_mT .. field_max_mT): " << fmt(opt.window.min_mT, 1) << " .. "
+       << (std::isinf(opt.window.max_mT) ? std::string("inf") : fmt(opt.window.max_mT, 1))
+       << " mT on each probe's peak |Bz| over a turn. Corners and Monte Carlo samples whose field leaves it are "
+          "counted apart (columns mc_out_of_window, corners_out_of_window of radius.csv) and left out of the pp "
+          "statistics: such a mount fails whatever its angle error.\n";
+    md << "\n";
+    for (const auto& x : r.recommendations) {
+      const RadiusRow* best = row_at(r, x.field, x.array, x.r0_best_mm);
+      long out_mc = 0, rows_all_out = 0;
+      for (const RadiusRow* row : rows_of(r, x.field, x.array)) {
+        out_mc += row->mc_out_of_window;
+        rows_all_out += row->mc.n == 0 ? 1 : 0;
+      }
+      md << "- `" << x.array << "` (" << x.field << "): at the best r0 = " << fmt(x.r0_best_mm, 2) << " mm, "
+         << best->mc_out_of_window << " of " << opt.samples << " samples and " << best->corners_out_of_window
+         << " corners out of the window (field " << fmt(best->field_min_mT, 1) << " .. " << fmt(best->field_max_mT, 1)
+         << " mT); over the scan " << out_mc << " samples out, " << rows_all_out
+         << " radii with no sample inside.\n";
+    }
+    md << "\n";
+  }
   md << "## Recommendation\n\n";
   std::vector<std::vector<std::string>> tab;
   for (const auto& x : r.recommendations) {

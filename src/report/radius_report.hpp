@@ -19,7 +19,9 @@
 
 namespace magenc {
 
-std::string radius_csv(const RadiusScanResult& r);
+// windowed: the field-window columns (mc_out_of_window, corners_out_of_window, field_min_mT,
+// field_max_mT) after the standard ones (RadiusScanOptions::window set).
+std::string radius_csv(const RadiusScanResult& r, bool windowed = false);
 std::string recommendation_csv(const RadiusScanResult& r);
 std::string validation_csv(const RadiusScanResult& r);
 

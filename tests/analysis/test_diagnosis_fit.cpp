@@ -203,3 +203,30 @@ TEST_CASE("diagnose: default free set of `two` at the ideal mount is what docs/p
   for (const char* n : {"dz", "tilt_x", "tilt_y", "gain", "phase"}) CHECK(std::find(def.begin(), def.end(), n) == def.end());
   CHECK_THAT(note, Catch::Contains("gain_mismatch: left out"));
 }
+
+TEST_CASE("diagnose fits the one-spot principles: AMR relative offsets round trip, mT offsets do not apply",
+          "[analysis][cross-check]") {
+  const AnalyticField field{Magnet{}};
+  ModelState base = default_state("point");
+  base.setup.principle = SensorPrinciple::Amr;
+  // Truth: a static eccentricity and a relative cos-channel offset (AMR: c2 of o/2 rad beside sx's c2).
+  const auto truth = values_with(base, {{"dx", 0.05}, {"offset_cos_rel", 0.004}, {"offset_sin_rel", -0.002}});
+  const CurveInput c = synthetic(field, base, truth, 0.0, 180, 0.0);
+  DiagnosisOptions o;
+  o.free = {"offset_cos_rel", "offset_sin_rel", "offset_cos"};
+  o.starts = 1;
+  const DiagnosisResult r = diagnose_curves(field, {c}, o);
+  CHECK(param(r, "offset_cos_rel").value == Approx(0.004).margin(1e-7));
+  CHECK(param(r, "offset_sin_rel").value == Approx(-0.002).margin(1e-7));
+  CHECK(r.residual_rms_deg < 1e-6);
+  // offset_cos (mT) has no effect on amr: reported, not fitted into a value.
+  CHECK(std::find(r.not_identifiable.begin(), r.not_identifiable.end(), "offset_cos_mT") != r.not_identifiable.end());
+  // The default free set on inplane never contains the relative offsets (they do not apply there).
+  ModelState ip = default_state("point");
+  ip.setup.principle = SensorPrinciple::InPlane;
+  const CurveInput ci = synthetic(field, ip, values_with(ip, {{"offset_cos", 0.5}}), 0.0, 180, 0.0);
+  DiagnosisOptions od;
+  const auto set = default_free_set(field, {ci}, od, nullptr);
+  CHECK(std::find(set.begin(), set.end(), "offset_cos_rel") == set.end());
+  CHECK(std::find(set.begin(), set.end(), "offset_cos") != set.end());
+}

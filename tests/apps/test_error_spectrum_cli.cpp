@@ -160,3 +160,72 @@ TEST_CASE("error_spectrum rejects bad input cleanly", "[apps][bad-input][cli]") 
                          "cases.csv"}) == 0);
   }
 }
+
+TEST_CASE("error_spectrum: sensing principles and field windows", "[apps][contract][cli]") {
+  Scratch s;
+  // In-plane spot, sx 0.1 mm (docs/physics.md: c2 0.0340 deg); the field-window columns after the standard ones.
+  RunResult r = s.run("--field analytic --principle inplane --sx 0.1 --steps 720 --out a.csv");
+  CAPTURE(r.err);
+  REQUIRE(r.exit_code == 0);
+  std::string csv = slurp(s.dir / "a.csv");
+  CHECK(csv.rfind("field,array,r0_mm,sx_mm,sy_mm,dx_mm,dy_mm,dz_mm,a0_deg,", 0) == 0);
+  CHECK(csv.find(",pp_deg,principle,field_min_mT,field_max_mT,in_window\n") != std::string::npos);
+  CHECK(csv.find("\nanalytic,point,0,0.1,") != std::string::npos);  // r0 is not used by the point array
+  CHECK(csv.find(",inplane,50.7") != std::string::npos);  // |b| over the turn: 50.776 .. 50.836 mT at sx 0.1 mm
+  // A window the field leaves: in_window 0, still exit 0 (a mount outside the window is reported, not refused).
+  r = s.run("--field analytic --principle xmr --set sensor.field_min_mT=60 --steps 64 --out b.csv");
+  REQUIRE(r.exit_code == 0);
+  csv = slurp(s.dir / "b.csv");
+  CHECK(csv.substr(csv.size() - 3) == ",0\n");
+  // A chip definition as a config file (docs/interfaces.md keys; inf is TOML's infinity): a window of 30 .. 50 mT
+  // that the spot's 50.84 .. 50.86 mT leaves on the high side; with inf it is inside.
+  s.file("chip.toml", "[sensor]\nprinciple = \"xmr\"\narray = \"point\"\nfield_min_mT = 30.0\nfield_max_mT = 50.0\n"
+                      "offset_cos_rel = 0.002\n");
+  r = s.run("--config chip.toml --sx 0.05 --steps 64");
+  CAPTURE(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find(",xmr,50.8") != std::string::npos);
+  CHECK(r.out.substr(r.out.size() - 3) == ",0\n");
+  s.file("chip2.toml", "[sensor]\nprinciple = \"amr\"\nfield_min_mT = 31.4\nfield_max_mT = inf\n");
+  r = s.run("--config chip2.toml --steps 64");
+  CAPTURE(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.substr(r.out.size() - 3) == ",1\n");
+  // bz, default: the columns are there too; in_window 1 without a window.
+  r = s.run("--field linear --sx 0.1");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find(",bz,") != std::string::npos);
+  CHECK(r.out.substr(r.out.size() - 3) == ",1\n");
+}
+
+TEST_CASE("error_spectrum: sensing-principle bad input, one line, exit 2, no output", "[apps][bad-input][cli]") {
+  struct Bad {
+    std::string args;
+    std::string names;
+  };
+  const std::vector<Bad> cases = {
+      {"--principle inplane --array two", "--array"},                                // array/principle mismatch
+      {"--principle amr --array diff4", "--array"},
+      {"--array point", "--array"},                                                   // point on bz
+      {"--principle xmr --r0 2.0", "sensor.r0_mm"},                                   // r0 does not apply
+      {"--set sensor.offset_cos_rel=0.01", "sensor.offset_cos_rel"},                  // relative offset on bz
+      {"--principle inplane --set sensor.offset_sin_rel=0.01", "sensor.offset_sin_rel"},
+      {"--principle xmr --set sensor.offset_cos_mT=0.5", "sensor.offset_cos_mT"},     // mT offset on xmr
+      {"--set sensor.field_min_mT=80 --set sensor.field_max_mT=40", "sensor.field_min_mT"},  // min > max
+      {"--set sensor.plate_mm=-0.1", "sensor.plate_mm"},                              // negative plate
+      {"--set sensor.plate_points=0", "sensor.plate_points"},
+      {"--principle hall", "--principle"},
+      {"--field linear --principle inplane", "linear"},                               // Bz-only source
+      {"--principle inplane --paths p.vtp", "--paths"},
+  };
+  for (const auto& b : cases) {
+    Scratch s;
+    const RunResult r = s.run(b.args + " --steps 64 --out out.csv");
+    CAPTURE(b.args, r.err, r.exit_code);
+    CHECK(r.exit_code == 2);
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.err.find(b.names) != std::string::npos);
+    CHECK(r.out.empty());
+    CHECK(s.stray_files({}) == 0);
+  }
+}

@@ -59,6 +59,28 @@ void MountingCase(benchmark::State& state, const char* array) {
 BENCHMARK_CAPTURE(MountingCase, two, "two")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(MountingCase, ring8, "ring:8")->UseRealTime()->Unit(benchmark::kMillisecond);
 
+// The one-spot principles on the same mount (point array: M field vectors per case against the
+// two-probe array's 2M Bz values); plate: a 0.2 mm sensing area, 4 x 4 points per reading.
+void MountingCasePrinciple(benchmark::State& state, magenc::SensorPrinciple p, double plate_mm) {
+  const magenc::AnalyticField f{magenc::Magnet{}};
+  magenc::ProbeSetup setup;
+  setup.array = magenc::ProbeArray::parse("point");
+  setup.principle = p;
+  setup.area.plate_mm = plate_mm;
+  setup.steps = 3600;
+  magenc::Mount m;
+  m.sx_mm = 0.03;
+  m.dx_mm = 0.05;
+  for (auto _ : state) benchmark::DoNotOptimize(magenc::error_spectrum(f, setup, m).c_deg[1]);
+  state.SetItemsProcessed(state.iterations());  // items = mounting cases
+}
+BENCHMARK_CAPTURE(MountingCasePrinciple, inplane_point, magenc::SensorPrinciple::InPlane, 0.0)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCasePrinciple, amr_point, magenc::SensorPrinciple::Amr, 0.0)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCasePrinciple, inplane_plate4x4, magenc::SensorPrinciple::InPlane, 0.2)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+
 // The new terms: tilted = false: elevation + signal chain (Bz path); true: also both tilts (n.B path).
 void MountingCaseNew(benchmark::State& state, const char* array, bool tilted) {
   magenc::Magnet mag;

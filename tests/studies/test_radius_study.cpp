@@ -126,7 +126,9 @@ TEST_CASE("radius study: bad input exits non-zero with one line and no output", 
   const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
                                    "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
                                    "--set radius.arrays=three", "--set radius.r0_min_mm=0.2",
-                                   "--set sensor.offset_cos_mT=0.5");
+                                   "--set sensor.offset_cos_mT=0.5", "--set sensor.plate_mm=0.2",
+                                   "--set sensor.principle=inplane",
+                                   "--set sensor.field_min_mT=70 --set sensor.field_max_mT=40");
   CAPTURE(bad);
   fs::remove_all(out);
   const Run r = run_radius(tiny() + " " + bad, out);
@@ -170,4 +172,60 @@ TEST_CASE("radius study: a solved field of another magnet is never compared with
   CHECK(std::count(b.err.begin(), b.err.end(), '\n') == 1);
   CHECK_FALSE(fs::exists(out2));
   fs::remove_all(base);
+}
+
+TEST_CASE("radius study: a field window counts out-of-window samples apart", "[studies][contract][cli]") {
+  // Bz peaks near 46 mT at r0 2.4 mm and falls towards small radii: a 40 .. 70 mT window leaves the small
+  // radii (all samples out) and keeps the peak region (all in); the counts add up to the samples.
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_window_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const Run r = run_radius(tiny() + " --set radius.samples=50 --set radius.arrays=two"
+                                    " --set sensor.field_min_mT=40 --set sensor.field_max_mT=70", out);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream csv(out / "radius.csv");
+  std::string line;
+  std::getline(csv, line);
+  const auto head = split(line);
+  CHECK(head.back() == "field_max_mT");
+  auto col = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
+  };
+  int all_out = 0, all_in = 0, rows = 0;
+  while (std::getline(csv, line)) {
+    const auto v = split(line);
+    ++rows;
+    const long out_n = std::stol(v[col("mc_out_of_window")]), in_n = std::stol(v[col("mc_samples")]);
+    CHECK(out_n + in_n == 50);
+    all_out += out_n == 50;
+    all_in += in_n == 50;
+    const double fmin = std::stod(v[col("field_min_mT")]), fmax = std::stod(v[col("field_max_mT")]);
+    CHECK(fmin <= fmax);
+    if (fmin >= 40 && fmax <= 70) CHECK(out_n == 0);  // every sample's extremes lie inside the window
+  }
+  CHECK(rows == 5);
+  CHECK(all_out >= 1);  // r0 = 1 mm: Bz far below 40 mT
+  CHECK(all_in >= 1);   // near the peak
+  std::ifstream sm(out / "summary.md");
+  std::stringstream sms;
+  sms << sm.rdbuf();
+  CHECK(sms.str().find("Field window") != std::string::npos);
+  CHECK(sms.str().find("out of the window") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("radius study: no window, no window columns", "[studies][regression][cli]") {
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_nowindow_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const Run r = run_radius(tiny() + " --set radius.samples=20 --set radius.arrays=two", out);
+  REQUIRE(r.code == 0);
+  std::ifstream csv(out / "radius.csv");
+  std::string line;
+  std::getline(csv, line);
+  CHECK(split(line).back() == "total_worst_pp_deg");
+  std::ifstream sm(out / "summary.md");
+  std::stringstream sms;
+  sms << sm.rdbuf();
+  CHECK(sms.str().find("Field window") == std::string::npos);
+  fs::remove_all(out);
 }

@@ -1,0 +1,145 @@
+#include "probe/sensor.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "core/errors.hpp"
+
+namespace magenc {
+
+namespace {
+const char* const kAllowedPrinciples = "allowed bz, inplane, xmr, amr";
+
+// The declared default of a key (its text, as the schema holds it).
+std::string default_text(const Config& cfg, const std::string& key) {
+  for (const auto& s : cfg.schema())
+    if (s.key == key) return s.default_value;
+  return "";
+}
+
+// A real key differs from its declared default (a key the schema lacks never does).
+bool real_changed(const Config& cfg, const std::string& key) {
+  if (!cfg.has(key)) return false;
+  return cfg.real(key) != std::stod(default_text(cfg, key));
+}
+}  // namespace
+
+SensorPrinciple parse_principle(const std::string& text, const std::string& what) {
+  for (SensorPrinciple p : all_principles())
+    if (principle_name(p) == text) return p;
+  throw InputError(what + " = '" + text + "' is not a sensing principle: " + kAllowedPrinciples);
+}
+
+std::string principle_name(SensorPrinciple p) {
+  switch (p) {
+    case SensorPrinciple::Bz: return "bz";
+    case SensorPrinciple::InPlane: return "inplane";
+    case SensorPrinciple::Xmr: return "xmr";
+    case SensorPrinciple::Amr: return "amr";
+  }
+  return "bz";
+}
+
+const std::vector<SensorPrinciple>& all_principles() {
+  static const std::vector<SensorPrinciple> all = {SensorPrinciple::Bz, SensorPrinciple::InPlane,
+                                                   SensorPrinciple::Xmr, SensorPrinciple::Amr};
+  return all;
+}
+
+void FieldWindow::validate() const {
+  if (!(std::isfinite(min_mT) && min_mT >= 0))
+    throw InputError("sensor.field_min_mT = " + num(min_mT) + " is out of range: allowed [0, 1e+06] mT");
+  if (!(max_mT > 0))  // NaN fails too; +inf is allowed (no upper limit)
+    throw InputError("sensor.field_max_mT = " + num(max_mT) + " is out of range: allowed (0, inf] mT");
+  if (min_mT > max_mT)
+    throw InputError("sensor.field_min_mT = " + num(min_mT) + " exceeds sensor.field_max_mT = " + num(max_mT) +
+                     ": allowed field_min_mT <= field_max_mT");
+}
+
+void SensingArea::validate() const {
+  if (!(std::isfinite(plate_mm) && plate_mm >= 0 && plate_mm <= kMaxPlate_mm))
+    throw InputError("sensor.plate_mm = " + num(plate_mm) + " is out of range: allowed [0, " + num(kMaxPlate_mm) +
+                     "] mm");
+  if (plate_points < 1 || plate_points > kMaxPoints)
+    throw InputError("sensor.plate_points = " + std::to_string(plate_points) +
+                     " is out of range: allowed integer in [1, " + std::to_string(kMaxPoints) + "]");
+}
+
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+  x.assign(static_cast<std::size_t>(n), 0.0);
+  w.assign(static_cast<std::size_t>(n), 0.0);
+  if (n == 1) {
+    w[0] = 2.0;
+    return;
+  }
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 1; k < n; ++k) {
+    const double b = k / std::sqrt(4.0 * k * k - 1.0);
+    J(k - 1, k) = b;
+    J(k, k - 1) = b;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(J);
+  for (int i = 0; i < n; ++i) {
+    x[static_cast<std::size_t>(i)] = es.eigenvalues()[i];
+    const double v0 = es.eigenvectors()(0, i);
+    w[static_cast<std::size_t>(i)] = 2.0 * v0 * v0;
+  }
+  // Symmetrize (the rule is symmetric about 0; removes eigen-solver round-off asymmetry).
+  for (int i = 0; i < n / 2; ++i) {
+    const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(n - 1 - i);
+    const double xs = 0.5 * (x[b] - x[a]), ws = 0.5 * (w[a] + w[b]);
+    x[a] = -xs;
+    x[b] = xs;
+    w[a] = w[b] = ws;
+  }
+  if (n % 2 == 1) x[static_cast<std::size_t>(n / 2)] = 0.0;
+}
+
+void SensingArea::nodes(std::vector<double>& u_mm, std::vector<double>& v_mm, std::vector<double>& w) const {
+  u_mm.clear();
+  v_mm.clear();
+  w.clear();
+  if (point()) {
+    u_mm = {0.0};
+    v_mm = {0.0};
+    w = {1.0};
+    return;
+  }
+  std::vector<double> x, wx;
+  gauss_legendre(plate_points, x, wx);
+  const double h = 0.5 * plate_mm;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      u_mm.push_back(h * x[i]);
+      v_mm.push_back(h * x[j]);
+      w.push_back(0.25 * wx[i] * wx[j]);  // weights of [-1, 1]^2 sum to 4: the mean over the square
+    }
+}
+
+void check_principle_keys(const Config& cfg) {
+  const std::string pname = cfg.str("sensor.principle");
+  const SensorPrinciple p = parse_principle(pname);
+  auto refuse = [&](const std::string& key, const std::string& shown, const std::string& allowed) {
+    throw InputError(key + " = " + shown + " does not apply to sensor.principle = " + pname + ": allowed " + allowed);
+  };
+  const std::string array = cfg.str("sensor.array");
+  if (reads_in_plane(p)) {
+    if (array != "point" && array != default_text(cfg, "sensor.array"))
+      refuse("sensor.array", "'" + array + "'", "point (one sensing spot at the die centre)");
+    if (real_changed(cfg, "sensor.r0_mm"))
+      refuse("sensor.r0_mm", num(cfg.real("sensor.r0_mm")), "its default (r0 is not used by the point array)");
+  } else if (array == "point") {
+    refuse("sensor.array", "'point'", "two, diff4, ring:N (or another sensor.principle: inplane, xmr, amr)");
+  }
+  const char* const mT[] = {"sensor.offset_cos_mT", "sensor.offset_sin_mT"};
+  const char* const rel[] = {"sensor.offset_cos_rel", "sensor.offset_sin_rel"};
+  for (const char* key : relative_offsets(p) ? mT : rel)
+    if (real_changed(cfg, key))
+      refuse(key, num(cfg.real(key)),
+             relative_offsets(p) ? "0 (xmr/amr offsets are relative: sensor.offset_cos_rel, sensor.offset_sin_rel)"
+                                 : "0 (bz/inplane offsets are in mT: sensor.offset_cos_mT, sensor.offset_sin_mT)");
+  const FieldWindow window{cfg.real("sensor.field_min_mT"), cfg.real("sensor.field_max_mT")};
+  window.validate();
+}
+
+}  // namespace magenc
