@@ -140,10 +140,6 @@ py::array_t<double> vector_of(const Eigen::VectorXd& v) {
   return out;
 }
 
-std::string array_spec(const Config& cfg, const py::object& array) {
-  return array.is_none() ? cfg.str("sensor.array") : array.cast<std::string>();
-}
-
 // ---- the functions ----
 
 py::array_t<double> py_field_at(const py::object& points_mm, const std::string& field, const py::object& config,

@@ -29,8 +29,8 @@ struct ProbeSetup {
   // How the die turns the field into channels (probe/sensor.hpp, docs/physics.md "Sensor principles"):
   // bz reads n.B at the array's probes; inplane, xmr, amr read b1 = x'.B, b2 = y'.B at one spot.
   SensorPrinciple principle = SensorPrinciple::Bz;
-  SensingArea area;           // finite sensing area (plate_mm = 0: points)
-  FieldWindow window;         // the field magnitude the chip needs (off by default)
+  SensingArea area{};         // finite sensing area (plate_mm = 0: points)
+  FieldWindow window{};       // the field magnitude the chip needs (off by default)
 };
 
 // The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),

@@ -82,7 +82,10 @@ std::string ansys_text(const GridData& g, bool aedt, bool vector) {
   std::string t;
   auto triplet = [&](const Vec3& v, bool mm) {
     std::string s;
-    for (int d = 0; d < 3; ++d) s += (d ? " " : "") + (mm ? g_fmt(v[d], 12) + "mm" : g_fmt(v[d] * 1e-3, 15));
+    for (int d = 0; d < 3; ++d) {  // appended piece by piece: GCC 12 -Wrestrict false positive (GCC bug 105651)
+      if (d) s += ' ';
+      s += mm ? g_fmt(v[d], 12) + "mm" : g_fmt(v[d] * 1e-3, 15);
+    }
     return s;
   };
   if (aedt) {

@@ -36,7 +36,7 @@
 #include "fields/analytic_field.hpp"
 #include "fields/grid_field.hpp"
 #include "probe/angle_error.hpp"
-#include "probe_setup.hpp"
+#include "support/probe_setup.hpp"
 
 using namespace magenc;
 

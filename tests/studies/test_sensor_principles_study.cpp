@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "study_test_util.hpp"
+#include "support/study_test_util.hpp"
 
 using namespace magenc::test;
 
