@@ -76,7 +76,7 @@ TEST_CASE("scan CSV: bad files are refused with one line", "[io][bad-input]") {
   CHECK_THROWS_WITH(magenc::read_scan_csv("/nonexistent/s.csv"), Contains("--scan /nonexistent/s.csv does not exist"));
 }
 
-TEST_CASE("points and scan CSV: files as spreadsheet programs save them (byte-order mark, ';', decimal comma)",
+TEST_CASE("points and scan CSV: files as spreadsheet programs save them (byte-order mark, semicolons, decimal comma)",
           "[io][contract]") {
   const auto p = magenc::parse_points_csv("\xEF\xBB\xBFx_mm;y_mm;z_mm\r\n0,5;-1,25;4,55\r\n", "pts.csv");
   REQUIRE(p.cols() == 1);

@@ -152,7 +152,7 @@ TEST_CASE("AMR bookkeeping: channel offset -> c2 = o/2, gain -> c4 = g/(2(2+g))"
   CHECK(rad(angle_error(exact_field(), x, Mount{}).spectrum.c_deg[1]) == Approx(0.01).epsilon(1e-9));
 }
 
-TEST_CASE("AMR error is wrapped into (-90, 90] and sampled over the mechanical angle", "[probe][contract]") {
+TEST_CASE("AMR error is wrapped into -90 < eps <= 90 deg and sampled over the mechanical angle", "[probe][contract]") {
   ProbeSetup s = point_setup(SensorPrinciple::Amr, 360);
   s.chain.offset_cos_rel = 0.9;  // a large error, but |eps| < 90 deg
   s.chain.phase_error_deg = 60;

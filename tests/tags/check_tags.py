@@ -7,7 +7,9 @@ under tests/ has
   - otherwise only kind tags from KINDS below (none is required);
   - no tag twice, nothing between the brackets but tags;
   - a name without ';' (CMake splits lists on ';': catch_discover_tests would register
-    two filters that match nothing; ',' '[' ']' are escaped by CatchAddTests.cmake).
+    two filters that match nothing; ',' is escaped by CatchAddTests.cmake) and without '[' or ']'
+    (an unbalanced bracket makes CMake's list parsing join the following test names into one
+    ctest entry whose filter matches nothing).
 
 tests/README.md lists the same vocabulary (rows "| `[tag]` | ..." of its tag
 tables): a tag added here but not there, or there but not here, is reported.
@@ -94,6 +96,8 @@ def check_case(folder, name, tags):
     problems = []
     if ";" in name:
         problems.append("name contains ';'")
+    if "[" in name or "]" in name:
+        problems.append("name contains '[' or ']'")
     if tags is None or not tags.strip():
         return problems + [f"no tags (needs one layer tag of {' '.join('[' + t + ']' for t in LAYERS)})"]
     found = re.findall(r"\[([^\[\]]*)\]", tags)
@@ -178,6 +182,7 @@ def self_test():
         "tag twice": ("tests/core/test_bad.cpp", 'TEST_CASE("x", "[core][slow][slow]") {}\n', "given twice"),
         "text outside brackets": ("tests/core/test_bad.cpp", 'TEST_CASE("x", "[core] slow") {}\n', "outside brackets"),
         "semicolon in name": ("tests/core/test_bad.cpp", 'TEST_CASE("x; y", "[core]") {}\n', "contains ';'"),
+        "bracket in name": ("tests/core/test_bad.cpp", 'TEST_CASE("x in (-90, 90]", "[core]") {}\n', "contains '[' or ']'"),
         "name not a literal": ("tests/core/test_bad.cpp", 'TEST_CASE(NAME, "[core]") {}\n', "cannot read"),
         "undocumented tag": ("tests/README.md", readme.replace("| `[slow]` | x |\n", ""), "[slow] of the checker"),
         "documented unknown tag": ("tests/README.md", readme + "| `[fem]` | x |\n", "documents tag [fem]"),
