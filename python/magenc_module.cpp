@@ -33,6 +33,7 @@
 #include "io/points_csv.hpp"
 #include "report/diagnosis_report.hpp"
 #include "report/inspect_report.hpp"
+#include "solved_field.hpp"
 
 namespace py = pybind11;
 using magenc::Config;
@@ -100,12 +101,9 @@ Config make_config(const py::object& config, const py::kwargs& keys) {
 }
 
 magenc::FieldSourcePtr open_field(const std::string& field, const Config& cfg, const std::string& interp) {
-  if (field.rfind("fem:", 0) == 0)
-    throw InputError("field '" + field + "': fem:DIR is not available in the Python module: allowed analytic, "
-                     "grid:FILE.vti (e.g. DIR/box.vti of solve_field), table:FILE, linear");
   magenc::FieldOptions opts;
   opts.interp = magenc::parse_interp(interp, "interp");
-  return magenc::make_field_source(field, cfg, opts);
+  return magenc::open_field_source(field, cfg, opts);  // the field factory's sources plus fem:DIR
 }
 
 Eigen::Matrix3Xd points_from(const py::object& points_mm) {
@@ -307,7 +305,7 @@ PYBIND11_MODULE(magenc, m) {
       "centred at the origin, axis z). Configuration keys as a dict {\"mount.sx_mm\": 0.1} or keyword\n"
       "arguments (mount_sx_mm=0.1), the same keys as --set; a bad key or value raises ValueError with\n"
       "the executables' one-line message. Field sources: 'analytic' (exact field of the [magnet] keys),\n"
-      "'grid:FILE.vti', 'table:FILE', 'linear' (not fem:DIR: sample it as grid:DIR/box.vti).";
+      "'fem:DIR' (a solve_field output, evaluated in its tetrahedra), 'grid:FILE.vti', 'table:FILE', 'linear'.";
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<magenc::ComputeError>(m, "ComputeError", PyExc_RuntimeError);
 
@@ -316,7 +314,7 @@ PYBIND11_MODULE(magenc, m) {
         "B at points, like a field library's getB (the field_at executable).\n\n"
         "points_mm: (N, 3) array (or one point of shape (3,)), x, y, z in mm in the magnet frame.\n"
         "field: 'analytic' (exact field of the configured magnet, inside it too: B = mu0 (H + M)),\n"
-        "  'grid:FILE.vti', 'table:FILE' (fem:DIR: use grid:DIR/box.vti). interp: nearest | linear | cubic (grid:/table:).\n"
+        "  'fem:DIR' (solve_field's output), 'grid:FILE.vti', 'table:FILE'. interp: nearest | linear | cubic (grid:/table:).\n"
         "config: dict of keys, e.g. {'magnet.magnetization_elevation_deg': 30}; **keys: the same as keywords.\n"
         "Returns an (N, 3) float64 array: Bx, By, Bz in T.\n"
         "Raises ValueError naming the first point on the magnet's surface or outside a grid.");

@@ -3,6 +3,7 @@ import csv
 import io
 import json
 import math
+import pathlib
 
 import numpy as np
 import pytest
@@ -66,8 +67,8 @@ def test_field_at_refuses_what_the_executable_refuses(tmp_path, run_exe):
         magenc.field_at([[0, 0, math.nan]])
     with pytest.raises(ValueError, match=r"allowed \(N, 3\)"):
         magenc.field_at(np.zeros((4, 2)))
-    with pytest.raises(ValueError, match="fem:DIR is not available"):
-        magenc.field_at([[0, 0, 5]], field="fem:output/field")
+    with pytest.raises(ValueError, match="mesh.vtu does not exist"):
+        magenc.field_at([[0, 0, 5]], field="fem:" + str(tmp_path / "no_such_solve"))
 
 
 # ---- configuration ----
@@ -204,3 +205,35 @@ def test_inspect_equals_the_executable_and_recovers_the_truth(tmp_path, run_exe)
     assert fit["residual_rms_mT"] == pytest.approx(0.05, rel=0.2)
     with pytest.raises(ValueError, match="not a parameter group"):
         magenc.inspect(scan, free=["tilt"])
+
+
+# ---- fem:DIR ----
+
+def test_fem_source_equals_the_executable_to_the_last_bit(tmp_path, run_exe):
+    """A coarse solve_field output read as fem:DIR: B at points and one mounting case, module vs executables."""
+    root = pathlib.Path(__file__).resolve().parents[2]
+    solve = tmp_path / "field"
+    r = run_exe("solve_field", "--config", root / "meshes" / "coarse.toml", "--set", "output.mesh_vtu=true",
+                "--out", solve)
+    assert r.returncode == 0, r.stderr
+    rng = np.random.default_rng(11)
+    pts = np.column_stack([rng.uniform(-3, 3, 20), rng.uniform(-3, 3, 20), rng.uniform(4.2, 4.9, 20)])
+    f = tmp_path / "pts.csv"
+    f.write_text("x_mm,y_mm,z_mm\n" + "".join(f"{x:.17g},{y:.17g},{z:.17g}\n" for x, y, z in pts))
+    r = run_exe("field_at", "--field", f"fem:{solve}", "--points", f)
+    assert r.returncode == 0, r.stderr
+    exe = np.array([[float(row[c]) for c in ("Bx_T", "By_T", "Bz_T")] for row in read_csv(r.stdout)])
+    B = magenc.field_at(pts, field=f"fem:{solve}")
+    np.testing.assert_array_equal(B, exe)
+    # the FE field of the default magnet (mu_r 1.05, coarse mesh) is the exact field within a few % of its peak
+    exact = magenc.field_at(pts)
+    assert np.max(np.abs(B - exact)) < 0.05 * np.max(np.abs(exact))
+    # the same mount through the FE field: the spectrum equals error_spectrum's to its printed digits
+    r = run_exe("error_spectrum", "--field", f"fem:{solve}", "--array", "two", "--r0", "2.4", "--dx", "0.1",
+                "--steps", "360")
+    assert r.returncode == 0, r.stderr
+    row = read_csv(r.stdout)[0]
+    theta, eps = magenc.angle_error(field=f"fem:{solve}", array="two", mount_dx_mm=0.1, sensor_steps=360)
+    spec = magenc.spectrum(eps)
+    for n in (1, 2, 3, 4):
+        assert spec[f"c{n}_deg"] == pytest.approx(float(row[f"c{n}_deg"]), rel=1e-8, abs=1e-10)
