@@ -4,7 +4,9 @@
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <regex>
+#include <thread>
 
 #include "core/atomic_output.hpp"
 #include "core/errors.hpp"
@@ -63,6 +65,22 @@ std::string parse_problem(const fs::path& file) {
   return "";
 }
 
+// Removes dir and everything in it. A study killed while gnuplot draws leaves gnuplot running for a
+// moment (std::system's child outlives SIGKILL of its parent), still writing its PNG into the study's
+// temporary folder, so one remove_all can meet a folder that fills again ("Directory not empty"):
+// retried for up to 10 s.
+void remove_all_settled(const fs::path& dir) {
+  for (int attempt = 0;; ++attempt) {
+    try {
+      fs::remove_all(dir);
+      return;
+    } catch (const fs::filesystem_error&) {
+      if (attempt >= 100) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+}
+
 // Every file under dir outside temporaries must parse; returns the problems.
 std::vector<std::string> incomplete_files(const fs::path& dir, int& checked) {
   std::vector<std::string> bad;
@@ -100,7 +118,7 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
   int kills = 0, checked = 0;
   for (const auto& job : jobs) {
     const fs::path out = s.dir / job.args.back();
-    fs::remove_all(s.dir / "out");
+    remove_all_settled(s.dir / "out");
     // 1. A complete run: how long it takes, and what it writes.
     const ProcResult full = run(kBin / job.exe, job.args, s.dir);
     INFO(job.exe << ": " << full.err);
@@ -110,7 +128,7 @@ TEST_CASE("faults: solve_field and a study killed at several moments leave compl
     for (const bool previous : {false, true}) {
       if (previous) REQUIRE(run(kBin / job.exe, job.args, s.dir).exit_code == 0);
       for (const double frac : {0.05, 0.2, 0.4, 0.6, 0.8, 0.95}) {
-        if (!previous) fs::remove_all(s.dir / "out");
+        if (!previous) remove_all_settled(s.dir / "out");
         Child c(kBin / job.exe, job.args, s.dir, {}, s.dir.parent_path());
         c.kill_after(frac * full.seconds);
         const ProcResult r = c.wait();
