@@ -123,11 +123,10 @@ ValidationSummary summarize_validation(const RadiusScanResult& r, const std::str
   return s;
 }
 
-void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir) {
-  const auto arrays = array_names(opt);
-  const auto cases = spectra_cases(opt);
-  const std::string xr = "r_0 [mm]";
-  // 1. Harmonics and pp against r0, one panel per mounting case, per (field, array).
+namespace {
+
+// 1. Harmonics and pp against r0, one panel per mounting case, per (field, array).
+void plot_harmonics(const RadiusScanResult& r, const std::vector<std::string>& arrays, const std::vector<std::pair<std::string, Mount>>& cases, const std::string& xr, const std::filesystem::path& dir) {
   for (const auto& f : r.fields) {
     for (const auto& a : arrays) {
       PlotSpec spec;
@@ -165,7 +164,10 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
       write_plot(dir, "harmonics_" + file_tag(f.field) + "_" + file_tag(a), spec);
     }
   }
-  // 2. Percentile bands against r0, one panel per array, per field.
+}
+
+// 2. Percentile bands against r0, one panel per array, per field.
+void plot_percentiles(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::vector<std::string>& arrays, const std::string& xr, const std::filesystem::path& dir) {
   for (const auto& f : r.fields) {
     PlotSpec spec;
     spec.title = "Peak-to-peak angle error over the tolerance box vs r_0: " + plot_literal(f.field) + " field (" +
@@ -203,53 +205,67 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
     }
     write_plot(dir, "percentiles_" + file_tag(f.field), spec);
   }
-  // 3. Total p99 of every (field, array) in one panel.
-  {
-    PlotSpec spec;
-    spec.title = "Total error (MC 99th percentile + noise pp) vs probe radius";
-    PlotPanel p;
-    p.xlabel = xr;
-    p.ylabel = "total peak-to-peak error [deg]";
-    p.logy = true;
-    for (const auto& f : r.fields)
-      for (const auto& a : arrays) {
-        std::vector<double> x, y;
-        for (const auto* row : rows_of(r, f.field, a)) {
-          x.push_back(row->r0_mm);
-          y.push_back(row->total_p99_pp_deg);
-        }
-        p.series.push_back({plot_literal(f.field + " " + a), x, y, "lines",
-                            f.field == r.fields.front().field ? "lw 2" : "lw 2 dt 2"});
-      }
-    spec.panels.push_back(p);
-    write_plot(dir, "total_p99", spec);
-  }
-  // 4. Bz amplitude on the plane against r.
-  {
-    PlotSpec spec;
-    spec.title = "B_z amplitude on the probe circle (sensing plane z_s = " + fmt(opt.plane_z_mm, 2) + " mm)";
-    PlotPanel p;
-    p.xlabel = "r [mm]";
-    p.ylabel = "B_z amplitude [mT]";
-    p.commands = {"set key bottom center"};
-    double ymax = 0;
-    for (const auto& f : r.fields) {
+}
+
+// 3. Total p99 of every (field, array) in one panel.
+void plot_total_p99(const RadiusScanResult& r, const std::vector<std::string>& arrays, const std::string& xr, const std::filesystem::path& dir) {
+  PlotSpec spec;
+  spec.title = "Total error (MC 99th percentile + noise pp) vs probe radius";
+  PlotPanel p;
+  p.xlabel = xr;
+  p.ylabel = "total peak-to-peak error [deg]";
+  p.logy = true;
+  for (const auto& f : r.fields)
+    for (const auto& a : arrays) {
       std::vector<double> x, y;
-      const std::string a = arrays.front();
       for (const auto* row : rows_of(r, f.field, a)) {
         x.push_back(row->r0_mm);
-        y.push_back(row->bz_amplitude_T * 1e3);
-        ymax = std::max(ymax, y.back());
+        y.push_back(row->total_p99_pp_deg);
       }
-      p.series.push_back({plot_literal(f.field), x, y, "lines", "lw 2"});
+      p.series.push_back({plot_literal(f.field + " " + a), x, y, "lines",
+                          f.field == r.fields.front().field ? "lw 2" : "lw 2 dt 2"});
     }
-    for (const auto& f : r.fields)
-      p.series.push_back({"peak " + plot_literal(f.field) + ": r = " + fmt(f.r_bz_peak_mm, 3) + " mm",
-                          {f.r_bz_peak_mm, f.r_bz_peak_mm}, {0.0, ymax * 1.05}, "lines", "dt 2 lw 1.5"});
-    p.commands.push_back("set yrange [0:" + num10(ymax * 1.1) + "]");
-    spec.panels.push_back(p);
-    write_plot(dir, "bz_profile", spec);
+  spec.panels.push_back(p);
+  write_plot(dir, "total_p99", spec);
+}
+
+// 4. Bz amplitude on the plane against r.
+void plot_bz_profile(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::vector<std::string>& arrays, const std::filesystem::path& dir) {
+  PlotSpec spec;
+  spec.title = "B_z amplitude on the probe circle (sensing plane z_s = " + fmt(opt.plane_z_mm, 2) + " mm)";
+  PlotPanel p;
+  p.xlabel = "r [mm]";
+  p.ylabel = "B_z amplitude [mT]";
+  p.commands = {"set key bottom center"};
+  double ymax = 0;
+  for (const auto& f : r.fields) {
+    std::vector<double> x, y;
+    const std::string a = arrays.front();
+    for (const auto* row : rows_of(r, f.field, a)) {
+      x.push_back(row->r0_mm);
+      y.push_back(row->bz_amplitude_T * 1e3);
+      ymax = std::max(ymax, y.back());
+    }
+    p.series.push_back({plot_literal(f.field), x, y, "lines", "lw 2"});
   }
+  for (const auto& f : r.fields)
+    p.series.push_back({"peak " + plot_literal(f.field) + ": r = " + fmt(f.r_bz_peak_mm, 3) + " mm",
+                        {f.r_bz_peak_mm, f.r_bz_peak_mm}, {0.0, ymax * 1.05}, "lines", "dt 2 lw 1.5"});
+  p.commands.push_back("set yrange [0:" + num10(ymax * 1.1) + "]");
+  spec.panels.push_back(p);
+  write_plot(dir, "bz_profile", spec);
+}
+
+}  // namespace
+
+void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir) {
+  const auto arrays = array_names(opt);
+  const auto cases = spectra_cases(opt);
+  const std::string xr = "r_0 [mm]";
+  plot_harmonics(r, arrays, cases, xr, dir);
+  plot_percentiles(r, opt, arrays, xr, dir);
+  plot_total_p99(r, arrays, xr, dir);
+  plot_bz_profile(r, opt, arrays, dir);
 }
 
 std::string budget_csv(const RadiusScanResult& r) {
