@@ -321,12 +321,10 @@ void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& d
   write_plot(dir, "budget", spec);
 }
 
-std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
-                              const std::vector<std::string>& notes, double wall_s) {
-  std::ostringstream md;
-  const auto arrays = array_names(opt);
-  md << "# Probe radius study (`radius`)\n\n";
-  md << "Which probe radius r0 to choose for this magnet, and what a mounting tolerance costs.\n\n";
+namespace {
+
+// What ran: magnet, sensor, arrays, tolerance box and window.
+void summary_what_ran(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg, const std::vector<std::string>& notes, const std::vector<std::string>& arrays) {
   md << "## What ran\n\n";
   md << "- Magnet: R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2)
      << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2) << " T, mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
@@ -392,6 +390,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     }
     md << "\n";
   }
+}
+
+// Recommendation: best r0 per (field, array).
+void summary_recommendation(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   md << "## Recommendation\n\n";
   std::vector<std::vector<std::string>> tab;
   for (const auto& x : r.recommendations) {
@@ -441,7 +443,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     md << "\n";
   }
   md << "\n";
+}
 
+// Exact vs FEM field (only with more than one field).
+void summary_exact_vs_fem(std::ostringstream& md, const RadiusScanResult& r, const Config& cfg, const std::vector<std::string>& arrays) {
   if (r.fields.size() > 1) {
     md << "## Exact vs FEM field\n\n";
     const std::string f0 = r.fields.front().field;
@@ -473,7 +478,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     md << "The exact field has mu_r = 1; the FEM uses magnet.mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
        << ", so part of the difference is physics, not discretization.\n\n";
   }
+}
 
+// Field artefacts: error with an ideal mount.
+void summary_field_artefacts(std::ostringstream& md, const RadiusScanResult& r, const std::vector<std::string>& arrays) {
   md << "## Field artefacts: error with an ideal mount\n\n";
   md << "An exact field gives zero error with an ideal mount; anything else is a numerical artefact of the field "
         "source (mesh, faceting, grid).\n\n";
@@ -492,7 +500,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
                    it)
        << "\n";
   }
+}
 
+// How fast and how accurate: the surrogate.
+void summary_surrogate(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   md << "## How fast and how accurate: the surrogate\n\n";
   md << "Per radius the field is sampled on a 5x5x5 stencil around each of " << opt.fast_steps
      << " nodes on the probe circle and fitted by a local polynomial of degree " << opt.surrogate_order
@@ -521,6 +532,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
         "elements): the surrogate then acts as a local least-squares smoothing of the field, and its difference to the "
         "direct pipeline measures that roughness (note the direct pipeline's own theta-grid dependence for such a "
         "field) rather than a surrogate error.\n\n";
+}
+
+// Error budget at the recommended r0.
+void summary_budget(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   if (!r.budget.empty()) {
     md << "## Error budget at the recommended r0\n\n"
        << "Share of a group = p99 of the peak-to-peak error with only that group of the tolerance box active (the same "
@@ -549,13 +564,20 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     }
     md << md_table(header, bt) << "\n" << md_image("error budget at the recommended r0", "budget.png") << "\n";
   }
+}
+
+// Timing.
+void summary_timing(std::ostringstream& md, const RadiusScanResult& r, double wall_s) {
   md << "## Timing\n\n";
   std::vector<std::vector<std::string>> tt;
   for (const auto& f : r.fields)
     tt.push_back({f.field, fmt(f.t_models_s, 2), fmt(f.t_cases_s, 2), fmt(f.t_validate_s, 2)});
   md << md_table({"field", "field models [s]", "spectra + corners + MC [s]", "validation [s]"}, tt) << "\n";
   md << "Scan wall time " << fmt(wall_s, 1) << " s.\n\n";
+}
 
+// Plots.
+void summary_plots(std::ostringstream& md, const RadiusScanResult& r, const std::vector<std::string>& arrays) {
   md << "## Plots\n\n";
   md << md_image("Bz amplitude vs r", "bz_profile.png");
   md << md_image("total p99 vs r0", "total_p99.png");
@@ -565,6 +587,24 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
       md << md_image("harmonics " + f.field + " " + a, "harmonics_" + file_tag(f.field) + "_" + file_tag(a) + ".png");
   md << "\nFiles: radius.csv, radius_spectra.csv, radius_recommendation.csv, radius_validation.csv, radius_budget.csv, "
         "config.toml, run.json.\n";
+}
+
+}  // namespace
+
+std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
+                              const std::vector<std::string>& notes, double wall_s) {
+  std::ostringstream md;
+  const auto arrays = array_names(opt);
+  md << "# Probe radius study (`radius`)\n\n";
+  md << "Which probe radius r0 to choose for this magnet, and what a mounting tolerance costs.\n\n";
+  summary_what_ran(md, r, opt, cfg, notes, arrays);
+  summary_recommendation(md, r, opt);
+  summary_exact_vs_fem(md, r, cfg, arrays);
+  summary_field_artefacts(md, r, arrays);
+  summary_surrogate(md, r, opt);
+  summary_budget(md, r, opt);
+  summary_timing(md, r, wall_s);
+  summary_plots(md, r, arrays);
   return md.str();
 }
 
