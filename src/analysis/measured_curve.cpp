@@ -29,18 +29,15 @@ double parse_cell(const std::string& cell, const std::string& origin, int row, c
   return n.value;
 }
 
-}  // namespace
+// Column indices of a curve file (-1: absent).
+struct CurveColumns {
+  int i_theta, i_err, i_phi, i_uc, i_us;
+};
 
-MeasuredCurve parse_measured_curve(const std::string& text, const std::string& origin,
-                                   const CurveReadOptions& opts) {
-  MeasuredCurve c;
-  c.path = origin;
-  // Lines, cells and numbers as spreadsheet programs write them (core/text_table.hpp).
-  TextTableReader reader(text, origin);
-  TextRow line;
-  int lineno = 0;
-  std::vector<std::string> header;
-  // 1. Header: the first non-blank, non-comment line.
+// 1. Header: the first non-blank, non-comment line.
+CurveColumns read_curve_header(TextTableReader& reader, TextRow& line, const std::string& origin,
+                               const CurveReadOptions& opts, MeasuredCurve& c, int& lineno,
+                               std::vector<std::string>& header) {
   if (reader.next(line)) {
     lineno = int(line.line);
     header = line.cells;
@@ -67,51 +64,13 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
     throw InputError("--error-sign -1 applies to theta_deg,error_deg files only; " + origin + " has " + c.format +
                      " columns: allowed --error-sign +1");
 
-  // 2. Rows.
-  std::vector<double> theta_raw, err;
-  std::vector<int> rows;
-  std::map<double, std::pair<double, int>> seen;  // raw theta -> (error, row)
-  while (reader.next(line)) {
-    lineno = int(line.line);
-    const auto& cells = line.cells;
-    if (cells.size() != header.size())
-      throw InputError(origin + " row " + std::to_string(lineno) + " has " + std::to_string(cells.size()) +
-                       " cells: allowed " + std::to_string(header.size()) + " (as the header)" +
-                       decimal_comma_hint(reader.separator(), cells.size(), header.size()));
-    const double th = parse_cell(cells[i_theta], origin, lineno, "theta_deg");
-    if (std::abs(th) > 1e7)
-      throw InputError(origin + " row " + std::to_string(lineno) + " theta_deg = " + num(th) +
-                       " is out of range: allowed |theta| <= 1e7 deg");
-    double e = 0;
-    if (c.format == "error_deg") {
-      e = opts.error_sign * parse_cell(cells[i_err], origin, lineno, "error_deg");
-    } else if (c.format == "phi_deg") {
-      e = parse_cell(cells[i_phi], origin, lineno, "phi_deg") - th;
-    } else {
-      const double uc = parse_cell(cells[i_uc], origin, lineno, "u_cos");
-      const double us = parse_cell(cells[i_us], origin, lineno, "u_sin");
-      if (uc == 0 && us == 0)
-        throw InputError(origin + " row " + std::to_string(lineno) +
-                         ": u_cos = u_sin = 0 gives no angle: allowed channels not both zero");
-      e = rad_to_deg(std::atan2(us, uc)) - th;
-    }
-    e = wrap_deg(std::fmod(e, 360.0));
-    const auto it = seen.find(th);
-    if (it != seen.end()) {
-      if (std::abs(wrap_deg(it->second.first - e)) > 1e-9)
-        throw InputError(origin + " row " + std::to_string(lineno) + ": theta_deg = " + num(th) +
-                         " repeats row " + std::to_string(it->second.second) +
-                         " with a different value: allowed each angle once (or repeated with the same value)");
-      ++c.duplicates;
-      continue;
-    }
-    seen.emplace(th, std::make_pair(e, lineno));
-    theta_raw.push_back(th);
-    err.push_back(e);
-    rows.push_back(lineno);
-  }
+  return {i_theta, i_err, i_phi, i_uc, i_us};
+}
 
-  // 3. Count, coverage, folding, gaps.
+// 3. Count, coverage, folding, gaps.
+void check_curve_coverage(MeasuredCurve& c, const std::string& origin, const CurveReadOptions& opts,
+                          const std::vector<double>& theta_raw, const std::vector<double>& err,
+                          const std::vector<int>& rows) {
   const int n = static_cast<int>(theta_raw.size());
   if (n < opts.min_points)
     throw InputError(origin + " has " + std::to_string(n) + " distinct data rows: allowed at least " +
@@ -164,6 +123,66 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
                      num(c.theta_deg[next]) + " deg (row " + std::to_string(c.row[next]) +
                      ") after folding: allowed gaps up to " + num(opts.max_gap_deg) + " deg");
   }
+}
+
+}  // namespace
+
+MeasuredCurve parse_measured_curve(const std::string& text, const std::string& origin,
+                                   const CurveReadOptions& opts) {
+  MeasuredCurve c;
+  c.path = origin;
+  // Lines, cells and numbers as spreadsheet programs write them (core/text_table.hpp).
+  TextTableReader reader(text, origin);
+  TextRow line;
+  int lineno = 0;
+  std::vector<std::string> header;
+  const auto [i_theta, i_err, i_phi, i_uc, i_us] = read_curve_header(reader, line, origin, opts, c, lineno, header);
+
+  // 2. Rows.
+  std::vector<double> theta_raw, err;
+  std::vector<int> rows;
+  std::map<double, std::pair<double, int>> seen;  // raw theta -> (error, row)
+  while (reader.next(line)) {
+    lineno = int(line.line);
+    const auto& cells = line.cells;
+    if (cells.size() != header.size())
+      throw InputError(origin + " row " + std::to_string(lineno) + " has " + std::to_string(cells.size()) +
+                       " cells: allowed " + std::to_string(header.size()) + " (as the header)" +
+                       decimal_comma_hint(reader.separator(), cells.size(), header.size()));
+    const double th = parse_cell(cells[i_theta], origin, lineno, "theta_deg");
+    if (std::abs(th) > 1e7)
+      throw InputError(origin + " row " + std::to_string(lineno) + " theta_deg = " + num(th) +
+                       " is out of range: allowed |theta| <= 1e7 deg");
+    double e = 0;
+    if (c.format == "error_deg") {
+      e = opts.error_sign * parse_cell(cells[i_err], origin, lineno, "error_deg");
+    } else if (c.format == "phi_deg") {
+      e = parse_cell(cells[i_phi], origin, lineno, "phi_deg") - th;
+    } else {
+      const double uc = parse_cell(cells[i_uc], origin, lineno, "u_cos");
+      const double us = parse_cell(cells[i_us], origin, lineno, "u_sin");
+      if (uc == 0 && us == 0)
+        throw InputError(origin + " row " + std::to_string(lineno) +
+                         ": u_cos = u_sin = 0 gives no angle: allowed channels not both zero");
+      e = rad_to_deg(std::atan2(us, uc)) - th;
+    }
+    e = wrap_deg(std::fmod(e, 360.0));
+    const auto it = seen.find(th);
+    if (it != seen.end()) {
+      if (std::abs(wrap_deg(it->second.first - e)) > 1e-9)
+        throw InputError(origin + " row " + std::to_string(lineno) + ": theta_deg = " + num(th) +
+                         " repeats row " + std::to_string(it->second.second) +
+                         " with a different value: allowed each angle once (or repeated with the same value)");
+      ++c.duplicates;
+      continue;
+    }
+    seen.emplace(th, std::make_pair(e, lineno));
+    theta_raw.push_back(th);
+    err.push_back(e);
+    rows.push_back(lineno);
+  }
+
+  check_curve_coverage(c, origin, opts, theta_raw, err, rows);
   return c;
 }
 

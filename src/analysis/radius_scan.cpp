@@ -568,16 +568,10 @@ struct RadiusModels {
 };
 }  // namespace
 
-void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
-                     RadiusScanResult& out) {
-  opt.validate();
-  check_field_serves_box(field, spec, opt);
-  const std::size_t A = opt.arrays.size();
-  const auto cases = spectra_cases(opt);
-  const std::vector<ToleranceCase> corners = opt.box.case_corners();
-  const std::vector<ToleranceCase> samples = monte_carlo_cases(opt.box, opt.samples, opt.seed);
+namespace {
 
-  // Validation radii: spread evenly over the scan (indices round(i*(n-1)/(k-1))).
+// Validation radii: spread evenly over the scan (indices round(i*(n-1)/(k-1))).
+std::vector<std::size_t> validation_radii(const RadiusScanOptions& opt) {
   std::vector<std::size_t> vidx;
   const std::size_t nr = opt.r0_mm.size();
   for (int i = 0; i < opt.validate_radii; ++i) {
@@ -586,156 +580,145 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
                               : static_cast<std::size_t>(std::lround(static_cast<double>(i) * (nr - 1) / (opt.validate_radii - 1)));
     if (std::find(vidx.begin(), vidx.end(), j) == vidx.end()) vidx.push_back(j);
   }
+  return vidx;
+}
 
-  FieldScanInfo info;
-  info.field = field.name();
-  info.spec = spec;
-  std::vector<std::vector<RadiusRow>> rows(A);  // per array, over r0
-  for (std::size_t ir = 0; ir < nr; ++ir) {
-    const double r0 = opt.r0_mm[ir];
-    // 1. Local field models on the probe circle.
-    auto t0 = std::chrono::steady_clock::now();
-    // The displacements the local models must serve: the box (tilts included) and the spectra cases.
-    const RadiusModels models(field, opt, r0, opt.arrays);
-    const FastPipeline& fast = *models.fast;
-    info.max_fit_residual_T = std::max(info.max_fit_residual_T, models.fit_residual_T);
-    info.t_models_s += seconds_since(t0);
-
-    // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.
-    t0 = std::chrono::steady_clock::now();
-    for (const auto& [label, mount] : cases) {
-      std::vector<Eigen::VectorXd> eps;
-      fast.eps(mount, eps);
-      for (std::size_t a = 0; a < A; ++a) {
-        SpectrumRow row;
-        row.field = field.name();
-        row.array = opt.arrays[a].name;
-        row.r0_mm = r0;
-        row.mount = mount;
-        row.spectrum = spectrum_of(eps[a]);
-        row.extra = {{"case", label}};
-        out.spectra.push_back(std::move(row));
-      }
-    }
-    std::vector<double> ideal_pp(A);
-    fast.pp(Mount{}, ideal_pp.data());
-    auto pp_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp(c, o); };
-    // With a field window: pp, field min, field max per array (columns a, A + a, 2A + a).
-    auto pp_field_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp_field(c, o, o + A, o + 2 * A); };
-    const bool windowed = opt.window.active();
-    const int n_out = static_cast<int>(windowed ? 3 * A : A);
-    const ToleranceCaseFunction case_fn =
-        windowed ? ToleranceCaseFunction(pp_field_of) : ToleranceCaseFunction(pp_of);
-    const Eigen::MatrixXd corner_pp = evaluate_cases(corners, n_out, case_fn);
-    const Eigen::MatrixXd mc_pp = evaluate_cases(samples, n_out, case_fn);
+// Spectra cases through the surrogate at one radius.
+void push_spectra(const FieldSource& field, const RadiusScanOptions& opt, const std::vector<std::pair<std::string, Mount>>& cases, const FastPipeline& fast, double r0,
+                  RadiusScanResult& out) {
+  const std::size_t A = opt.arrays.size();
+  for (const auto& [label, mount] : cases) {
+    std::vector<Eigen::VectorXd> eps;
+    fast.eps(mount, eps);
     for (std::size_t a = 0; a < A; ++a) {
-      RadiusRow row;
+      SpectrumRow row;
       row.field = field.name();
       row.array = opt.arrays[a].name;
       row.r0_mm = r0;
-      row.bz_amplitude_T = models.amplitude_T;
-      row.ideal_pp_deg = ideal_pp[a];
-      if (!windowed) {
-        const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
-        row.worst_pp_deg = w.value;
-        row.worst_corner = corner_text(corners[w.row]);
-        row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
-      } else {
-        const auto ia = static_cast<Eigen::Index>(a), iA = static_cast<Eigen::Index>(A);
-        auto inside = [&](const Eigen::MatrixXd& v, Eigen::Index i) {
-          return opt.window.contains(v(i, iA + ia), v(i, 2 * iA + ia));
-        };
-        row.worst_pp_deg = 0;
-        row.worst_corner = "none in the field window";
-        bool any = false;
-        for (Eigen::Index i = 0; i < corner_pp.rows(); ++i) {
-          if (!inside(corner_pp, i)) {
-            ++row.corners_out_of_window;
-            continue;
-          }
-          if (!any || corner_pp(i, ia) > row.worst_pp_deg) {
-            row.worst_pp_deg = corner_pp(i, ia);
-            row.worst_corner = corner_text(corners[static_cast<std::size_t>(i)]);
-          }
-          any = true;
-        }
-        std::vector<double> kept;
-        row.field_min_mT = mc_pp.col(iA + ia).minCoeff();
-        row.field_max_mT = mc_pp.col(2 * iA + ia).maxCoeff();
-        for (Eigen::Index i = 0; i < mc_pp.rows(); ++i) {
-          if (inside(mc_pp, i)) kept.push_back(mc_pp(i, ia));
-          else ++row.mc_out_of_window;
-        }
-        // No sample in the window: the statistics are +inf (this radius fails), n = 0.
-        if (kept.empty()) {
-          const double inf = std::numeric_limits<double>::infinity();
-          row.mc = SampleStats{0, inf, inf, inf, inf};
-        } else {
-          row.mc = sample_stats(Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<Eigen::Index>(kept.size())));
-        }
-      }
-      row.noise = angle_noise(opt.arrays[a], models.amplitude_T, opt.noise);
-      row.total_p99_pp_deg = row.mc.p99 + row.noise.pp_deg;
-      row.total_worst_pp_deg = row.worst_pp_deg + row.noise.pp_deg;
-      rows[a].push_back(row);
+      row.mount = mount;
+      row.spectrum = spectrum_of(eps[a]);
+      row.extra = {{"case", label}};
+      out.spectra.push_back(std::move(row));
     }
-    info.t_cases_s += seconds_since(t0);
-
-    // 3. Validation against the direct pipeline at a few radii.
-    if (std::find(vidx.begin(), vidx.end(), ir) == vidx.end()) continue;
-    t0 = std::chrono::steady_clock::now();
-    std::vector<std::pair<std::string, ToleranceCase>> vcases;
-    for (const auto& [label, mount] : cases) vcases.emplace_back(label, ToleranceCase{mount, SignalChain{}, 0.0});
-    for (std::size_t a = 0; a < A; ++a) {
-      const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
-      vcases.emplace_back("worst corner " + opt.arrays[a].name, corners[w.row]);
-    }
-    for (int i = 0; i < opt.validate_samples && i < static_cast<int>(samples.size()); ++i)
-      vcases.emplace_back("mc sample " + std::to_string(i), samples[static_cast<std::size_t>(i)]);
-    for (const auto& [label, vc] : vcases) {
-      const Mount& mount = vc.mount;
-      std::vector<Eigen::VectorXd> eps;
-      fast.eps(vc, eps);
-      // The direct pipeline on the case's own field (elevation) and signal chain.
-      std::unique_ptr<AnalyticField> elevated;
-      if (vc.elevation_deg != 0) {
-        Magnet mag = dynamic_cast<const AnalyticField&>(field).magnet();
-        mag.magnetization_elevation_deg = opt.elevation_deg + vc.elevation_deg;
-        elevated = std::make_unique<AnalyticField>(mag);
-      }
-      const FieldSource& case_field = elevated ? *elevated : field;
-      for (std::size_t a = 0; a < A; ++a) {
-        ProbeSetup setup;
-        setup.array = opt.arrays[a];
-        setup.r0_mm = r0;
-        setup.plane_z_mm = opt.plane_z_mm;
-        setup.steps = opt.direct_steps;
-        setup.magnet_height_mm = opt.magnet_height_mm;
-        setup.chain = vc.chain;
-        const Spectrum direct = error_spectrum(case_field, setup, mount);
-        setup.steps = opt.fast_steps;
-        const Spectrum coarse = error_spectrum(case_field, setup, mount);
-        const Spectrum sur = spectrum_of(eps[a]);
-        ValidationRow v;
-        v.field = field.name();
-        v.array = opt.arrays[a].name;
-        v.label = label;
-        v.r0_mm = r0;
-        v.mount = mount;
-        v.pp_direct_deg = direct.pp_deg;
-        v.pp_direct_coarse_deg = coarse.pp_deg;
-        v.pp_surrogate_deg = sur.pp_deg;
-        double d = std::abs(sur.a0_deg - direct.a0_deg);
-        for (int n = 1; n <= kHarmonics; ++n)
-          d = std::max({d, std::abs(sur.a_deg[n] - direct.a_deg[n]), std::abs(sur.b_deg[n] - direct.b_deg[n])});
-        v.max_coef_diff_deg = d;
-        out.validation.push_back(v);
-      }
-    }
-    info.t_validate_s += seconds_since(t0);
   }
+}
 
-  // 4. Bz peak and recommendations.
+// One array's row at one radius: worst corner and Monte Carlo statistics (inside the field window if one is set),
+// noise and totals.
+RadiusRow radius_row(const FieldSource& field, const RadiusScanOptions& opt, const RadiusModels& models, double r0,
+                     std::size_t a, const std::vector<double>& ideal_pp, const std::vector<ToleranceCase>& corners,
+                     const Eigen::MatrixXd& corner_pp, const Eigen::MatrixXd& mc_pp, bool windowed) {
+  const std::size_t A = opt.arrays.size();
+  RadiusRow row;
+  row.field = field.name();
+  row.array = opt.arrays[a].name;
+  row.r0_mm = r0;
+  row.bz_amplitude_T = models.amplitude_T;
+  row.ideal_pp_deg = ideal_pp[a];
+  if (!windowed) {
+    const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
+    row.worst_pp_deg = w.value;
+    row.worst_corner = corner_text(corners[w.row]);
+    row.mc = sample_stats(mc_pp.col(static_cast<Eigen::Index>(a)));
+  } else {
+    const auto ia = static_cast<Eigen::Index>(a), iA = static_cast<Eigen::Index>(A);
+    auto inside = [&](const Eigen::MatrixXd& v, Eigen::Index i) {
+      return opt.window.contains(v(i, iA + ia), v(i, 2 * iA + ia));
+    };
+    row.worst_pp_deg = 0;
+    row.worst_corner = "none in the field window";
+    bool any = false;
+    for (Eigen::Index i = 0; i < corner_pp.rows(); ++i) {
+      if (!inside(corner_pp, i)) {
+        ++row.corners_out_of_window;
+        continue;
+      }
+      if (!any || corner_pp(i, ia) > row.worst_pp_deg) {
+        row.worst_pp_deg = corner_pp(i, ia);
+        row.worst_corner = corner_text(corners[static_cast<std::size_t>(i)]);
+      }
+      any = true;
+    }
+    std::vector<double> kept;
+    row.field_min_mT = mc_pp.col(iA + ia).minCoeff();
+    row.field_max_mT = mc_pp.col(2 * iA + ia).maxCoeff();
+    for (Eigen::Index i = 0; i < mc_pp.rows(); ++i) {
+      if (inside(mc_pp, i)) kept.push_back(mc_pp(i, ia));
+      else ++row.mc_out_of_window;
+    }
+    // No sample in the window: the statistics are +inf (this radius fails), n = 0.
+    if (kept.empty()) {
+      const double inf = std::numeric_limits<double>::infinity();
+      row.mc = SampleStats{0, inf, inf, inf, inf};
+    } else {
+      row.mc = sample_stats(Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<Eigen::Index>(kept.size())));
+    }
+  }
+  row.noise = angle_noise(opt.arrays[a], models.amplitude_T, opt.noise);
+  row.total_p99_pp_deg = row.mc.p99 + row.noise.pp_deg;
+  row.total_worst_pp_deg = row.worst_pp_deg + row.noise.pp_deg;
+  return row;
+}
+
+// Validation against the direct pipeline at one radius.
+void validate_at(const FieldSource& field, const RadiusScanOptions& opt, const std::vector<std::pair<std::string, Mount>>& cases, const std::vector<ToleranceCase>& corners,
+                 const std::vector<ToleranceCase>& samples, const Eigen::MatrixXd& corner_pp, const FastPipeline& fast, double r0,
+                 RadiusScanResult& out) {
+  const std::size_t A = opt.arrays.size();
+  std::vector<std::pair<std::string, ToleranceCase>> vcases;
+  for (const auto& [label, mount] : cases) vcases.emplace_back(label, ToleranceCase{mount, SignalChain{}, 0.0});
+  for (std::size_t a = 0; a < A; ++a) {
+    const WorstCase w = worst_case(corner_pp, static_cast<int>(a));
+    vcases.emplace_back("worst corner " + opt.arrays[a].name, corners[w.row]);
+  }
+  for (int i = 0; i < opt.validate_samples && i < static_cast<int>(samples.size()); ++i)
+    vcases.emplace_back("mc sample " + std::to_string(i), samples[static_cast<std::size_t>(i)]);
+  for (const auto& [label, vc] : vcases) {
+    const Mount& mount = vc.mount;
+    std::vector<Eigen::VectorXd> eps;
+    fast.eps(vc, eps);
+    // The direct pipeline on the case's own field (elevation) and signal chain.
+    std::unique_ptr<AnalyticField> elevated;
+    if (vc.elevation_deg != 0) {
+      Magnet mag = dynamic_cast<const AnalyticField&>(field).magnet();
+      mag.magnetization_elevation_deg = opt.elevation_deg + vc.elevation_deg;
+      elevated = std::make_unique<AnalyticField>(mag);
+    }
+    const FieldSource& case_field = elevated ? *elevated : field;
+    for (std::size_t a = 0; a < A; ++a) {
+      ProbeSetup setup;
+      setup.array = opt.arrays[a];
+      setup.r0_mm = r0;
+      setup.plane_z_mm = opt.plane_z_mm;
+      setup.steps = opt.direct_steps;
+      setup.magnet_height_mm = opt.magnet_height_mm;
+      setup.chain = vc.chain;
+      const Spectrum direct = error_spectrum(case_field, setup, mount);
+      setup.steps = opt.fast_steps;
+      const Spectrum coarse = error_spectrum(case_field, setup, mount);
+      const Spectrum sur = spectrum_of(eps[a]);
+      ValidationRow v;
+      v.field = field.name();
+      v.array = opt.arrays[a].name;
+      v.label = label;
+      v.r0_mm = r0;
+      v.mount = mount;
+      v.pp_direct_deg = direct.pp_deg;
+      v.pp_direct_coarse_deg = coarse.pp_deg;
+      v.pp_surrogate_deg = sur.pp_deg;
+      double d = std::abs(sur.a0_deg - direct.a0_deg);
+      for (int n = 1; n <= kHarmonics; ++n)
+        d = std::max({d, std::abs(sur.a_deg[n] - direct.a_deg[n]), std::abs(sur.b_deg[n] - direct.b_deg[n])});
+      v.max_coef_diff_deg = d;
+      out.validation.push_back(v);
+    }
+  }
+}
+
+// Bz peak and recommendations.
+void recommend_arrays(const RadiusScanOptions& opt, const std::vector<std::vector<RadiusRow>>& rows, FieldScanInfo& info,
+                      RadiusScanResult& out) {
+  const std::size_t A = opt.arrays.size();
   std::vector<double> amp;
   for (const auto& r : rows[0]) amp.push_back(r.bz_amplitude_T);
   const Peak pk = find_peak(opt.r0_mm, amp);
@@ -746,8 +729,11 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     out.recommendations.push_back(recommend(rows[a], opt.band_rel));
     out.rows.insert(out.rows.end(), rows[a].begin(), rows[a].end());
   }
+}
 
-  // 5. Error budget at each array's recommended r0: the same MC samples with one group of the box at a time.
+// Error budget at each array's recommended r0: the same MC samples with one group of the box at a time.
+void error_budget(const FieldSource& field, const RadiusScanOptions& opt, const std::vector<ToleranceCase>& samples, RadiusScanResult& out) {
+  const std::size_t A = opt.arrays.size();
   for (std::size_t a = 0; a < A; ++a) {
     const Recommendation& rec = out.recommendations[out.recommendations.size() - A + a];
     const RadiusModels models(field, opt, rec.r0_best_mm, {opt.arrays[a]});
@@ -770,6 +756,66 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
       out.budget.push_back(b);
     }
   }
+}
+
+}  // namespace
+
+void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,
+                     RadiusScanResult& out) {
+  opt.validate();
+  check_field_serves_box(field, spec, opt);
+  const std::size_t A = opt.arrays.size();
+  const auto cases = spectra_cases(opt);
+  const std::vector<ToleranceCase> corners = opt.box.case_corners();
+  const std::vector<ToleranceCase> samples = monte_carlo_cases(opt.box, opt.samples, opt.seed);
+
+  const std::vector<std::size_t> vidx = validation_radii(opt);
+  const std::size_t nr = opt.r0_mm.size();
+
+  FieldScanInfo info;
+  info.field = field.name();
+  info.spec = spec;
+  std::vector<std::vector<RadiusRow>> rows(A);  // per array, over r0
+  for (std::size_t ir = 0; ir < nr; ++ir) {
+    const double r0 = opt.r0_mm[ir];
+    // 1. Local field models on the probe circle.
+    auto t0 = std::chrono::steady_clock::now();
+    // The displacements the local models must serve: the box (tilts included) and the spectra cases.
+    const RadiusModels models(field, opt, r0, opt.arrays);
+    const FastPipeline& fast = *models.fast;
+    info.max_fit_residual_T = std::max(info.max_fit_residual_T, models.fit_residual_T);
+    info.t_models_s += seconds_since(t0);
+
+    // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.
+    t0 = std::chrono::steady_clock::now();
+    push_spectra(field, opt, cases, fast, r0, out);
+    std::vector<double> ideal_pp(A);
+    fast.pp(Mount{}, ideal_pp.data());
+    auto pp_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp(c, o); };
+    // With a field window: pp, field min, field max per array (columns a, A + a, 2A + a).
+    auto pp_field_of = [&](std::size_t, const ToleranceCase& c, double* o) { fast.pp_field(c, o, o + A, o + 2 * A); };
+    const bool windowed = opt.window.active();
+    const int n_out = static_cast<int>(windowed ? 3 * A : A);
+    const ToleranceCaseFunction case_fn =
+        windowed ? ToleranceCaseFunction(pp_field_of) : ToleranceCaseFunction(pp_of);
+    const Eigen::MatrixXd corner_pp = evaluate_cases(corners, n_out, case_fn);
+    const Eigen::MatrixXd mc_pp = evaluate_cases(samples, n_out, case_fn);
+    for (std::size_t a = 0; a < A; ++a)
+      rows[a].push_back(radius_row(field, opt, models, r0, a, ideal_pp, corners, corner_pp, mc_pp, windowed));
+    info.t_cases_s += seconds_since(t0);
+
+    // 3. Validation against the direct pipeline at a few radii.
+    if (std::find(vidx.begin(), vidx.end(), ir) == vidx.end()) continue;
+    t0 = std::chrono::steady_clock::now();
+    validate_at(field, opt, cases, corners, samples, corner_pp, fast, r0, out);
+    info.t_validate_s += seconds_since(t0);
+  }
+
+  // 4. Bz peak and recommendations.
+  recommend_arrays(opt, rows, info, out);
+
+  // 5. Error budget at each array's recommended r0: the same MC samples with one group of the box at a time.
+  error_budget(field, opt, samples, out);
   out.fields.push_back(info);
 }
 

@@ -123,11 +123,10 @@ ValidationSummary summarize_validation(const RadiusScanResult& r, const std::str
   return s;
 }
 
-void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir) {
-  const auto arrays = array_names(opt);
-  const auto cases = spectra_cases(opt);
-  const std::string xr = "r_0 [mm]";
-  // 1. Harmonics and pp against r0, one panel per mounting case, per (field, array).
+namespace {
+
+// 1. Harmonics and pp against r0, one panel per mounting case, per (field, array).
+void plot_harmonics(const RadiusScanResult& r, const std::vector<std::string>& arrays, const std::vector<std::pair<std::string, Mount>>& cases, const std::string& xr, const std::filesystem::path& dir) {
   for (const auto& f : r.fields) {
     for (const auto& a : arrays) {
       PlotSpec spec;
@@ -165,7 +164,10 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
       write_plot(dir, "harmonics_" + file_tag(f.field) + "_" + file_tag(a), spec);
     }
   }
-  // 2. Percentile bands against r0, one panel per array, per field.
+}
+
+// 2. Percentile bands against r0, one panel per array, per field.
+void plot_percentiles(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::vector<std::string>& arrays, const std::string& xr, const std::filesystem::path& dir) {
   for (const auto& f : r.fields) {
     PlotSpec spec;
     spec.title = "Peak-to-peak angle error over the tolerance box vs r_0: " + plot_literal(f.field) + " field (" +
@@ -203,53 +205,67 @@ void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt,
     }
     write_plot(dir, "percentiles_" + file_tag(f.field), spec);
   }
-  // 3. Total p99 of every (field, array) in one panel.
-  {
-    PlotSpec spec;
-    spec.title = "Total error (MC 99th percentile + noise pp) vs probe radius";
-    PlotPanel p;
-    p.xlabel = xr;
-    p.ylabel = "total peak-to-peak error [deg]";
-    p.logy = true;
-    for (const auto& f : r.fields)
-      for (const auto& a : arrays) {
-        std::vector<double> x, y;
-        for (const auto* row : rows_of(r, f.field, a)) {
-          x.push_back(row->r0_mm);
-          y.push_back(row->total_p99_pp_deg);
-        }
-        p.series.push_back({plot_literal(f.field + " " + a), x, y, "lines",
-                            f.field == r.fields.front().field ? "lw 2" : "lw 2 dt 2"});
-      }
-    spec.panels.push_back(p);
-    write_plot(dir, "total_p99", spec);
-  }
-  // 4. Bz amplitude on the plane against r.
-  {
-    PlotSpec spec;
-    spec.title = "B_z amplitude on the probe circle (sensing plane z_s = " + fmt(opt.plane_z_mm, 2) + " mm)";
-    PlotPanel p;
-    p.xlabel = "r [mm]";
-    p.ylabel = "B_z amplitude [mT]";
-    p.commands = {"set key bottom center"};
-    double ymax = 0;
-    for (const auto& f : r.fields) {
+}
+
+// 3. Total p99 of every (field, array) in one panel.
+void plot_total_p99(const RadiusScanResult& r, const std::vector<std::string>& arrays, const std::string& xr, const std::filesystem::path& dir) {
+  PlotSpec spec;
+  spec.title = "Total error (MC 99th percentile + noise pp) vs probe radius";
+  PlotPanel p;
+  p.xlabel = xr;
+  p.ylabel = "total peak-to-peak error [deg]";
+  p.logy = true;
+  for (const auto& f : r.fields)
+    for (const auto& a : arrays) {
       std::vector<double> x, y;
-      const std::string a = arrays.front();
       for (const auto* row : rows_of(r, f.field, a)) {
         x.push_back(row->r0_mm);
-        y.push_back(row->bz_amplitude_T * 1e3);
-        ymax = std::max(ymax, y.back());
+        y.push_back(row->total_p99_pp_deg);
       }
-      p.series.push_back({plot_literal(f.field), x, y, "lines", "lw 2"});
+      p.series.push_back({plot_literal(f.field + " " + a), x, y, "lines",
+                          f.field == r.fields.front().field ? "lw 2" : "lw 2 dt 2"});
     }
-    for (const auto& f : r.fields)
-      p.series.push_back({"peak " + plot_literal(f.field) + ": r = " + fmt(f.r_bz_peak_mm, 3) + " mm",
-                          {f.r_bz_peak_mm, f.r_bz_peak_mm}, {0.0, ymax * 1.05}, "lines", "dt 2 lw 1.5"});
-    p.commands.push_back("set yrange [0:" + num10(ymax * 1.1) + "]");
-    spec.panels.push_back(p);
-    write_plot(dir, "bz_profile", spec);
+  spec.panels.push_back(p);
+  write_plot(dir, "total_p99", spec);
+}
+
+// 4. Bz amplitude on the plane against r.
+void plot_bz_profile(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::vector<std::string>& arrays, const std::filesystem::path& dir) {
+  PlotSpec spec;
+  spec.title = "B_z amplitude on the probe circle (sensing plane z_s = " + fmt(opt.plane_z_mm, 2) + " mm)";
+  PlotPanel p;
+  p.xlabel = "r [mm]";
+  p.ylabel = "B_z amplitude [mT]";
+  p.commands = {"set key bottom center"};
+  double ymax = 0;
+  for (const auto& f : r.fields) {
+    std::vector<double> x, y;
+    const std::string a = arrays.front();
+    for (const auto* row : rows_of(r, f.field, a)) {
+      x.push_back(row->r0_mm);
+      y.push_back(row->bz_amplitude_T * 1e3);
+      ymax = std::max(ymax, y.back());
+    }
+    p.series.push_back({plot_literal(f.field), x, y, "lines", "lw 2"});
   }
+  for (const auto& f : r.fields)
+    p.series.push_back({"peak " + plot_literal(f.field) + ": r = " + fmt(f.r_bz_peak_mm, 3) + " mm",
+                        {f.r_bz_peak_mm, f.r_bz_peak_mm}, {0.0, ymax * 1.05}, "lines", "dt 2 lw 1.5"});
+  p.commands.push_back("set yrange [0:" + num10(ymax * 1.1) + "]");
+  spec.panels.push_back(p);
+  write_plot(dir, "bz_profile", spec);
+}
+
+}  // namespace
+
+void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir) {
+  const auto arrays = array_names(opt);
+  const auto cases = spectra_cases(opt);
+  const std::string xr = "r_0 [mm]";
+  plot_harmonics(r, arrays, cases, xr, dir);
+  plot_percentiles(r, opt, arrays, xr, dir);
+  plot_total_p99(r, arrays, xr, dir);
+  plot_bz_profile(r, opt, arrays, dir);
 }
 
 std::string budget_csv(const RadiusScanResult& r) {
@@ -305,12 +321,10 @@ void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& d
   write_plot(dir, "budget", spec);
 }
 
-std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
-                              const std::vector<std::string>& notes, double wall_s) {
-  std::ostringstream md;
-  const auto arrays = array_names(opt);
-  md << "# Probe radius study (`radius`)\n\n";
-  md << "Which probe radius r0 to choose for this magnet, and what a mounting tolerance costs.\n\n";
+namespace {
+
+// What ran: magnet, sensor, arrays, tolerance box and window.
+void summary_what_ran(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg, const std::vector<std::string>& notes, const std::vector<std::string>& arrays) {
   md << "## What ran\n\n";
   md << "- Magnet: R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2)
      << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2) << " T, mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
@@ -376,6 +390,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     }
     md << "\n";
   }
+}
+
+// Recommendation: best r0 per (field, array).
+void summary_recommendation(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   md << "## Recommendation\n\n";
   std::vector<std::vector<std::string>> tab;
   for (const auto& x : r.recommendations) {
@@ -425,7 +443,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     md << "\n";
   }
   md << "\n";
+}
 
+// Exact vs FEM field (only with more than one field).
+void summary_exact_vs_fem(std::ostringstream& md, const RadiusScanResult& r, const Config& cfg, const std::vector<std::string>& arrays) {
   if (r.fields.size() > 1) {
     md << "## Exact vs FEM field\n\n";
     const std::string f0 = r.fields.front().field;
@@ -457,7 +478,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     md << "The exact field has mu_r = 1; the FEM uses magnet.mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
        << ", so part of the difference is physics, not discretization.\n\n";
   }
+}
 
+// Field artefacts: error with an ideal mount.
+void summary_field_artefacts(std::ostringstream& md, const RadiusScanResult& r, const std::vector<std::string>& arrays) {
   md << "## Field artefacts: error with an ideal mount\n\n";
   md << "An exact field gives zero error with an ideal mount; anything else is a numerical artefact of the field "
         "source (mesh, faceting, grid).\n\n";
@@ -476,7 +500,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
                    it)
        << "\n";
   }
+}
 
+// How fast and how accurate: the surrogate.
+void summary_surrogate(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   md << "## How fast and how accurate: the surrogate\n\n";
   md << "Per radius the field is sampled on a 5x5x5 stencil around each of " << opt.fast_steps
      << " nodes on the probe circle and fitted by a local polynomial of degree " << opt.surrogate_order
@@ -505,6 +532,10 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
         "elements): the surrogate then acts as a local least-squares smoothing of the field, and its difference to the "
         "direct pipeline measures that roughness (note the direct pipeline's own theta-grid dependence for such a "
         "field) rather than a surrogate error.\n\n";
+}
+
+// Error budget at the recommended r0.
+void summary_budget(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   if (!r.budget.empty()) {
     md << "## Error budget at the recommended r0\n\n"
        << "Share of a group = p99 of the peak-to-peak error with only that group of the tolerance box active (the same "
@@ -533,13 +564,20 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
     }
     md << md_table(header, bt) << "\n" << md_image("error budget at the recommended r0", "budget.png") << "\n";
   }
+}
+
+// Timing.
+void summary_timing(std::ostringstream& md, const RadiusScanResult& r, double wall_s) {
   md << "## Timing\n\n";
   std::vector<std::vector<std::string>> tt;
   for (const auto& f : r.fields)
     tt.push_back({f.field, fmt(f.t_models_s, 2), fmt(f.t_cases_s, 2), fmt(f.t_validate_s, 2)});
   md << md_table({"field", "field models [s]", "spectra + corners + MC [s]", "validation [s]"}, tt) << "\n";
   md << "Scan wall time " << fmt(wall_s, 1) << " s.\n\n";
+}
 
+// Plots.
+void summary_plots(std::ostringstream& md, const RadiusScanResult& r, const std::vector<std::string>& arrays) {
   md << "## Plots\n\n";
   md << md_image("Bz amplitude vs r", "bz_profile.png");
   md << md_image("total p99 vs r0", "total_p99.png");
@@ -549,6 +587,24 @@ std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions
       md << md_image("harmonics " + f.field + " " + a, "harmonics_" + file_tag(f.field) + "_" + file_tag(a) + ".png");
   md << "\nFiles: radius.csv, radius_spectra.csv, radius_recommendation.csv, radius_validation.csv, radius_budget.csv, "
         "config.toml, run.json.\n";
+}
+
+}  // namespace
+
+std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
+                              const std::vector<std::string>& notes, double wall_s) {
+  std::ostringstream md;
+  const auto arrays = array_names(opt);
+  md << "# Probe radius study (`radius`)\n\n";
+  md << "Which probe radius r0 to choose for this magnet, and what a mounting tolerance costs.\n\n";
+  summary_what_ran(md, r, opt, cfg, notes, arrays);
+  summary_recommendation(md, r, opt);
+  summary_exact_vs_fem(md, r, cfg, arrays);
+  summary_field_artefacts(md, r, arrays);
+  summary_surrogate(md, r, opt);
+  summary_budget(md, r, opt);
+  summary_timing(md, r, wall_s);
+  summary_plots(md, r, arrays);
   return md.str();
 }
 

@@ -87,14 +87,11 @@ std::string principles_csv(const SensorPrinciplesResult& r) {
   return os.str();
 }
 
-void write_sensor_principles_report(const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt,
-                                    const Config& cfg, StudyOutput& out) {
-  const std::size_t C = r.cases.size(), S = r.sensors.size();
-  // 1. Tables.
-  out.write_text("spectra.csv", spectra_csv(r.spectra));
-  out.write_text("principles.csv", principles_csv(r));
+namespace {
 
-  // 2. Heat map: pp of each error alone (rows: cases, columns: sensors).
+// Heat map: pp of each error alone (rows: cases, columns: sensors).
+void write_pp_heatmap(const SensorPrinciplesResult& r, const std::filesystem::path& dir) {
+  const std::size_t C = r.cases.size();
   HeatmapSpec hm;
   hm.title = "Peak-to-peak angle error of each mounting error alone (" + r.field + " field)";
   hm.xlabel = "sensor";
@@ -116,9 +113,12 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
   hm.cell_font_size = 10;
   hm.width_px = 1100;
   hm.height_px = 200 + 50 * static_cast<int>(C);
-  write_heatmap(out.dir(), "pp_heatmap", hm);
+  write_heatmap(dir, "pp_heatmap", hm);
+}
 
-  // 3. Box: p99 of pp per sensor; field extremes over the box against each window.
+// Box: p99 of pp per sensor; field extremes over the box against each window.
+void write_box_plot(const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt, const std::filesystem::path& dir) {
+  const std::size_t S = r.sensors.size();
   PlotSpec ps;
   ps.title = "Tolerance box: " + std::to_string(opt.samples) + " Monte Carlo samples, the same for every sensor";
   ps.columns = 2;
@@ -181,11 +181,12 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
     p.series = {lo, hi, wlo, whi};
     ps.panels.push_back(p);
   }
-  write_plot(out.dir(), "box_p99", ps);
+  write_plot(dir, "box_p99", ps);
+}
 
-  // 4. summary.md.
-  std::ostringstream md;
-  md << "# sensor_principles: Hall arrays, in-plane Hall, xMR and AMR on the same magnet and mount\n\n";
+// summary.md: What ran.
+void summary_what_ran(std::ostringstream& md, const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt, const Config& cfg) {
+  const std::size_t S = r.sensors.size();
   md << "## What ran\n\n";
   md << "- Field `" << r.field << "`: magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = "
      << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
@@ -212,7 +213,11 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
         "and left out of the pp statistics).\n";
   md << "- Tables: `spectra.csv` (spectra table; extra columns sensor, principle, case, tilts, field_min_mT, "
         "field_max_mT, in_window), `principles.csv` (one row per sensor: the box).\n\n";
+}
 
+// summary.md: Each mounting error alone.
+void summary_each_error_alone(std::ostringstream& md, const SensorPrinciplesResult& r) {
+  const std::size_t C = r.cases.size();
   md << "## Each mounting error alone: peak-to-peak error [deg]\n\n";
   {
     std::vector<std::string> header = {"error"};
@@ -244,7 +249,11 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
     }
     md << md_table(header, t) << "\n";
   }
+}
 
+// summary.md: Which principle tolerates which error, and why.
+void summary_which_principle(std::ostringstream& md, const SensorPrinciplesResult& r) {
+  const std::size_t C = r.cases.size(), S = r.sensors.size();
   md << "## Which principle tolerates which error, and why\n\n";
   for (std::size_t c = 0; c < C; ++c) {
     std::vector<std::size_t> order(S);
@@ -277,7 +286,11 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
         "spectra agree (AMR's doubled angle is halved again while |eps| < 90 deg). They differ in the signal chain "
         "(offsets in mT against relative offsets; on `amr` a relative offset o makes c2 = o/2 rad and a gain error g "
         "makes c4 = g/(2(2+g)) rad) and in their field windows.\n\n";
+}
 
+// summary.md: The tolerance box.
+void summary_tolerance_box(std::ostringstream& md, const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt) {
+  const std::size_t S = r.sensors.size();
   md << "## The tolerance box\n\n";
   {
     std::vector<std::vector<std::string>> t;
@@ -315,6 +328,30 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
     md << " A negative margin means the field over the box leaves the window on that side.\n\n";
   }
   md << md_image("p99 of pp over the box and field against the windows", "box_p99.png") << "\n";
+}
+
+}  // namespace
+
+void write_sensor_principles_report(const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt,
+                                    const Config& cfg, StudyOutput& out) {
+  // 1. Tables.
+  out.write_text("spectra.csv", spectra_csv(r.spectra));
+  out.write_text("principles.csv", principles_csv(r));
+
+
+  // 2. Heat map: pp of each error alone (rows: cases, columns: sensors).
+  write_pp_heatmap(r, out.dir());
+
+  // 3. Box: p99 of pp per sensor; field extremes over the box against each window.
+  write_box_plot(r, opt, out.dir());
+
+  // 4. summary.md.
+  std::ostringstream md;
+  md << "# sensor_principles: Hall arrays, in-plane Hall, xMR and AMR on the same magnet and mount\n\n";
+  summary_what_ran(md, r, opt, cfg);
+  summary_each_error_alone(md, r);
+  summary_which_principle(md, r);
+  summary_tolerance_box(md, r, opt);
   out.write_text("summary.md", md.str());
 }
 
