@@ -139,8 +139,8 @@ TEST_CASE("numeric table: header and rows of finite numbers, every refusal one l
   };
   for (const auto& [text, want] : bad) {
     CAPTURE(text);
-    const std::string& t = text;  // clang 14 cannot capture a structured binding in a lambda
-    const std::string m = error_of([&] { parse_numeric_table(t, "--points p.csv", allowed); });
+    const std::string& body = text;  // clang 14 cannot capture a structured binding in a lambda
+    const std::string m = error_of([&] { parse_numeric_table(body, "--points p.csv", allowed); });
     CHECK(m.find(want) != std::string::npos);
     CHECK(m.find("allowed") != std::string::npos);
     CHECK(m.find('\n') == std::string::npos);
