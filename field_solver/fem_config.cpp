@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
 #include <unistd.h>
+#include <variant>
 
 #include "core/errors.hpp"
 
@@ -80,7 +82,116 @@ std::vector<KeySpec> fem_keys() {
       real_key("shaft.length_mm", 10.0, 0, 1000, "mm", "shaft length", true),
       real_key("shaft.gap_mm", 1.0, 0, 1000, "mm", "gap between the magnet's bottom face and the shaft", true),
       real_key("shaft.mu_r", 1000.0, 1, 1e6, "", "relative permeability of the shaft"),
+      table_list_key(
+          "parts",
+          {required(string_key("name", "part", {}, "the part's name (in errors and solve.json)")),
+           required(string_key("shape", "cylinder", {"cylinder", "tube", "cup", "disk"},
+                               "cylinder | tube | cup (tube + base at z_min) | disk (with a hole if r_inner_mm > 0)")),
+           real_key("r_inner_mm", 0, 0, 1000, "mm", "inner radius (0: solid cylinder or disk; cup: the bore)"),
+           required(real_key("r_outer_mm", 1, 0, 1000, "mm", "outer radius", true)),
+           required(real_key("z_min_mm", 0, -1000, 1000, "mm", "bottom (magnet frame: magnet centre at z = 0)")),
+           required(real_key("z_max_mm", 0, -1000, 1000, "mm", "top")),
+           real_key("base_mm", 0, 0, 1000, "mm", "cup only: base thickness at z_min"),
+           real_key("offset_x_mm", 0, -1000, 1000, "mm", "x of the part's axis (non-zero: no mesh symmetry)"),
+           real_key("offset_y_mm", 0, -1000, 1000, "mm", "y of the part's axis (non-zero: no mesh symmetry)"),
+           required(string_key("material", "mu_r:1000", {},
+                               "mu_r:VALUE (linear, 1..1e6) or a named material: " + part_material_names()))},
+          "",
+          "permeable parts around the magnet (holders, shafts, shields), any number; coaxial or off the axis; "
+          "may touch the magnet or each other, never overlap"),
   };
+}
+
+namespace {
+
+struct NamedMaterial {
+  const char* name;
+  double mu_r;
+  const char* source;
+};
+
+// Linear stand-ins (relative permeability) for the common holder materials.
+// Typical handbook values, not measured curves: soft steels' mu_r depends
+// strongly on H (they saturate near 1.5-2 T); the values below are the
+// order of their incremental permeability at moderate fields.
+const std::vector<NamedMaterial>& named_materials() {
+  static const std::vector<NamedMaterial> m{
+      {"structural_steel", 1000.0, "S235/1.0038-class low-carbon steel, order of the mid-field permeability (handbook range 500-2000)"},
+      {"free_cutting_steel", 500.0, "11SMnPb30/1.0718-class free-cutting steel, order of the mid-field permeability (handbook range 200-1000)"},
+      {"electrical_steel", 4000.0, "non-oriented electrical steel (M400-50A class), order of the mid-field permeability (handbook range 2000-8000)"},
+      {"stainless_1.4305", 1.02, "austenitic stainless 1.4305 (303), annealed: mu_r < 1.05 (cold work raises it)"},
+      {"brass", 1.0, "brass CuZn39Pb3: non-magnetic, |mu_r - 1| < 1e-4"},
+  };
+  return m;
+}
+
+}  // namespace
+
+std::string part_material_names() {
+  std::string out;
+  for (const auto& m : named_materials()) out += (out.empty() ? "" : ", ") + std::string(m.name);
+  return out;
+}
+
+std::string part_material_source(const std::string& name) {
+  for (const auto& m : named_materials())
+    if (name == m.name) return m.source;
+  return "";
+}
+
+double part_material_mu_r(const std::string& material, const std::string& what) {
+  auto bad = [&]() -> double {
+    throw InputError(what + ": material = '" + material + "' is out of range: allowed mu_r:VALUE (VALUE in [1, 1e6]) or one of " +
+                     part_material_names());
+  };
+  if (material.rfind("mu_r:", 0) == 0) {
+    const std::string v = material.substr(5);
+    try {
+      std::size_t used = 0;
+      const double mu = std::stod(v, &used);
+      if (used != v.size() || !std::isfinite(mu) || mu < 1 || mu > 1e6) return bad();
+      return mu;
+    } catch (const std::exception&) {
+      return bad();
+    }
+  }
+  for (const auto& m : named_materials())
+    if (material == m.name) return m.mu_r;
+  return bad();
+}
+
+std::vector<PartSpec> parts_from_config(const Config& cfg) {
+  std::vector<PartSpec> out;
+  const ConfigTables tables = cfg.tables("parts");
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const ConfigTable& t = tables[i];
+    PartSpec p;
+    p.name = t.text("name");
+    const std::string what = "parts element " + std::to_string(i + 1) + " of " + std::to_string(tables.size()) + " ('" +
+                             p.name + "')";
+    const std::string shape = t.text("shape");
+    p.shape = shape == "tube" ? PartShape::Tube : shape == "cup" ? PartShape::Cup : shape == "disk" ? PartShape::Disk
+                                                                                                   : PartShape::Cylinder;
+    auto real = [&](const char* field, double def) {
+      for (const auto& e : t.entries)
+        if (e.field == field && e.key.empty()) {
+          if (auto d = std::get_if<double>(&e.value)) return *d;
+          if (auto l = std::get_if<long>(&e.value)) return static_cast<double>(*l);
+        }
+      return def;
+    };
+    p.r_inner_mm = real("r_inner_mm", 0);
+    p.r_outer_mm = real("r_outer_mm", 0);
+    p.z_min_mm = real("z_min_mm", 0);
+    p.z_max_mm = real("z_max_mm", 0);
+    p.base_mm = real("base_mm", 0);
+    p.offset_x_mm = real("offset_x_mm", 0);
+    p.offset_y_mm = real("offset_y_mm", 0);
+    p.material = t.text("material");
+    p.mu_r = part_material_mu_r(p.material, what);
+    out.push_back(std::move(p));
+  }
+  return out;
 }
 
 std::vector<KeySpec> solve_field_schema() { return merge_schemas(common_keys(), fem_keys()); }
@@ -175,6 +286,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   d.shaft.length_mm = cfg.real("shaft.length_mm");
   d.shaft.gap_mm = cfg.real("shaft.gap_mm");
   d.shaft.mu_r = cfg.real("shaft.mu_r");
+  d.parts = parts_from_config(cfg);
   d.validate();
 
   SolverOptions& o = s.solver;
@@ -187,6 +299,9 @@ FemSettings fem_settings_from_config(const Config& cfg) {
                      num(d.shaft.mu_r) +
                      ") H ~ 0 while the source field is not, and the reaction potential cancels it; use "
                      "fem.potential = split (or auto) or total");
+  if (o.potential == Potential::Reduced && d.has_permeable_part())
+    throw InputError("fem.potential = reduced with a permeable part (parts material mu_r != 1) is not supported: "
+                     "the reaction potential would cancel the source field inside it; use fem.potential = split (or auto) or total");
   s.write_mesh_vtu = cfg.flag("output.mesh_vtu");
   s.compress = cfg.flag("output.compress");
   o.preconditioner = preconditioner_from_string(cfg.str("fem.preconditioner"));

@@ -1,6 +1,7 @@
 // Configuration of the FEM: [mesh], [fem], [grid], [shaft] keys (declared once,
 // here) and their translation into the solver's structs.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "core/config.hpp"
@@ -14,6 +15,14 @@ namespace magenc::fem {
 std::vector<KeySpec> fem_keys();
 // common_keys() + fem_keys(): the schema of solve_field.
 std::vector<KeySpec> solve_field_schema();
+
+// [[parts]] of the configuration (material resolved to mu_r; geometry checked by DomainSpec::validate).
+std::vector<PartSpec> parts_from_config(const Config& cfg);
+// A part's material text (mu_r:VALUE or a named material) as mu_r; InputError naming `what` and the allowed forms.
+double part_material_mu_r(const std::string& material, const std::string& what);
+// The named materials ("a, b, ...") and the source of one ("" when unknown).
+std::string part_material_names();
+std::string part_material_source(const std::string& name);
 
 struct FemSettings {
   DomainSpec domain;

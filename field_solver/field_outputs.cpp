@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
+#include "fem_config.hpp"
 #include "fields/grid.hpp"
 #include "magenc_version.hpp"
 #include "linear_solver.hpp"
@@ -93,6 +94,15 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                            {"h_core_mm", d.zone.core() ? d.mesh.h_core_mm : 0.0}}},
                  {"shaft", {{"enabled", d.shaft.enabled}, {"radius_mm", d.shaft.radius_mm}, {"length_mm", d.shaft.length_mm},
                             {"gap_mm", d.shaft.gap_mm}, {"mu_r", d.shaft.mu_r}}}};
+  j["mesh_layout"] = solver.mesh_layout();
+  j["parts"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < d.parts.size(); ++i) {
+    const PartSpec& p = d.parts[i];
+    j["parts"].push_back({{"name", p.name}, {"shape", to_string(p.shape)}, {"region", kRegionPartFirst + static_cast<int>(i)},
+                          {"r_inner_mm", p.r_inner_mm}, {"r_outer_mm", p.r_outer_mm}, {"z_min_mm", p.z_min_mm},
+                          {"z_max_mm", p.z_max_mm}, {"base_mm", p.base_mm}, {"offset_mm", {p.offset_x_mm, p.offset_y_mm}},
+                          {"material", p.material}, {"mu_r", p.mu_r}, {"material_source", part_material_source(p.material)}});
+  }
   j["plane_z_mm"] = s.plane_z_mm;
   j["plane_grid"] = {{"origin_mm", {s.plane.origin_mm[0], s.plane.origin_mm[1], s.plane.origin_mm[2]}},
                      {"step_mm", s.plane.spacing_mm[0]}, {"dims", {s.plane.dims[0], s.plane.dims[1]}}};

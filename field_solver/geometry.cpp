@@ -1,6 +1,7 @@
 #include "geometry.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -107,15 +108,20 @@ Eigen::Vector3d seed_at(double r_mm, double z_mm) {
 // split into convex quads between rays at the polygon angles: magnet ring ->
 // core ring (core bottom) and core ring -> square (zone bottom); N % 8 == 0 puts
 // the square's corners on rays.
-void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, double top) {
+// With core_ring (N point ids of the core ring at z = top, the faces inside it
+// already in the PLC) the magnet's ring is not used.
+void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, double top,
+                        const std::vector<int>* core_ring = nullptr) {
   const int N = spec.mesh.segments;
   const double w = spec.zone.half_width_mm, zt = spec.zone.z_max_mm, zc = spec.zone.core_z_max_mm;
   const double rc = polygon_radius(spec.zone.core_radius_mm, N, spec.mesh.equal_area);
-  const int cb = static_cast<int>(plc.points.size());  // core ring at z = top
+  std::vector<int> cbr(static_cast<size_t>(N));  // core ring at z = top
   for (int k = 0; k < N; ++k) {
     const double a = 2.0 * kPi * k / N;
-    plc.add_point({rc * std::cos(a), rc * std::sin(a), top});
+    cbr[static_cast<size_t>(k)] = core_ring ? (*core_ring)[static_cast<size_t>(k)]
+                                            : plc.add_point({rc * std::cos(a), rc * std::sin(a), top});
   }
+  auto cb_at = [&](int k) { return cbr[static_cast<size_t>(k % N)]; };
   const int ct = static_cast<int>(plc.points.size());  // core ring at z = zc
   for (int k = 0; k < N; ++k) {
     const double a = 2.0 * kPi * k / N;
@@ -133,9 +139,10 @@ void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, 
   Plc::Facet core_top;
   for (int k = 0; k < N; ++k) {
     const int k1 = (k + 1) % N;
-    plc.facets.push_back({{magnet_top_first + k, magnet_top_first + k1, cb + k1, cb + k}});  // core bottom
-    plc.facets.push_back({{cb + k, cb + k1, sq + k1, sq + k}});                              // zone bottom
-    plc.facets.push_back({{cb + k, cb + k1, ct + k1, ct + k}});                              // core side
+    if (!core_ring)
+      plc.facets.push_back({{magnet_top_first + k, magnet_top_first + k1, cb_at(k1), cb_at(k)}});  // core bottom
+    plc.facets.push_back({{cb_at(k), cb_at(k1), sq + k1, sq + k}});                                // zone bottom
+    plc.facets.push_back({{cb_at(k), cb_at(k1), ct + k1, ct + k}});                                // core side
     core_top.polygon.push_back(ct + k);
   }
   plc.facets.push_back(core_top);
@@ -164,6 +171,119 @@ void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, 
                          tet_volume_for_edge(spec.mesh.h_zone_mm)});
 }
 
+
+// Coaxial bodies of revolution given as rectangles of the meridian half-plane
+// (r0..r1 x z0..z1, each with a region id), faceted as N-gon rings about the
+// axis through `centre`. All rectangles share one grid of r and z breaks;
+// every grid cell belongs to at most one rectangle (or to the air, id 0), and
+// a facet is emitted wherever the owners of two neighbouring cells differ, as
+// maximal runs of equal owner pairs. Bodies that touch (a holder around the
+// magnet) so share their points and facets and the PLC stays conforming.
+// force_z / force_r: facets are also emitted on the plane z = force_z for
+// r <= force_r (the zone's bottom above the magnet); the ring at force_r there
+// is returned in force_ring (N point ids).
+struct AxiRect {
+  double r0, r1, z0, z1;
+  int region;
+  double max_volume_mm3;
+};
+
+void add_bodies_of_revolution(Plc& plc, const std::vector<AxiRect>& rects, const Eigen::Vector2d& centre, int N,
+                              bool equal_area, double force_z, double force_r, std::vector<int>* force_ring) {
+  std::vector<double> rb{0.0}, zb;
+  for (const auto& q : rects) {
+    rb.insert(rb.end(), {q.r0, q.r1});
+    zb.insert(zb.end(), {q.z0, q.z1});
+  }
+  const bool forced = force_ring != nullptr;
+  if (forced) {
+    rb.push_back(force_r);
+    zb.push_back(force_z);
+  }
+  auto unique_sorted = [](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  };
+  unique_sorted(rb);
+  unique_sorted(zb);
+  const int nr = static_cast<int>(rb.size()), nz = static_cast<int>(zb.size());
+  auto owner = [&](int i, int j) {  // cell [rb[i], rb[i+1]] x [zb[j], zb[j+1]]
+    if (i < 0 || j < 0 || i >= nr - 1 || j >= nz - 1) return 0;
+    const double r = 0.5 * (rb[i] + rb[i + 1]), z = 0.5 * (zb[j] + zb[j + 1]);
+    for (const auto& q : rects)
+      if (r > q.r0 && r < q.r1 && z > q.z0 && z < q.z1) return q.region;
+    return 0;
+  };
+  std::map<std::array<int, 3>, int> ids;
+  auto ring = [&](int i, int j, int k) {
+    k %= N;
+    const std::array<int, 3> key{i, j, k};
+    auto it = ids.find(key);
+    if (it != ids.end()) return it->second;
+    const double rp = polygon_radius(rb[i], N, equal_area), a = 2.0 * kPi * k / N;
+    const int id = plc.add_point({centre.x() + rp * std::cos(a), centre.y() + rp * std::sin(a), zb[j]});
+    ids[key] = id;
+    return id;
+  };
+  auto band = [&](int i0, int j0, int i1, int j1) {  // quads between the rings (i0, j0) and (i1, j1)
+    for (int k = 0; k < N; ++k)
+      plc.facets.push_back({{ring(i0, j0, k), ring(i0, j0, k + 1), ring(i1, j1, k + 1), ring(i1, j1, k)}});
+  };
+  const auto force_at = [&](int i, int j) { return forced && zb[j] == force_z && rb[i + 1] <= force_r; };
+  // Cylindrical faces at r = rb[i], runs in z.
+  for (int i = 1; i < nr; ++i) {
+    int j = 0;
+    while (j < nz - 1) {
+      const int a = owner(i - 1, j), b = owner(i, j);
+      if (a == b) {
+        ++j;
+        continue;
+      }
+      int e = j + 1;
+      while (e < nz - 1 && owner(i - 1, e) == a && owner(i, e) == b && !(forced && zb[e] == force_z)) ++e;
+      band(i, j, i, e);
+      j = e;
+    }
+  }
+  // Plane faces at z = zb[j], runs in r.
+  for (int j = 0; j < nz; ++j) {
+    int i = 0;
+    while (i < nr - 1) {
+      const int a = owner(i, j - 1), b = owner(i, j);
+      const bool f = force_at(i, j);
+      if (a == b && !f) {
+        ++i;
+        continue;
+      }
+      int e = i + 1;
+      while (e < nr - 1 && owner(e, j - 1) == a && owner(e, j) == b && force_at(e, j) == f &&
+             !(forced && rb[e] == force_r))
+        ++e;
+      if (rb[i] == 0.0) {
+        Plc::Facet disk;
+        for (int k = 0; k < N; ++k) disk.polygon.push_back(ring(e, j, k));
+        plc.facets.push_back(disk);
+      } else {
+        band(i, j, e, j);
+      }
+      i = e;
+    }
+  }
+  if (forced) {
+    const int i = static_cast<int>(std::find(rb.begin(), rb.end(), force_r) - rb.begin());
+    const int j = static_cast<int>(std::find(zb.begin(), zb.end(), force_z) - zb.begin());
+    force_ring->clear();
+    for (int k = 0; k < N; ++k) force_ring->push_back(ring(i, j, k));
+  }
+  // Region seeds: the middle of each rectangle, at the angle pi/128 (seed_at).
+  const double a = kPi / 128.0;
+  for (const auto& q : rects) {
+    const double r = polygon_radius(0.5 * (q.r0 + q.r1), N, equal_area);
+    plc.regions.push_back({{centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), 0.5 * (q.z0 + q.z1)},
+                           q.region, q.max_volume_mm3});
+  }
+}
+
 void require_positive(const char* key, double v, const char* unit) {
   if (!(std::isfinite(v) && v > 0))
     throw InputError(std::string(key) + " = " + num(v) + " is out of range: allowed > 0 " + unit);
@@ -183,9 +303,105 @@ double DomainSpec::mu_r(int region) const {
   switch (region) {
     case kRegionMagnet: return magnet.mu_r;
     case kRegionShaft: return shaft.mu_r;
-    default: return 1.0;
+    default: break;
   }
+  const int i = region - kRegionPartFirst;
+  if (i >= 0 && i < static_cast<int>(parts.size())) return parts[static_cast<size_t>(i)].mu_r;
+  return 1.0;
 }
+
+std::string to_string(PartShape s) {
+  switch (s) {
+    case PartShape::Cylinder: return "cylinder";
+    case PartShape::Tube: return "tube";
+    case PartShape::Cup: return "cup";
+    case PartShape::Disk: return "disk";
+  }
+  return "?";
+}
+
+std::vector<PartSpec::Rect> PartSpec::rects() const {
+  if (shape == PartShape::Cup)
+    return {{r_inner_mm, r_outer_mm, z_min_mm + base_mm, z_max_mm}, {0.0, r_outer_mm, z_min_mm, z_min_mm + base_mm}};
+  return {{r_inner_mm, r_outer_mm, z_min_mm, z_max_mm}};
+}
+
+bool DomainSpec::has_off_axis_part() const {
+  return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return !p.coaxial(); });
+}
+
+bool DomainSpec::has_permeable_part() const {
+  return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.mu_r != 1.0; });
+}
+
+bool DomainSpec::has_permeable_part_touching_magnet() const {
+  const double top = 0.5 * magnet.height_mm, R = magnet.radius_mm;
+  for (const auto& p : parts) {
+    if (p.mu_r == 1.0 || !p.coaxial()) continue;  // parts off the axis keep a gap to the magnet (validate)
+    for (const auto& q : p.rects())
+      if (q.r0 <= R && q.z0 <= top && q.z1 >= -top) return true;  // closed meridian rectangles meet
+  }
+  return false;
+}
+
+namespace {
+
+// One body for the overlap checks: its rectangles about the axis through (cx, cy).
+struct Body {
+  std::string what;
+  double cx, cy;
+  std::vector<PartSpec::Rect> rects;
+  bool coaxial() const { return cx == 0.0 && cy == 0.0; }
+};
+
+// Two rectangles' interiors overlap (touching allowed).
+bool open_overlap(const PartSpec::Rect& a, const PartSpec::Rect& b) {
+  return a.r0 < b.r1 && b.r0 < a.r1 && a.z0 < b.z1 && b.z0 < a.z1;
+}
+
+// Bodies on different axes: their closed extents (solid discs of the outer radius) meet.
+bool closed_meet(const Body& a, const Body& b) {
+  const double d = std::hypot(a.cx - b.cx, a.cy - b.cy);
+  for (const auto& p : a.rects)
+    for (const auto& q : b.rects) {
+      if (p.z0 > q.z1 || q.z0 > p.z1) continue;
+      // Annulus q about b's axis against the disc of radius p.r1 about a's axis (and vice versa, conservative).
+      if (d - p.r1 <= q.r1 && d + p.r1 >= q.r0 && d - q.r1 <= p.r1 && d + q.r1 >= p.r0) return true;
+    }
+  return false;
+}
+
+void validate_part(const PartSpec& p, const std::string& what) {
+  auto bad = [&](const std::string& why) { throw InputError(what + ": " + why); };
+  auto finite = [&](const char* key, double v) {
+    if (!std::isfinite(v)) bad(std::string(key) + " = " + num(v) + " is not a finite number");
+  };
+  finite("r_inner_mm", p.r_inner_mm);
+  finite("r_outer_mm", p.r_outer_mm);
+  finite("z_min_mm", p.z_min_mm);
+  finite("z_max_mm", p.z_max_mm);
+  finite("base_mm", p.base_mm);
+  finite("offset_x_mm", p.offset_x_mm);
+  finite("offset_y_mm", p.offset_y_mm);
+  if (!(p.r_outer_mm > 0)) bad("r_outer_mm = " + num(p.r_outer_mm) + " is out of range: allowed > 0 mm");
+  if (!(p.r_inner_mm >= 0 && p.r_inner_mm < p.r_outer_mm))
+    bad("r_inner_mm = " + num(p.r_inner_mm) + " is out of range: allowed [0, r_outer_mm = " + num(p.r_outer_mm) + ") mm");
+  if (!(p.z_max_mm > p.z_min_mm))
+    bad("z_max_mm = " + num(p.z_max_mm) + " is out of range: allowed > z_min_mm = " + num(p.z_min_mm) + " mm");
+  if (p.shape == PartShape::Cylinder && p.r_inner_mm != 0)
+    bad("r_inner_mm = " + num(p.r_inner_mm) + " is out of range for shape = cylinder: allowed 0 (use tube)");
+  if ((p.shape == PartShape::Tube || p.shape == PartShape::Cup) && !(p.r_inner_mm > 0))
+    bad("r_inner_mm = " + num(p.r_inner_mm) + " is out of range for shape = " + to_string(p.shape) + ": allowed > 0 mm");
+  if (p.shape == PartShape::Cup && !(p.base_mm > 0 && p.base_mm < p.z_max_mm - p.z_min_mm))
+    bad("base_mm = " + num(p.base_mm) + " is out of range for shape = cup: allowed (0, z_max_mm - z_min_mm = " +
+        num(p.z_max_mm - p.z_min_mm) + ") mm");
+  if (p.shape != PartShape::Cup && p.base_mm != 0)
+    bad("base_mm = " + num(p.base_mm) + " is out of range for shape = " + to_string(p.shape) + ": allowed 0 (cup only)");
+  if (!(std::isfinite(p.mu_r) && p.mu_r >= 1 && p.mu_r <= 1e6))
+    bad("material mu_r = " + num(p.mu_r) + " is out of range: allowed [1, 1e6]");
+}
+
+}  // namespace
 
 void DomainSpec::validate() const {
   magnet.validate();
@@ -247,6 +463,7 @@ void DomainSpec::validate() const {
       throw InputError("refinement zone (corner at " + num(corner) + " mm from the origin) reaches the truncation sphere: "
                        "mesh.outer_radius_mm = " + num(m.outer_radius_mm) + " must be > " + num(corner / 0.9) + " mm");
   }
+  if (!parts.empty()) validate_parts();
   if (shaft.enabled) {
     require_positive("shaft.radius_mm", shaft.radius_mm, "mm");
     require_positive("shaft.length_mm", shaft.length_mm, "mm");
@@ -261,8 +478,117 @@ void DomainSpec::validate() const {
   }
 }
 
+namespace {
+
+// build_plc with [[parts]]: the magnet, the shaft and the coaxial parts as one
+// set of bodies of revolution (shared faces where they touch), the zone as in
+// build_plc (with a core reaching the magnet, its bottom face split at every
+// body's ring), then each off-axis part on its own axis.
+Plc build_plc_with_parts(const DomainSpec& spec) {
+  const MeshSpec& m = spec.mesh;
+  const double R = spec.magnet.radius_mm, top = 0.5 * spec.magnet.height_mm;
+  const double v_body = tet_volume_for_edge(m.h_magnet_mm);
+  Plc plc;
+  add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false, true);
+  std::vector<AxiRect> axial{{0.0, R, -top, top, kRegionMagnet, v_body}};
+  if (spec.shaft.enabled) {
+    const double z1 = -top - spec.shaft.gap_mm;
+    axial.push_back({0.0, spec.shaft.radius_mm, z1 - spec.shaft.length_mm, z1, kRegionShaft, v_body});
+  }
+  for (size_t i = 0; i < spec.parts.size(); ++i) {
+    const PartSpec& p = spec.parts[i];
+    if (!p.coaxial()) continue;
+    for (const auto& q : p.rects()) axial.push_back({q.r0, q.r1, q.z0, q.z1, kRegionPartFirst + static_cast<int>(i), v_body});
+  }
+  std::vector<int> core_ring;
+  const bool core = spec.zone.core_to_magnet();
+  add_bodies_of_revolution(plc, axial, Eigen::Vector2d::Zero(), m.segments, m.equal_area, top,
+                           spec.zone.core_radius_mm, core ? &core_ring : nullptr);
+  if (core) {
+    add_zone_with_core(plc, spec, -1, top, &core_ring);
+  } else if (spec.zone.enabled) {
+    const double w = spec.zone.half_width_mm;
+    add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
+    Eigen::Vector3d seed = seed_at(0.5 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
+    if (spec.zone.core()) {
+      add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
+                   spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
+      const double rc = spec.zone.core_radius_mm;
+      plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
+                             tet_volume_for_edge(m.h_core_mm)});
+      seed = seed_at(0.5 * (polygon_radius(rc, m.segments, m.equal_area) + w), seed.z());
+    }
+    plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
+  }
+  for (size_t i = 0; i < spec.parts.size(); ++i) {
+    const PartSpec& p = spec.parts[i];
+    if (p.coaxial()) continue;
+    std::vector<AxiRect> own;
+    for (const auto& q : p.rects()) own.push_back({q.r0, q.r1, q.z0, q.z1, kRegionPartFirst + static_cast<int>(i), v_body});
+    add_bodies_of_revolution(plc, own, {p.offset_x_mm, p.offset_y_mm}, m.segments, m.equal_area, 0, 0, nullptr);
+  }
+  plc.regions.push_back({seed_at(0.9 * m.outer_radius_mm, 0), kRegionAir, tet_volume_for_edge(m.h_air_mm)});
+  return plc;
+}
+
+}  // namespace
+
+void DomainSpec::validate_parts() const {
+  const MeshSpec& m = mesh;
+  if (shape != MagnetShape::Cylinder) throw InputError("parts need a cylinder magnet (the sphere is a validation case)");
+  const double top = 0.5 * magnet.height_mm;
+  std::vector<Body> bodies;
+  bodies.push_back({"the magnet", 0, 0, {{0.0, magnet.radius_mm, -top, top}}});
+  if (shaft.enabled) {
+    const double z1 = -top - shaft.gap_mm;
+    bodies.push_back({"the shaft", 0, 0, {{0.0, shaft.radius_mm, z1 - shaft.length_mm, z1}}});
+  }
+  const double c = polygon_radius(1.0, m.segments, m.equal_area);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const PartSpec& p = parts[i];
+    const std::string what = "parts element " + std::to_string(i + 1) + " of " + std::to_string(parts.size()) +
+                             " ('" + p.name + "')";
+    validate_part(p, what);
+    const double d = std::hypot(p.offset_x_mm, p.offset_y_mm);
+    const double ext = std::hypot(d + c * p.r_outer_mm, std::max(std::abs(p.z_min_mm), std::abs(p.z_max_mm)));
+    if (ext >= 0.9 * m.outer_radius_mm)
+      throw InputError(what + " reaches " + num(ext) + " mm from the origin, outside the domain: mesh.outer_radius_mm = " +
+                       num(m.outer_radius_mm) + " must be > " + num(ext / 0.9) + " mm");
+    Body b{what, p.offset_x_mm, p.offset_y_mm, p.rects()};
+    for (const Body& o : bodies) {
+      bool meet = false;
+      if (b.coaxial() && o.coaxial()) {
+        for (const auto& q : b.rects)
+          for (const auto& r : o.rects) meet = meet || open_overlap(q, r);
+        if (meet) throw InputError(what + " overlaps " + o.what + ": parts may touch, not overlap");
+      } else if (closed_meet(b, o)) {
+        throw InputError(what + " touches or overlaps " + o.what +
+                         ": a part off the axis (offset_x_mm, offset_y_mm != 0) must keep a gap to every other body");
+      }
+    }
+    // The refinement zone around the sensing plane stays air.
+    if (zone.enabled) {
+      const double zb = zone.core_to_magnet() ? top : zone.z_min_mm, zt = zone.z_max_mm, w = zone.half_width_mm;
+      for (const auto& q : b.rects) {
+        // Distance in xy from the part's axis to the zone square, and the square's farthest corner.
+        const double dx = std::max(0.0, std::abs(p.offset_x_mm) - w), dy = std::max(0.0, std::abs(p.offset_y_mm) - w);
+        const double near = std::hypot(dx, dy), far = std::hypot(std::abs(p.offset_x_mm) + w, std::abs(p.offset_y_mm) + w);
+        const bool xy = c * q.r1 > near && q.r0 < far;
+        if (!xy) continue;
+        const bool flush_ok = b.coaxial() && zone.core_to_magnet() && q.z1 == zb && q.r1 <= zone.core_radius_mm;
+        if ((q.z0 < zt && zb < q.z1) || (q.z1 == zb && !flush_ok) || q.z0 == zt)
+          throw InputError(what + " reaches the refinement zone (z " + num(zb) + " to " + num(zt) + " mm, half width " +
+                           num(w) + " mm) around the sensing plane: allowed below or above it, or flush with the "
+                           "magnet's top face within mesh.core_radius_mm = " + num(zone.core_radius_mm) + " mm");
+      }
+    }
+    bodies.push_back(std::move(b));
+  }
+}
+
 Plc build_plc(const DomainSpec& spec) {
   spec.validate();
+  if (!spec.parts.empty()) return build_plc_with_parts(spec);
   const MeshSpec& m = spec.mesh;
   const double R = spec.magnet.radius_mm, L = spec.magnet.height_mm;
   Plc plc;
@@ -308,7 +634,18 @@ Plc build_plc(const DomainSpec& spec) {
   return plc;
 }
 
+namespace {
+void refuse_off_axis(const DomainSpec& spec) {
+  for (const auto& p : spec.parts)
+    if (!p.coaxial())
+      throw InputError("part '" + p.name + "' is off the axis (offset " + num(p.offset_x_mm) + ", " + num(p.offset_y_mm) +
+                       " mm): the domain has no mirror symmetry, a symmetric mesh (mesh.symmetric = true) is refused; "
+                       "use mesh.symmetric = false");
+}
+}  // namespace
+
 TetMesh mesh_quadrant(const DomainSpec& spec) {
+  refuse_off_axis(spec);
   const int N = spec.mesh.symmetry_order;
   TetMesh q = replicate_wedge_to_quadrant(tetrahedralize_plc(clip_plc_to_wedge(build_plc(spec), N), spec.mesh.mesher), N);
   snap_quadrant_mesh(q);
@@ -328,6 +665,7 @@ TetMesh mesh_domain(const DomainSpec& spec) {
     reorder_for_locality(m);
     return m;
   }
+  refuse_off_axis(spec);
   return mirror_quadrant_mesh(mesh_quadrant(spec));
 }
 

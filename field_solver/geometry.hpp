@@ -3,6 +3,9 @@
 // regions (a soft-magnetic shaft under the magnet). Builds the PLC that the
 // mesher adapter turns into tets. Magnet frame, all lengths in mm.
 #pragma once
+#include <string>
+#include <vector>
+
 #include "fields/magnet.hpp"
 #include "mesh.hpp"
 #include "tetgen_mesher.hpp"
@@ -67,6 +70,35 @@ struct ShaftSpec {
   double mu_r = 1000.0;    // relative permeability (>= 1)
 };
 
+// A permeable part around the magnet ([[parts]] in the configuration): a body
+// of revolution about the axis through (offset_x_mm, offset_y_mm), magnet frame.
+//   cylinder: r <= r_outer, z_min..z_max (r_inner must be 0)
+//   tube:     r_inner..r_outer (r_inner > 0), z_min..z_max
+//   cup:      a tube plus a base r <= r_outer, z_min..z_min + base_mm (open at z_max)
+//   disk:     like tube (r_inner > 0) or cylinder (r_inner = 0); named for thin plates
+// Material: a linear relative permeability mu_r (>= 1).
+enum class PartShape { Cylinder, Tube, Cup, Disk };
+std::string to_string(PartShape s);
+
+struct PartSpec {
+  std::string name = "part";
+  PartShape shape = PartShape::Cylinder;
+  double r_inner_mm = 0;
+  double r_outer_mm = 1;
+  double z_min_mm = -1;
+  double z_max_mm = 0;
+  double base_mm = 0;  // cup only
+  double offset_x_mm = 0, offset_y_mm = 0;
+  std::string material = "mu_r:1000";  // as configured (recorded in solve.json)
+  double mu_r = 1000.0;                 // linear relative permeability
+  bool coaxial() const { return offset_x_mm == 0.0 && offset_y_mm == 0.0; }
+  // The part as rectangles [r0, r1] x [z0, z1] of its meridian half-plane (cup: wall and base).
+  struct Rect {
+    double r0, r1, z0, z1;
+  };
+  std::vector<Rect> rects() const;
+};
+
 struct MeshSpec {
   int segments = mesh_defaults::kSegments;  // polygon segments around every curved (cylindrical) face
   bool equal_area = mesh_defaults::kEqualArea;  // polygon radius scaled so the cross-section area (sphere: volume) is exact
@@ -91,12 +123,25 @@ struct DomainSpec {
   MagnetShape shape = MagnetShape::Cylinder;
   ZoneSpec zone;
   ShaftSpec shaft;
+  std::vector<PartSpec> parts;  // [[parts]]: part i has region kRegionPartFirst + i
   MeshSpec mesh;
+
+  // True when a part's axis is off the z axis: the domain has no mirror
+  // symmetry, and a symmetric mesh would be wrong (the solver meshes the whole domain).
+  bool has_off_axis_part() const;
+  // True when a part has mu_r != 1 (fem.potential = auto then takes the split potential).
+  bool has_permeable_part() const;
+  // True when a part with mu_r != 1 touches the magnet (its faces on the magnet's faces):
+  // the split potential does not hold there (see reduced_potential.hpp), fem.potential = auto takes the total.
+  bool has_permeable_part_touching_magnet() const;
 
   // Throws InputError naming the offending key for degenerate or overlapping
   // geometry (non-positive sizes, zone touching the magnet, anything outside
   // the truncation sphere).
   void validate() const;
+  // The [[parts]] checks of validate(): sizes, overlaps (touching allowed for
+  // coaxial bodies), the domain, the refinement zone. InputError naming the part.
+  void validate_parts() const;
   // Relative permeability of a region id.
   double mu_r(int region) const;
 };

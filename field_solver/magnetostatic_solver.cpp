@@ -91,7 +91,22 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
-  if (options_.potential == Potential::Auto) options_.potential = domain_.shaft.enabled ? Potential::Split : Potential::Reduced;
+  if (options_.potential == Potential::Auto)
+    options_.potential = domain_.has_permeable_part_touching_magnet() ? Potential::Total
+                         : domain_.shaft.enabled || domain_.has_permeable_part() ? Potential::Split
+                                                                                 : Potential::Reduced;
+  if (options_.potential == Potential::Split && domain_.has_permeable_part_touching_magnet())
+    throw InputError("fem.potential = split with a permeable part touching the magnet is not supported (the magnet's "
+                     "exact source field and its faceted mesh disagree on the contact face): use fem.potential = total "
+                     "(or auto), or leave a gap between part and magnet");
+  if (domain_.mesh.symmetric && domain_.has_off_axis_part()) {
+    // Never symmetrize a domain without the symmetry: mesh and solve it whole, and say so.
+    domain_.mesh.symmetric = false;
+    mesh_layout_ = "whole domain: a part off the axis breaks the mirror symmetry (mesh.symmetric = true not applied)";
+  } else {
+    mesh_layout_ = domain_.mesh.symmetric ? "symmetric D" + std::to_string(domain_.mesh.symmetry_order) + " mesh"
+                                          : "whole domain";
+  }
 }
 
 void MagnetostaticSolver::run() {
@@ -128,7 +143,7 @@ void MagnetostaticSolver::setup_system() {
   br_cell_ = cell_br(mesh_, domain_.magnet.remanence_T());
   cell_total_.clear();
   if (options_.potential == Potential::Split) {
-    cell_total_ = total_potential_cells(mesh_);
+    cell_total_ = total_potential_cells(mesh_, mu_r_cell_);
     if (std::none_of(cell_total_.begin(), cell_total_.end(), [](char c) { return c != 0; }))
       cell_total_.clear();  // no permeable part: the split is the reduced potential
   }
@@ -178,7 +193,7 @@ PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeS
     l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
   } else {
     const AnalyticField field(source);
-    const std::vector<char> total = total_potential_cells(mesh);
+    const std::vector<char> total = total_potential_cells(mesh, mu_r);
     l.interface_phi_s = interface_source_potential(space, total, field, odd_axis);
     l.f = assemble_split_rhs(mesh, space, mu_r, total, field, l.interface_phi_s);
   }

@@ -83,6 +83,9 @@ class MagnetostaticSolver {
   const SolverOptions& options() const { return options_; }
   const TetMesh& mesh() const { return mesh_; }
   const SolveStats& stats() const { return stats_; }
+  // How the domain was meshed: "symmetric DN mesh", "whole domain", or the
+  // whole domain with the reason when a part off the axis forbids the symmetry.
+  const std::string& mesh_layout() const { return mesh_layout_; }
   // Solution with materials (valid after run()).
   const FeSolution& solution() const { return evaluator_->solution(); }
   // Point evaluation of B (valid after run()).
@@ -119,6 +122,7 @@ class MagnetostaticSolver {
   mutable bool B_cell_ready_ = false;      // B_cell_ holds this run's B at centroids
   mutable Eigen::Matrix3Xd B_cell_;        // B at centroids (T), on the first B_cell() call
   SolveStats stats_;
+  std::string mesh_layout_;
 };
 
 }  // namespace magenc::fem

@@ -13,6 +13,7 @@ enum RegionId : int {
   kRegionAir = 2,     // air out to the truncation sphere, mu_r = 1
   kRegionZone = 3,    // air in the refinement zone around the sensing plane
   kRegionShaft = 4,   // optional soft-magnetic shaft under the magnet
+  kRegionPartFirst = 10,  // [[parts]]: part i carries kRegionPartFirst + i
 };
 
 // Piecewise linear complex: closed polygonal facets bounding the regions,

@@ -89,9 +89,11 @@ Eigen::VectorXd assemble_reaction_rhs(const TetMesh& mesh, const FeSpace& space,
   return assemble_weighted_source_rhs(mesh, space, (mu_r_cell.array() - 1.0).matrix(), source);
 }
 
-std::vector<char> total_potential_cells(const TetMesh& mesh) {
+std::vector<char> total_potential_cells(const TetMesh& mesh, const Eigen::VectorXd& mu_r_cell) {
   std::vector<char> total(static_cast<size_t>(mesh.num_tets()), 0);
-  for (int t = 0; t < mesh.num_tets(); ++t) total[static_cast<size_t>(t)] = mesh.region[t] == kRegionShaft;
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    total[static_cast<size_t>(t)] =
+        mesh.region[t] == kRegionShaft || (mesh.region[t] >= kRegionPartFirst && mu_r_cell[t] != 1.0);
   return total;
 }
 
@@ -125,17 +127,30 @@ Eigen::VectorXd interface_source_potential(const FeSpace& space, const std::vect
   if (n_g == 0) return phi;
   if (queue.empty()) throw ComputeError("split potential: no interface dof on the symmetry plane");
   long reached = static_cast<long>(queue.size());
-  while (!queue.empty()) {
-    const int a = queue.front();
-    queue.pop_front();
-    for (int b : adj[static_cast<size_t>(a)]) {
-      if (done[static_cast<size_t>(b)]) continue;
-      done[static_cast<size_t>(b)] = 1;
-      phi[b] = phi[a] + source_potential_step(source, p.col(a), p.col(b));
-      queue.push_back(b);
-      ++reached;
+  auto sweep = [&] {
+    while (!queue.empty()) {
+      const int a = queue.front();
+      queue.pop_front();
+      for (int b : adj[static_cast<size_t>(a)]) {
+        if (done[static_cast<size_t>(b)]) continue;
+        done[static_cast<size_t>(b)] = 1;
+        phi[b] = phi[a] + source_potential_step(source, p.col(a), p.col(b));
+        queue.push_back(b);
+        ++reached;
+      }
     }
-  }
+  };
+  sweep();
+  // Without a symmetry plane every connected part of the total region has its
+  // own free constant (several permeable parts): one root each.
+  if (odd_axis < 0)
+    for (Eigen::Index d = 0; d < p.cols(); ++d) {
+      if (!on_g[static_cast<size_t>(d)] || done[static_cast<size_t>(d)]) continue;
+      done[static_cast<size_t>(d)] = 1;
+      queue.push_back(static_cast<int>(d));
+      ++reached;
+      sweep();
+    }
   if (reached != n_g)
     throw ComputeError("split potential: the interface of the total region is not connected (" +
                        std::to_string(reached) + " of " + std::to_string(n_g) + " dofs reached)");

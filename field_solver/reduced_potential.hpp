@@ -54,8 +54,9 @@ namespace magenc::fem {
 Eigen::VectorXd assemble_reaction_rhs(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r_cell,
                                       const AnalyticField& source);
 
-// Split potential: 1 for the cells that carry the total potential (the shaft's), 0 elsewhere.
-std::vector<char> total_potential_cells(const TetMesh& mesh);
+// Split potential: 1 for the cells that carry the total potential (the shaft's and
+// those of the [[parts]] with mu_r != 1), 0 elsewhere.
+std::vector<char> total_potential_cells(const TetMesh& mesh, const Eigen::VectorXd& mu_r_cell);
 
 // phi_s (T*mm) at the interface dofs (dofs of both a total and a reduced cell), 0 elsewhere; up to
 // a constant, or 0 on the plane x_odd_axis = 0 when the potential is odd across it (0 or 1; -1: none).
