@@ -1,0 +1,98 @@
+// B-H curve tables (bh_curve.hpp): the monotone interpolation, its slope, the
+// mu0 extension beyond the last row, and bad tables as one-line input errors.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bh_curve.hpp"
+#include "core/errors.hpp"
+
+using namespace magenc::fem;
+
+namespace {
+
+// A soft-steel-like curve (A/m, T): steep start, knee near 1.5 T, saturation.
+const char* kSteel =
+    "# test curve\n"
+    "H_A_per_m,B_T\n"
+    "0,0\n100,0.2\n300,0.9\n600,1.2\n1000,1.35\n3000,1.55\n10000,1.7\n50000,1.85\n200000,2.05\n";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_bh_csv(text, "B-H curve t.csv");
+  } catch (const magenc::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("B-H curve: through the rows, monotone, C1, slope mu0 beyond the last row", "[field_solver][closed-form]") {
+  const BhCurve c = parse_bh_csv(kSteel, "t");
+  for (std::size_t i = 0; i < c.H().size(); ++i) CHECK(c.B_T(c.H()[i]) == Approx(c.B()[i]).epsilon(1e-14));
+  // Monotone between every pair of rows (no overshoot), densely sampled, and odd in H.
+  double prev = -1;
+  for (double H = 0; H < 3e5; H += 37.0) {
+    const double b = c.B_T(H);
+    CHECK(b >= prev);
+    CHECK(c.dB_dH(H) >= 0);
+    CHECK(c.B_T(-H) == -b);
+    prev = b;
+  }
+  // Beyond the table: B = B_n + mu0 (H - H_n), dB/dH = mu0 (saturated iron).
+  CHECK(c.B_T(1e6) == Approx(2.05 + kMu0_T_m_per_A * 8e5).epsilon(1e-14));
+  CHECK(c.dB_dH(1e6) == kMu0_T_m_per_A);
+  // dB/dH is the derivative of B(H): central differences inside segments (relative 1e-6).
+  for (double H : {10.0, 150.0, 450.0, 800.0, 2000.0, 7000.0, 30000.0, 120000.0}) {
+    const double e = 1e-4 * H, fd = (c.B_T(H + e) - c.B_T(H - e)) / (2 * e);
+    CAPTURE(H, fd, c.dB_dH(H));
+    CHECK(c.dB_dH(H) == Approx(fd).epsilon(1e-6));
+  }
+  // The secant permeability falls from the initial one to ~1 in deep saturation.
+  CHECK(c.mu_r(50.0) > 1000);
+  CHECK(c.mu_r(1e8) < 1.05);
+}
+
+TEST_CASE("B-H curve: a straight line B = mu0 mu_r H stays that line", "[field_solver][closed-form]") {
+  const double mu = 1000.0 * kMu0_T_m_per_A;
+  std::string t = "H_A_per_m;B_T\r\n";
+  for (double H : {0.0, 200.0, 500.0, 900.0, 1400.0}) {
+    std::ostringstream row;
+    row << std::setprecision(17) << H << ";" << mu * H << "\r\n";
+    t += row.str();
+  }
+  const BhCurve c = parse_bh_csv(t, "t");
+  for (double H = 0; H < 1400; H += 13.0) {
+    CHECK(c.B_T(H) == Approx(mu * H).epsilon(1e-12).margin(1e-15));
+    CHECK(c.dB_dH(H) == Approx(mu).epsilon(1e-12));
+    CHECK(c.mu_r(H + 1) == Approx(1000.0).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("B-H curve: bad tables are one-line input errors", "[field_solver][bad-input]") {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"H_A_per_m,B_T\n0,0\n100,0.5\n50,0.8\n300,1.0\n", "does not increase"},       // H not increasing
+      {"H_A_per_m,B_T\n0,0\n100,0.5\n200,0.4\n300,1.0\n", "does not increase"},      // B not increasing
+      {"H_A_per_m,B_T\n0,0\n100,0.5\n200,0.5\n300,1.0\n", "does not increase"},      // flat
+      {"H_A_per_m,B_T\n0,0\n-100,-0.5\n200,0.6\n300,1.0\n", "does not increase"},    // negative
+      {"H_A_per_m,B_T\n10,0.01\n100,0.5\n200,0.6\n300,1.0\n", "not (0, 0)"},         // not from 0
+      {"H_A_per_m,B_T\n0,0\n100,0.5\n200,0.6\n", "too few"},                         // too short
+      {"H_A_per_m,B_T\n0,0\n100,0.5\n200,0.6\n1e7,1.0\n", "below 1"},                // B < mu0 H
+      {"H_A_per_m,B_mT\n0,0\n100,500\n200,600\n300,1000\n", "column"},               // wrong header
+      {"H_A_per_m,B_T\n0,0\n100,abc\n200,0.6\n300,1.0\n", "not a number"},           // not a number
+      {"", "empty"},
+  };
+  for (const auto& [text, needle] : cases) {
+    const std::string e = error_of(text);
+    CAPTURE(text, e);
+    CHECK(e.find(needle) != std::string::npos);
+    CHECK(e.find("B-H curve t.csv") == 0);
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  CHECK(error_of(kSteel).empty());
+  CHECK_THROWS_AS(read_bh_csv("/nonexistent/curve.csv"), magenc::InputError);
+}
