@@ -64,6 +64,10 @@ std::vector<KeySpec> fem_keys() {
                "with mesh.symmetric: solve on the quadrant x, y >= 0 with symmetry conditions and mirror the "
                "solution (same result, 1/4 of the unknowns); false: solve the whole mirrored mesh"),
       bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
+      real_key("fem.nonlinear_tolerance", 1e-6, 0, 1, "",
+               "parts with a B-H curve: stop when the nonlinear residual |f - K(mu(psi)) psi| / |f| is below this", true),
+      int_key("fem.nonlinear_max_iterations", 60, 1, 10000,
+              "parts with a B-H curve: most fixed-point iterations (computation error, exit 3, when reached)"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
       bool_key("output.mesh_vtu", false,
                "also write mesh.vtu (the whole FE solution: needed by --field fem:DIR, fem_field sources 'fem', "
@@ -95,7 +99,7 @@ std::vector<KeySpec> fem_keys() {
            real_key("offset_x_mm", 0, -1000, 1000, "mm", "x of the part's axis (non-zero: no mesh symmetry)"),
            real_key("offset_y_mm", 0, -1000, 1000, "mm", "y of the part's axis (non-zero: no mesh symmetry)"),
            required(string_key("material", "mu_r:1000", {},
-                               "mu_r:VALUE (linear, 1..1e6) or a named material: " + part_material_names()))},
+                               "mu_r:VALUE (linear, 1..1e6), bh:FILE.csv (B-H curve, columns H_A_per_m,B_T; nonlinear solve) or a named material: " + part_material_names()))},
           "",
           "permeable parts around the magnet (holders, shafts, shields), any number; coaxial or off the axis; "
           "may touch the magnet or each other, never overlap"),
@@ -144,6 +148,10 @@ double part_material_mu_r(const std::string& material, const std::string& what) 
     throw InputError(what + ": material = '" + material + "' is out of range: allowed mu_r:VALUE (VALUE in [1, 1e6]) or one of " +
                      part_material_names());
   };
+  if (material.rfind("bh:", 0) == 0) {
+    const BhCurve c = read_bh_csv(material.substr(3));
+    return c.mu_r(0.0);
+  }
   if (material.rfind("mu_r:", 0) == 0) {
     const std::string v = material.substr(5);
     try {
@@ -188,7 +196,16 @@ std::vector<PartSpec> parts_from_config(const Config& cfg) {
     p.offset_x_mm = real("offset_x_mm", 0);
     p.offset_y_mm = real("offset_y_mm", 0);
     p.material = t.text("material");
-    p.mu_r = part_material_mu_r(p.material, what);
+    if (p.material.rfind("bh:", 0) == 0) {
+      try {
+        p.bh = std::make_shared<const BhCurve>(read_bh_csv(p.material.substr(3)));
+      } catch (const InputError& e) {
+        throw InputError(what + ": " + e.what());
+      }
+      p.mu_r = std::min(1e6, std::max(1.0, p.bh->mu_r(0.0)));
+    } else {
+      p.mu_r = part_material_mu_r(p.material, what);
+    }
     out.push_back(std::move(p));
   }
   return out;
@@ -310,6 +327,8 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.threads = static_cast<int>(cfg.integer("fem.threads"));
   o.progress_every = static_cast<int>(cfg.integer("fem.progress_every"));
   o.recovery = cfg.flag("fem.recovery");
+  o.nonlinear_tolerance = cfg.real("fem.nonlinear_tolerance");
+  o.nonlinear_max_iterations = static_cast<int>(cfg.integer("fem.nonlinear_max_iterations"));
   o.quadrant = cfg.flag("fem.quadrant_solve");
 
   check_memory_estimate(cfg, s);

@@ -95,13 +95,17 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                  {"shaft", {{"enabled", d.shaft.enabled}, {"radius_mm", d.shaft.radius_mm}, {"length_mm", d.shaft.length_mm},
                             {"gap_mm", d.shaft.gap_mm}, {"mu_r", d.shaft.mu_r}}}};
   j["mesh_layout"] = solver.mesh_layout();
+  j["nonlinear_iterations"] = st.nonlinear_iterations;
+  j["nonlinear_residuals"] = st.nonlinear_residuals;
+  j["nonlinear_tolerance"] = solver.options().nonlinear_tolerance;
   j["parts"] = nlohmann::json::array();
   for (std::size_t i = 0; i < d.parts.size(); ++i) {
     const PartSpec& p = d.parts[i];
     j["parts"].push_back({{"name", p.name}, {"shape", to_string(p.shape)}, {"region", kRegionPartFirst + static_cast<int>(i)},
                           {"r_inner_mm", p.r_inner_mm}, {"r_outer_mm", p.r_outer_mm}, {"z_min_mm", p.z_min_mm},
                           {"z_max_mm", p.z_max_mm}, {"base_mm", p.base_mm}, {"offset_mm", {p.offset_x_mm, p.offset_y_mm}},
-                          {"material", p.material}, {"mu_r", p.mu_r}, {"material_source", part_material_source(p.material)}});
+                          {"material", p.material}, {"mu_r", p.mu_r}, {"nonlinear", p.bh != nullptr},
+                          {"material_source", p.bh ? p.material.substr(3) : part_material_source(p.material)}});
   }
   j["plane_z_mm"] = s.plane_z_mm;
   j["plane_grid"] = {{"origin_mm", {s.plane.origin_mm[0], s.plane.origin_mm[1], s.plane.origin_mm[2]}},

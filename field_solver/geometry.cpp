@@ -334,6 +334,10 @@ bool DomainSpec::has_permeable_part() const {
   return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.mu_r != 1.0; });
 }
 
+bool DomainSpec::has_nonlinear_part() const {
+  return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.bh != nullptr; });
+}
+
 bool DomainSpec::has_permeable_part_touching_magnet() const {
   const double top = 0.5 * magnet.height_mm, R = magnet.radius_mm;
   for (const auto& p : parts) {

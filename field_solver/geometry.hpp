@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "bh_curve.hpp"
 #include "fields/magnet.hpp"
 #include "mesh.hpp"
 #include "tetgen_mesher.hpp"
@@ -90,7 +93,8 @@ struct PartSpec {
   double base_mm = 0;  // cup only
   double offset_x_mm = 0, offset_y_mm = 0;
   std::string material = "mu_r:1000";  // as configured (recorded in solve.json)
-  double mu_r = 1000.0;                 // linear relative permeability
+  double mu_r = 1000.0;                 // linear relative permeability (with bh: the initial one, a start value)
+  std::shared_ptr<const BhCurve> bh;    // bh:FILE.csv: nonlinear B(H) (the solver iterates mu_r per cell)
   bool coaxial() const { return offset_x_mm == 0.0 && offset_y_mm == 0.0; }
   // The part as rectangles [r0, r1] x [z0, z1] of its meridian half-plane (cup: wall and base).
   struct Rect {
@@ -131,6 +135,8 @@ struct DomainSpec {
   bool has_off_axis_part() const;
   // True when a part has mu_r != 1 (fem.potential = auto then takes the split potential).
   bool has_permeable_part() const;
+  // True when a part has a B-H curve (a nonlinear solve).
+  bool has_nonlinear_part() const;
   // True when a part with mu_r != 1 touches the magnet (its faces on the magnet's faces):
   // the split potential does not hold there (see reduced_potential.hpp), fem.potential = auto takes the total.
   bool has_permeable_part_touching_magnet() const;

@@ -8,6 +8,8 @@
 #include <mutex>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
+#include "element.hpp"
 #include "linear_solver.hpp"
 #include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
@@ -113,15 +115,20 @@ void MagnetostaticSolver::run() {
   StageTimer timer;
   timer.run(stats_.t_mesh_s, [&] { make_mesh(); });
   timer.run(stats_.t_setup_s, [&] { setup_system(); });
-  timer.run(stats_.t_assemble_s, [&] { assemble_system(); });
-  timer.run(stats_.t_solve_s, [&] { solve(); });
+  if (domain_.has_nonlinear_part()) {
+    timer.run(stats_.t_solve_s, [&] { solve_nonlinear(); });  // assembly inside, once per iteration
+  } else {
+    timer.run(stats_.t_assemble_s, [&] { assemble_system(); });
+    timer.run(stats_.t_solve_s, [&] { solve(); });
+  }
   timer.run(stats_.t_post_s, [&] { compute_cell_fields(); });
   stats_.t_total_s = timer.total_s();
 }
 
 // 1. Mesh the regions (TetGen).
 void MagnetostaticSolver::make_mesh() {
-  quadrant_solve_ = domain_.mesh.symmetric && options_.quadrant;
+  // B-H parts: mu_r varies per cell with the solution, the quadrant's cells are not the mesh's: solve whole.
+  quadrant_solve_ = domain_.mesh.symmetric && options_.quadrant && !domain_.has_nonlinear_part();
   if (domain_.mesh.symmetric) {
     quad_ = mesh_quadrant(domain_);
     mesh_ = mirror_quadrant_mesh(quad_);
@@ -225,6 +232,59 @@ void MagnetostaticSolver::solve() {
   }
   if (!psi_.allFinite()) throw ComputeError("solution psi contains NaN or Inf");
   SparseMatrix().swap(K_);  // release memory before post-processing (K_ = SparseMatrix() would keep it)
+}
+
+Eigen::VectorXd MagnetostaticSolver::nonlinear_mu_r() const {
+  Eigen::VectorXd mu = mu_r_cell_;
+  const Eigen::MatrixXi& cd = space_->cell_dofs();
+  const int nd = space_->dofs_per_cell();
+  const Eigen::Vector4d centroid = Eigen::Vector4d::Constant(0.25);
+#pragma omp parallel for schedule(static) num_threads(options_.threads)
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    const int i = mesh_.region[t] - kRegionPartFirst;
+    if (i < 0 || i >= static_cast<int>(domain_.parts.size())) continue;
+    const PartSpec& p = domain_.parts[static_cast<size_t>(i)];
+    if (!p.bh) continue;
+    Eigen::Matrix<double, 3, 10> G;
+    basis_gradients(options_.order, tet_geometry(mesh_.nodes, mesh_.tets.col(t)), centroid, G);
+    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+    for (int k = 0; k < nd; ++k) grad += psi_[cd(k, t)] * G.col(k);
+    const double H_A_per_m = grad.norm() / kMu0_T_m_per_A;  // mu0 H = -grad psi (T) in the total-potential cells
+    mu[t] = std::clamp(p.bh->mu_r(H_A_per_m), 1.0, 1e6);
+  }
+  return mu;
+}
+
+// 3+4 with B-H parts: fixed-point (Picard) iterations on the secant permeability
+// mu_r = B(|H|) / (mu0 |H|) per cell, starting from the curves' initial mu_r;
+// the residual |f - K(mu(psi_k)) psi_k| / |f| is taken with the stiffness of the
+// permeability psi_k gives, i.e. before the next solve.
+void MagnetostaticSolver::solve_nonlinear() {
+  auto& hist = stats_.nonlinear_residuals;
+  hist.clear();
+  long cg_iterations = 0;
+  for (int k = 0;; ++k) {
+    assemble_system();
+    if (k > 0) {
+      const double r = (f_ - K_ * psi_).norm() / f_.norm();
+      hist.push_back(r);
+      if (!std::isfinite(r)) throw ComputeError("nonlinear solve: the residual is not finite after " + std::to_string(k) + " iterations");
+      if (r < options_.nonlinear_tolerance) break;
+      if (k >= options_.nonlinear_max_iterations) {
+        std::string h;
+        for (size_t j = 0; j < hist.size(); ++j) h += (j ? ", " : "") + std::to_string(j + 1) + ": " + num(hist[j]);
+        throw ComputeError("nonlinear solve did not converge: residual " + num(r) + " > fem.nonlinear_tolerance = " +
+                           num(options_.nonlinear_tolerance) + " after " + std::to_string(k) +
+                           " iterations (fem.nonlinear_max_iterations); residual history " + h);
+      }
+    }
+    solve();
+    cg_iterations += stats_.iterations;
+    stats_.nonlinear_iterations = k + 1;
+    mu_r_cell_ = nonlinear_mu_r();
+  }
+  SparseMatrix().swap(K_);
+  stats_.iterations = cg_iterations;
 }
 
 // 5. Solution object (recovered gradient) and point locator; B at cell centroids on demand (B_cell()).

@@ -13,9 +13,14 @@
 //    shapes or materials) are one-line InputErrors naming the part.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
+#include "bh_curve.hpp"
 #include "core/errors.hpp"
 #include "fields/analytic_field.hpp"
 #include "geometry.hpp"
@@ -213,4 +218,55 @@ TEST_CASE("parts: a cylinder part under the magnet is the shaft", "[field_solver
   const auto [rb, mb] = diff(solved({})->evaluator(), shaft->evaluator(), plane(coarse_settings({})));
   CAPTURE(rb);
   CHECK(rb > 10 * rms);
+}
+
+namespace {
+
+// A B-H table file in the temporary directory (rows as given, full precision).
+std::string bh_file(const std::string& name, const std::vector<std::pair<double, double>>& rows) {
+  const std::string path = (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".csv")).string();
+  std::ofstream out(path);
+  out << std::setprecision(17) << "H_A_per_m,B_T\n";
+  for (const auto& [H, B] : rows) out << H << "," << B << "\n";
+  return path;
+}
+
+std::string gap_cup(const std::string& material) {
+  return "parts=[{name = \"h\", shape = \"cup\", r_inner_mm = 2.2, r_outer_mm = 2.7, z_min_mm = -2.7, z_max_mm = 1.5, "
+         "base_mm = 0.5, material = \"" + material + "\"}]";
+}
+
+}  // namespace
+
+TEST_CASE("parts: a straight-line B-H curve equals the linear solve", "[field_solver][cross-check]") {
+  const double mu0 = kMu0_T_m_per_A;
+  const std::string f = bh_file("bh_line", {{0, 0}, {1e3, 1e3 * 500 * mu0}, {5e3, 5e3 * 500 * mu0}, {1e6, 1e6 * 500 * mu0}});
+  const std::vector<std::string> common = {"fem.order=1", "fem.tolerance=1e-10", "fem.quadrant_solve=false"};
+  const auto nl = solved(with(common, {gap_cup("bh:" + f)}));
+  const auto lin = solved(with(common, {gap_cup("mu_r:500")}));
+  std::filesystem::remove(f);
+  // mu_r(H) = 500 everywhere: one fixed-point step, then the residual is the CG's.
+  CHECK(nl->stats().nonlinear_iterations == 1);
+  REQUIRE(nl->stats().nonlinear_residuals.size() == 1);
+  CHECK(nl->stats().nonlinear_residuals[0] < 1e-8);
+  CHECK(lin->stats().nonlinear_iterations == 0);
+  const auto [rms, max] = diff(nl->evaluator(), lin->evaluator(), plane(coarse_settings({})));
+  CAPTURE(rms, max);
+  CHECK(max < 1e-8);
+}
+
+TEST_CASE("parts: a saturating B-H curve lets more flux over the sensing plane than its initial slope", "[field_solver][physics]") {
+  const double mu0 = kMu0_T_m_per_A;
+  // Initial mu_r ~ 1000, saturation at ~0.3 T (a thin, weak steel): the cup saturates near the magnet.
+  const std::string f = bh_file("bh_sat", {{0, 0}, {100, 100 * 1000 * mu0}, {300, 0.3}, {1e4, 0.32}, {1e6, 0.32 + 1e6 * mu0}});
+  const std::vector<std::string> common = {"fem.order=1", "fem.nonlinear_tolerance=1e-4", "fem.nonlinear_max_iterations=200"};
+  const auto nl = solved(with(common, {gap_cup("bh:" + f)}));
+  std::filesystem::remove(f);
+  const double b_nl = peak_B(*nl), b_lin = peak_B(*solved(with(common, {gap_cup("mu_r:1000")}))),
+               b0 = peak_B(*solved(common));
+  const auto& h = nl->stats().nonlinear_residuals;
+  CAPTURE(b_nl, b_lin, b0, nl->stats().nonlinear_iterations, h.front(), h.back());
+  CHECK(h.back() < 1e-4);
+  CHECK(b_lin < b_nl);
+  CHECK(b_nl < b0);
 }
