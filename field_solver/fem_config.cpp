@@ -66,7 +66,7 @@ std::vector<KeySpec> fem_keys() {
       bool_key("fem.recovery", true, "B from the node-averaged (recovered) gradient of psi inside each material"),
       real_key("fem.nonlinear_tolerance", 1e-6, 0, 1, "",
                "parts with a B-H curve: stop when the nonlinear residual |f - K(mu(psi)) psi| / |f| is below this", true),
-      int_key("fem.nonlinear_max_iterations", 60, 1, 10000,
+      int_key("fem.nonlinear_max_iterations", 300, 1, 10000,
               "parts with a B-H curve: most fixed-point iterations (computation error, exit 3, when reached)"),
       int_key("fem.progress_every", 500, 0, 100000000, "progress line on stderr every N CG iterations (0 = never)"),
       bool_key("output.mesh_vtu", false,

@@ -59,7 +59,7 @@ struct SolverOptions {
   // Parts with a B-H curve: fixed-point (secant permeability, Picard) iterations
   // until |f - K(mu(psi)) psi| / |f| < nonlinear_tolerance.
   double nonlinear_tolerance = 1e-6;
-  int nonlinear_max_iterations = 60;
+  int nonlinear_max_iterations = 300;
 
   // The linear solver's part (solver resolved by the MagnetostaticSolver's constructor).
   LinearSolveSettings linear() const { return {solver, preconditioner, tolerance, max_iterations, progress_every}; }
