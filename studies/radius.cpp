@@ -1,6 +1,5 @@
 // Study radius: which probe radius r0 to choose for the configured magnet, and
-// what a mounting tolerance costs there (GitHub issue "Choosing the probe
-// radius r0"). For every field in radius.fields (plus the FEM field when
+// what a mounting tolerance costs there (docs/studies/radius.md). For every field in radius.fields (plus the FEM field when
 // radius.fem_dir holds a solved field), every array in radius.arrays and every
 // r0 in radius.r0_min_mm..r0_max_mm: the spectra of six mounting cases, the
 // worst case over the tolerance box corners, a seeded Monte Carlo over the box

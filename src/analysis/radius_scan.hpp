@@ -181,7 +181,7 @@ struct RadiusScanOptions {
   void validate() const;                // InputError naming the key
 };
 
-// The six spectra cases of the issue: sx, sy, dx, dy = case_offset; dz = +-case_dz with dx = residual.
+// The six spectra cases of the radius study: sx, sy, dx, dy = case_offset; dz = +-case_dz with dx = residual.
 std::vector<std::pair<std::string, Mount>> spectra_cases(const RadiusScanOptions& opt);
 
 // One row of radius.csv: one (field, array, r0).
