@@ -30,6 +30,7 @@ void run(const Config& cfg, StudyOutput& out) {
       radius_field_specs(cfg, notes, [&](const std::string& dir) { return SolvedFieldDir(dir).mismatch(cfg); });
   std::vector<std::pair<std::string, FieldSourcePtr>> fields;
   for (const auto& s : specs) fields.emplace_back(s, open_field_source(s, cfg));
+  check_distinct_field_kinds(fields);
   for (const auto& [spec, field] : fields) check_field_serves_box(*field, spec, opt);  // e.g. an elevation axis
 
   // 2. The scan, one field after another.

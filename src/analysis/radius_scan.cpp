@@ -519,13 +519,22 @@ std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0
 void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt) {
   if (!opt.box.has_elevation()) return;
   const double tol = opt.box.magnetization_elevation_deg;
-  if (!dynamic_cast<const AnalyticField*>(&field))
+  if (!field.exact_magnet())
     throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + ": field '" + spec +
                      "' has one fixed magnetization (only the analytic field can vary its elevation): allowed 0");
   if (!(std::abs(opt.elevation_deg) + tol <= 90.0))
     throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + " is out of range with "
                      "magnet.magnetization_elevation_deg = " + num(opt.elevation_deg) + ": allowed <= " +
                      num(90.0 - std::abs(opt.elevation_deg)));
+}
+
+void check_distinct_field_kinds(const std::vector<std::pair<std::string, FieldSourcePtr>>& fields) {
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fields[i].second->name() == fields[j].second->name())
+        throw InputError("radius.fields: '" + fields[j].first + "' and '" + fields[i].first + "' are both " +
+                         fields[i].second->name() + " fields, whose rows would merge: allowed one field of each " +
+                         "kind (analytic, linear, fem, grid, table) per run");
 }
 
 namespace {
@@ -550,7 +559,7 @@ struct RadiusModels {
       return;
     }
     // B(al) = cos(al) B_diametric + sin(al) B_axial (check_field_serves_box: the exact field).
-    const Magnet& mag = dynamic_cast<const AnalyticField&>(field).magnet();
+    const Magnet& mag = *field.exact_magnet();
     Magnet md = mag, ma = mag;
     md.magnetization_elevation_deg = 0;
     ma.magnetization_elevation_deg = 90;
@@ -680,7 +689,7 @@ void validate_at(const FieldSource& field, const RadiusScanOptions& opt, const s
     // The direct pipeline on the case's own field (elevation) and signal chain.
     std::unique_ptr<AnalyticField> elevated;
     if (vc.elevation_deg != 0) {
-      Magnet mag = dynamic_cast<const AnalyticField&>(field).magnet();
+      Magnet mag = *field.exact_magnet();
       mag.magnetization_elevation_deg = opt.elevation_deg + vc.elevation_deg;
       elevated = std::make_unique<AnalyticField>(mag);
     }

@@ -267,6 +267,9 @@ struct RadiusScanResult {
 // Also |elevation| + its half-width must stay <= 90 deg. run_radius_scan
 // calls it first; the study calls it for every field before any work.
 void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt);
+// The rows of a scan name their field by FieldSource::name() ("analytic", "fem", "grid", "table"): two
+// sources of one kind would merge in every table and plot: InputError naming both specs.
+void check_distinct_field_kinds(const std::vector<std::pair<std::string, FieldSourcePtr>>& fields);
 
 // The scan for one field; results appended to `out`. `spec` is recorded.
 void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,

@@ -4,10 +4,9 @@
 #include <sstream>
 #include <string>
 
-#include "fields/analytic_field.hpp"
-#include "fields/magnet.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "fields/magnet.hpp"
 
 namespace magenc {
 
@@ -96,8 +95,7 @@ std::vector<Eigen::Vector3d> fixed_probe_positions(const ProbeSetup& setup, cons
 // magnet tilt g the magnet is replaced by a hull containing it: radius
 // R + L|sin g| about d, z in [-L/2 - R|sin g|, -L/2 + L cos g + R|sin g|]
 // (conservative; see angle_error.hpp).
-void check_paths_outside_magnet(const AnalyticField& field, const ProbeSetup& setup, const Mount& mount) {
-  const Magnet& mag = field.magnet();
+void check_paths_outside_magnet(const Magnet& mag, const ProbeSetup& setup, const Mount& mount) {
   if (mount.magnet_tilted() && std::abs(setup.magnet_height_mm - mag.height_mm) > 1e-9 * mag.height_mm)
     throw InputError("magnet tilt pivot: the probe setup's magnet height " + num(setup.magnet_height_mm) +
                      " mm differs from the analytic field's magnet.height_mm = " + num(mag.height_mm) +
@@ -260,8 +258,7 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
   validate_setup(setup, mount);
   check_source_serves_tilt(field, mount);
   check_source_serves_principle(field, setup);
-  if (const auto* exact = dynamic_cast<const AnalyticField*>(&field))
-    check_paths_outside_magnet(*exact, setup, mount);
+  if (const Magnet* magnet = field.exact_magnet()) check_paths_outside_magnet(*magnet, setup, mount);
 
   const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());

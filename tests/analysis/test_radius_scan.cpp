@@ -444,3 +444,14 @@ TEST_CASE("radius scan with the magnetization elevation in the box", "[analysis]
   opt.box.magnetization_elevation_deg = 0;
   CHECK_NOTHROW(check_field_serves_box(LinearField(), "linear", opt));
 }
+
+TEST_CASE("radius fields: two sources of one kind are refused, one of each kind passes", "[analysis][bad-input]") {
+  const auto analytic = std::make_shared<AnalyticField>(Magnet{});
+  const auto linear = std::make_shared<LinearField>();
+  const std::vector<std::pair<std::string, FieldSourcePtr>> mixed = {{"analytic", analytic}, {"linear", linear}};
+  CHECK_NOTHROW(check_distinct_field_kinds(mixed));
+  const std::vector<std::pair<std::string, FieldSourcePtr>> twice = {
+      {"analytic", analytic}, {"linear", linear}, {"analytic", std::make_shared<AnalyticField>(Magnet{})}};
+  CHECK_THROWS_WITH(check_distinct_field_kinds(twice),
+                    Catch::Contains("'analytic' and 'analytic' are both analytic fields") && Catch::Contains("allowed one"));
+}
