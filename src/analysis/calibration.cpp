@@ -10,6 +10,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/units.hpp"
+#include "probe/mounting.hpp"
 
 namespace magenc {
 
@@ -249,6 +250,43 @@ AngleErrorResult corrected(const Correction& c, AngleErrorResult run) {
     uniform = std::abs(run.theta_deg[m] - 360.0 * static_cast<double>(m) / static_cast<double>(M)) < 1e-9;
   if (uniform) run.spectrum = spectrum_of(run.eps_deg);
   return run;
+}
+
+CalibrationMethod calibration_method(const Config& cfg) {
+  return CalibrationMethod::parse(cfg.str("calibration.method"), "calibration.method");
+}
+
+Config calibration_state(const Config& cfg) {
+  Config state = cfg;
+  const ConfigTables at = cfg.tables("calibration.at");
+  if (at.empty()) return state;
+  for (const auto& [key, value] : at.front().settings("set")) {
+    const auto refuse = [&](const std::string& why) {
+      throw InputError("calibration.at key " + key + ": " + why +
+                       ": allowed declared mount, sensor, stray, environment keys (not calibration.*, magnet.*)");
+    };
+    if (key.rfind("calibration.", 0) == 0) refuse("a calibration key cannot set the calibration state");
+    if (key.rfind("magnet.", 0) == 0) refuse("the field source is the run's, a magnet key would not change it");
+    bool declared = false;
+    for (const auto& k : cfg.schema()) declared = declared || k.key == key;
+    if (!declared) refuse("not a configuration key");
+    try {
+      state.set_value(key, std::visit([](const auto& y) { return ConfigValue(y); }, value));
+    } catch (const InputError& e) {
+      throw InputError(std::string("calibration.at: ") + e.what());
+    }
+  }
+  return state;
+}
+
+Correction correction_from_config(const FieldSource& field, const Config& cfg, const std::string& array_spec,
+                                  const std::string& what) {
+  const CalibrationMethod method = calibration_method(cfg);
+  if (method.none()) return Correction{};
+  const Config state = calibration_state(cfg);
+  const ProbeSetup setup = sensor_setup_from_config(state, array_spec, what);
+  const AngleErrorResult at = angle_error(field, setup, Mount::from_config(state));
+  return calibrate(method, at, setup.principle);
 }
 
 }  // namespace magenc

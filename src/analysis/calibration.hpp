@@ -19,6 +19,8 @@
 #include <Eigen/Core>
 
 #include "analysis/sensor_noise.hpp"
+#include "core/config.hpp"
+#include "fields/field_source.hpp"
 #include "probe/angle_error.hpp"
 
 namespace magenc {
@@ -86,5 +88,18 @@ Eigen::VectorXd residual_deg(const Correction& c, const AngleErrorResult& run);
 // The run with eps replaced by the residual and the spectrum recomputed when the run was uniform
 // (angle_error's result): what every output that evaluates a mount reports under a calibration.
 AngleErrorResult corrected(const Correction& c, AngleErrorResult run);
+
+// ---- The configured calibration (keys calibration.method, calibration.at; docs/interfaces.md) ----
+
+// calibration.method parsed (InputError naming the key).
+CalibrationMethod calibration_method(const Config& cfg);
+// The configuration of the calibration state: cfg with calibration.at's keys set over it. InputError naming
+// calibration.at and the key when a key is not declared, out of range, a calibration.* key, or a magnet.* key
+// (the field source is the run's: a magnet change is a different field, not a calibration state).
+Config calibration_state(const Config& cfg);
+// The correction of calibration.method taken at the calibration state on `field` with the run's array
+// (array_spec and what as sensor_setup_from_config takes them): none (empty) when the method is none.
+Correction correction_from_config(const FieldSource& field, const Config& cfg, const std::string& array_spec,
+                                  const std::string& what = "sensor.array");
 
 }  // namespace magenc

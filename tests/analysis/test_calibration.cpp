@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "analysis/calibration.hpp"
+#include "core/config.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
@@ -247,4 +248,42 @@ TEST_CASE("calibration methods: bad text is one error naming the key", "[analysi
   Eigen::MatrixXd line(20, 2);
   for (int i = 0; i < 20; ++i) line.row(i) << i, 2.0 * i;
   CHECK_THROWS_AS(correct_channels(line), InputError);
+}
+
+TEST_CASE("the configured calibration: calibration.at over the run's values", "[analysis][contract][bad-input]") {
+  Config cfg(common_keys());
+  const AnalyticField f{Magnet{}};
+  // Default method none: no correction, the run unchanged.
+  const Correction none = correction_from_config(f, cfg, "two");
+  CHECK(none.method.none());
+  // The state is the run's configuration with the listed keys replaced.
+  cfg.set("sensor.r0_mm=2.4");
+  cfg.set("mount.sy_mm=0.05");
+  cfg.set("calibration.method=harmonics:8");
+  const Config state = calibration_state(cfg);
+  CHECK(state.real("mount.sx_mm") == 0.1);
+  CHECK(state.real("mount.dx_mm") == 0.1);
+  CHECK(state.real("mount.sy_mm") == 0.05);  // the run's own value
+  // The configured correction is the one taken by hand at that state.
+  const Correction c = correction_from_config(f, cfg, "two");
+  const ProbeSetup s = sensor_setup_from_config(state, "two");
+  const Correction by_hand =
+      calibrate(CalibrationMethod::parse("harmonics:8"), angle_error(f, s, Mount{0.1, 0.05, 0.1, 0, 0}), s.principle);
+  CHECK((c.harmonics_deg - by_hand.harmonics_deg).cwiseAbs().maxCoeff() == 0.0);
+  for (const char* bad : {"calibration.at={ mount.nope_mm = 1 }", "calibration.at={ magnet.br_T = 1.2 }",
+                          "calibration.at={ calibration.method = \"ogp\" }", "calibration.at={ mount.tilt_x_deg = 90 }"}) {
+    CAPTURE(bad);
+    cfg.set(bad);
+    try {
+      (void)calibration_state(cfg);
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      CHECK(msg.find("calibration.at") != std::string::npos);
+      CHECK(msg.find('\n') == std::string::npos);
+    }
+  }
+  cfg.set("calibration.at={}");
+  cfg.set("calibration.method=lut:2");
+  CHECK_THROWS_AS(correction_from_config(f, cfg, "two"), InputError);
 }
