@@ -331,7 +331,7 @@ TEST_CASE("table-list keys: bad tables are one line naming the key the element a
   CHECK(c.tables("study.variants")[0].text("label") == "a");
 }
 
-TEST_CASE("calibration.at: a table of keys from a file, --set and the default; echoed; bad forms refused",
+TEST_CASE("calibration.at is a table of keys from a file or --set or the default and is echoed and checked",
           "[core][contract][bad-input]") {
   Config cfg(common_keys());
   auto entries = [&] { return cfg.tables("calibration.at").front().settings("set"); };
