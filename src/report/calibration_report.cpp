@@ -50,6 +50,8 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
     p.xlabel = "drift box scale (1 = the configured drift box)";
     p.ylabel = "p99 residual pp [deg]";
     p.logy = true;
+    p.logx = true;
+    p.commands = {"set key bottom right", "set xtics (0.25, 0.5, 1, 2, 4)"};
     for (const auto& s : r.sensors) {
       PlotSeries ser;
       ser.title = plot_literal(s.label);
@@ -74,7 +76,7 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
     p.xlabel = "harmonic n";
     p.ylabel = "mean c_n [deg]";
     p.logy = true;
-    p.commands = {"set xtics 1", "set xrange [0.5:8.5]"};
+    p.commands = {"set xtics 1", "set xrange [0.5:8.5]", "set format y '%g'", "set key bottom left"};
     PlotSeries u;
     u.title = "uncalibrated";
     u.style = "linespoints";
