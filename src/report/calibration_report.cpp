@@ -51,7 +51,7 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
     p.ylabel = "p99 residual pp [deg]";
     p.logy = true;
     p.logx = true;
-    p.commands = {"set key bottom right", "set xtics (0.25, 0.5, 1, 2, 4)"};
+    p.commands = {"set key bottom right", "set xtics (0.25, 0.5, 1, 2)", "set xrange [0.2:2.5]"};
     for (const auto& s : r.sensors) {
       PlotSeries ser;
       ser.title = plot_literal(s.label);

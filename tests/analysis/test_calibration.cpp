@@ -5,7 +5,10 @@
 
 #include <cmath>
 
+#include <omp.h>
+
 #include "analysis/calibration.hpp"
+#include "analysis/calibration_study.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
@@ -286,4 +289,53 @@ TEST_CASE("the configured calibration: calibration.at over the run's values", "[
   cfg.set("calibration.at={}");
   cfg.set("calibration.method=lut:2");
   CHECK_THROWS_AS(correction_from_config(f, cfg, "two"), InputError);
+}
+
+TEST_CASE("calibration study: no drift leaves the factory residual, threads do not matter, bad drift keys",
+          "[analysis][determinism][bad-input]") {
+  Config cfg(merge_schemas(common_keys(), CalibrationStudyOptions::keys()));
+  cfg.set("study.samples=24");
+  cfg.set("study.mc_steps=180");
+  cfg.set("study.sensors=[\"two\", \"inplane\"]");
+  cfg.set("study.drift_scales=[1]");
+  const AnalyticField f{Magnet{}};
+  SECTION("a drift box of zero half-widths: every scenario equals the factory state") {
+    cfg.set("drift.keys=[{ key = \"mount.sx_mm\", half_width = 0 }]");
+    const CalibrationStudyResult r = run_calibration_study(f, cfg, CalibrationStudyOptions::from_config(cfg));
+    for (const auto& s : r.sensors) {
+      CAPTURE(s.label);
+      CHECK((s.p99.row(s.scale1) - s.p99.row(0)).cwiseAbs().maxCoeff() == 0.0);
+      CHECK(s.uncal_p99[static_cast<Eigen::Index>(s.scale1)] == s.uncal_p99[0]);
+      CHECK(s.p99(0, 0) < 0.01);  // harmonics:8 at its own state (two: ~3e-4 deg, inplane: 0)
+    }
+  }
+  SECTION("the same results with 1 and 2 threads") {
+    const auto opt = CalibrationStudyOptions::from_config(cfg);
+    omp_set_num_threads(1);
+    const CalibrationStudyResult a = run_calibration_study(f, cfg, opt);
+    omp_set_num_threads(2);
+    const CalibrationStudyResult b = run_calibration_study(f, cfg, opt);
+    for (std::size_t i = 0; i < a.sensors.size(); ++i) {
+      CHECK(a.sensors[i].p99 == b.sensors[i].p99);
+      CHECK(a.sensors[i].uncal_p99 == b.sensors[i].uncal_p99);
+      CHECK(a.sensors[i].p99(1, 0) > a.sensors[i].p99(0, 0));  // the drift leaves more than the factory state
+    }
+  }
+  for (const char* bad : {"drift.keys=[{ key = \"magnet.br_T\", half_width = 0.01 }]",
+                          "drift.keys=[{ key = \"mount.nope_mm\", half_width = 0.01 }]",
+                          "drift.keys=[{ key = \"sensor.array\", half_width = 1 }]",
+                          "drift.keys=[{ key = \"mount.sx_mm\", half_width = 0.01 }, { key = \"mount.sx_mm\", half_width = 0.02 }]",
+                          "study.methods=[\"spline\"]"}) {
+    CAPTURE(bad);
+    Config c = cfg;
+    c.set(bad);
+    try {
+      (void)CalibrationStudyOptions::from_config(c);
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      CHECK((msg.find("drift.keys") != std::string::npos || msg.find("study.methods") != std::string::npos));
+      CHECK(msg.find('\n') == std::string::npos);
+    }
+  }
 }
