@@ -267,6 +267,7 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
   res.theta_deg = theta_deg;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
+  res.channels.resize(M, 2);
   auto check_finite = [&](Eigen::Index m) {
     if (!std::isfinite(res.eps_deg[m]))
       throw ComputeError(field.name() + " field gave a non-finite angle at theta = " + num(theta_deg[m]) +
@@ -299,6 +300,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
         ch_sin += setup.array.w_sin[k] * b;
       }
       chain(ch_cos, ch_sin);
+      res.channels(m, 0) = ch_cos;
+      res.channels(m, 1) = ch_sin;
       const double phi_rad = std::atan2(ch_sin, ch_cos);
       res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
       check_finite(m);
@@ -327,6 +330,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
         u_s = std::sin(2.0 * alpha);
       }
       chain(u_c, u_s);
+      res.channels(m, 0) = u_c;
+      res.channels(m, 1) = u_s;
       const double psi_deg = rad_to_deg(std::atan2(u_s, u_c));
       // eps = wrap(phi - theta); amr: phi = psi/2 modulo 180, eps = wrap(psi - 2 theta)/2 in (-90, 90].
       res.eps_deg[m] = wrap_deg(psi_deg - turns * theta_deg[m]) / turns;

@@ -47,6 +47,8 @@ struct AngleErrorResult {
   Eigen::MatrixXd probe_B_T;  // M x K probe readings (T; before the signal chain): bz n.B of each probe,
                               // in-plane principles hypot(b1, b2) of the spot (K = 1)
   Eigen::MatrixXd inplane_B_T;// in-plane principles: M x 2, the components b1 = x'.B, b2 = y'.B (T); bz: empty
+  Eigen::MatrixXd channels;   // M x 2: the channels (u_c, u_s) after the signal chain, the arguments of atan2
+                              // (T for bz and inplane, unit amplitude for xmr and amr; amr: twice the angle)
   Spectrum spectrum;
   // Field window (docs/physics.md "Sensor principles"): the extremes of the magnitude the principle uses, mT:
   // bz the peak |reading| over the turn of each probe, min and max over the probes; in-plane principles
