@@ -63,31 +63,45 @@ StrayField uniform(const Eigen::Vector3d& b_mT) {
   return s;
 }
 
-// The largest b in (0, search_max] with worst pp <= threshold: a logarithmic scan from 1e-4 mT for the
-// first magnitude above the threshold, then bisection (in log b) of that bracket to 0.1 %.
+// The largest b in (0, search_max] with worst pp <= threshold. The bracket comes from the magnitude curve
+// (b_i, worst pp_i, increasing b): the first b_i above the threshold; past the curve's end, 8 logarithmic
+// steps up to search_max. Then bisection in log b to 0.1 %.
 ToleratedField tolerated_field(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
-                               const std::vector<Eigen::Vector3d>& dirs, double threshold_deg, double search_max_mT) {
+                               const std::vector<Eigen::Vector3d>& dirs, double threshold_deg, double search_max_mT,
+                               const std::vector<double>& curve_mT, const std::vector<StrayError>& curve) {
   ToleratedField t;
   t.threshold_deg = threshold_deg;
   auto worst = [&](double b) { return worst_over_directions(field, setup, mount, b, dirs).pp_deg; };
   if (worst(0.0) > threshold_deg) return t;  // the mount alone exceeds it: 0
-  const double lo0 = 1e-4;
-  const int n = 49;  // 0.5 decades per 3 points up to 1e3: ratio (search_max/lo0)^(1/(n-1))
   double lo = 0, hi = kInf;
-  for (int i = 0; i < n; ++i) {
-    const double b = lo0 * std::pow(search_max_mT / lo0, static_cast<double>(i) / (n - 1));
-    if (worst(b) > threshold_deg) {
-      hi = b;
+  for (std::size_t i = 0; i < curve.size() && curve_mT[i] <= search_max_mT; ++i) {
+    if (curve[i].pp_deg > threshold_deg) {
+      hi = curve_mT[i];
       break;
     }
-    lo = b;
+    lo = curve_mT[i];
+  }
+  if (std::isinf(hi) && lo < search_max_mT) {
+    const double from = std::max(lo, 1e-6);
+    for (int i = 1; i <= 8; ++i) {
+      const double b = from * std::pow(search_max_mT / from, i / 8.0);
+      if (worst(b) > threshold_deg) {
+        hi = b;
+        break;
+      }
+      lo = b;
+    }
   }
   if (std::isinf(hi)) {
     t.field_mT = kInf;
     t.beyond = true;
     return t;
   }
-  if (lo == 0) lo = hi * 1e-3;
+  if (lo == 0) {  // below the curve's start: step down by decades
+    lo = hi;
+    while (lo > 1e-9 && worst(lo) > threshold_deg) lo *= 0.1;
+    if (worst(lo) > threshold_deg) return t;
+  }
   while (hi / lo > 1.001) {
     const double mid = std::sqrt(lo * hi);
     (worst(mid) > threshold_deg ? hi : lo) = mid;
@@ -212,7 +226,8 @@ StrayFieldResult run_stray_field(const FieldSource& field, const ProbeSetup& bas
     for (double h : opt.levels_kA_per_m)
       s.levels.push_back(worst_over_directions(cached, sen.setup, mount, h * kmT_per_kA_per_m, dirs));
     for (double th : opt.thresholds_deg)
-      s.tolerated.push_back(tolerated_field(cached, sen.setup, mount, dirs, th, opt.search_max_mT));
+      s.tolerated.push_back(
+          tolerated_field(cached, sen.setup, mount, dirs, th, opt.search_max_mT, s.curve_mT, s.curve));
     for (const char* orientation : {"along y", "along z"}) {
       const Eigen::Vector3d u = orientation[6] == 'y' ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
       for (double d : opt.wire_distances_mm)

@@ -30,7 +30,7 @@ struct StrayFieldOptions {
   std::vector<std::string> sensors = {"two", "diff4", "ring:8", "inplane", "xmr", "amr"};
   std::vector<double> levels_kA_per_m = {0.1, 0.5, 1, 2, 4};  // ISO 11452-8-style test levels (H in air)
   double curve_min_mT = 0.01, curve_max_mT = 20;               // error vs magnitude: log range
-  int curve_points = 25;
+  int curve_points = 17;
   int polar_points = 13;    // polar angles 0..180 deg (both poles included)
   int azimuth_points = 24;  // azimuths 0..360 deg (excluded)
   double map_kA_per_m = 4;  // magnitude of the direction maps

@@ -16,7 +16,7 @@ std::string dir_text(const Eigen::Vector3d& u) {
   return "(" + fmt(u.x(), 2) + ", " + fmt(u.y(), 2) + ", " + fmt(u.z(), 2) + ")";
 }
 std::string tolerated_text(const ToleratedField& t, const StrayFieldOptions& opt) {
-  if (t.beyond) return "> " + fmt_auto(opt.search_max_mT, 4) + " mT";
+  if (t.beyond) return "> " + fmt_sig(opt.search_max_mT, 4) + " mT (no error found)";
   if (t.field_mT == 0) return "0 (the mount alone exceeds it)";
   return fmt_auto(t.field_mT, 3) + " mT (" + fmt_auto(t.field_mT / kmT_per_kA_per_m, 3) + " kA/m)";
 }
@@ -39,7 +39,8 @@ void write_curve_plot(const StrayFieldResult& r, const std::filesystem::path& di
     }
     p.series.push_back(ser);
   }
-  p.commands = {"set grid", "set key top left", "set yrange [1e-6:*]"};
+  p.commands = {"set grid", "set key top left", "set yrange [1e-6:*]", "set format y '10^{%L}'",
+                "set format x '10^{%L}'"};
   for (double th : {0.1, 1.0})
     p.commands.push_back("set arrow from graph 0, first " + fmt_sig(th, 6) + " to graph 1, first " + fmt_sig(th, 6) +
                          " nohead dt 2 lc rgb 'gray40'");
@@ -69,7 +70,7 @@ void write_wire_plot(const StrayFieldResult& r, const StrayFieldOptions& opt, co
         }
       p.series.push_back(ser);
     }
-    p.commands = {"set grid", "set key bottom left", "set yrange [1e-6:*]"};
+    p.commands = {"set grid", "set key bottom left", "set yrange [1e-6:*]", "set format y '10^{%L}'"};
     ps.panels.push_back(p);
   }
   write_plot(dir, "wires", ps);
@@ -209,8 +210,8 @@ void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions
     md << ".\n";
   }
   md << "\nThe largest magnitude (0.1 % bisection) whose worst direction keeps pp at or below the threshold. "
-        "Differential Bz arrays subtract probes with opposite weights: a homogeneous field cancels exactly on an "
-        "untilted die (Bx, By are not read, Bz is common to every probe). `two` takes a homogeneous Bz as channel "
+        "Differential Bz arrays subtract probes with opposite weights: a homogeneous field cancels exactly, on a "
+        "tilted die too (every probe of the die reads the same n.B). `two` takes a homogeneous Bz as channel "
         "offsets; the one-spot principles add the in-plane stray field to the magnet's at the spot, which turns its "
         "direction (xmr, amr: only the direction is read).\n\n";
 
