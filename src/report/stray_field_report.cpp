@@ -50,6 +50,7 @@ void write_curve_plot(const StrayFieldResult& r, const std::filesystem::path& di
 
 void write_wire_plot(const StrayFieldResult& r, const StrayFieldOptions& opt, const std::filesystem::path& dir) {
   PlotSpec ps;
+  const double plotted_A = opt.wire_currents_A[opt.wire_currents_A.size() / 2];  // the middle current
   ps.title = "A straight conductor beside the sensor (distances along x from the die centre)";
   ps.columns = 2;
   ps.width_px = 1400;
@@ -59,12 +60,12 @@ void write_wire_plot(const StrayFieldResult& r, const StrayFieldOptions& opt, co
     p.title = std::string("conductor ") + orientation +
               (orientation[6] == 'y' ? " at the die's height: field normal to the die" : " (vertical): field in the die plane");
     p.xlabel = "distance [mm]";
-    p.ylabel = "pp [deg] at " + fmt_auto(opt.wire_currents_A.back(), 4) + " A (zero drawn at 10^{-6})";
+    p.ylabel = "pp [deg] at " + fmt_sig(plotted_A, 4) + " A (zero drawn at 10^{-6})";
     p.logx = p.logy = true;
     for (const auto& s : r.sensors) {
       PlotSeries ser{plot_literal(s.label), {}, {}, "linespoints", "lw 2"};
       for (const auto& w : s.wires)
-        if (w.orientation == orientation && w.current_A == opt.wire_currents_A.back()) {
+        if (w.orientation == orientation && w.current_A == plotted_A) {
           ser.x.push_back(w.distance_mm);
           ser.y.push_back(floor_log(w.pp_deg));
         }
@@ -84,8 +85,9 @@ void write_direction_maps(const StrayFieldResult& r, const StrayFieldOptions& op
                " kA/m)";
     hm.xlabel = "azimuth of the field [deg] (fixed frame, from x)";
     hm.ylabel = "polar angle from +z [deg]";
-    for (double a : r.azimuth_deg) hm.column_labels.push_back(fmt_auto(a, 3));
-    for (double t : r.polar_deg) hm.row_labels.push_back(fmt_auto(t, 3));
+    for (std::size_t j = 0; j < r.azimuth_deg.size(); ++j)
+      hm.column_labels.push_back(j % 3 == 0 ? fmt(r.azimuth_deg[j], 0) : std::string());
+    for (double t : r.polar_deg) hm.row_labels.push_back(fmt(t, 0));
     for (Eigen::Index i = 0; i < s.map_pp_deg.rows(); ++i) {
       std::vector<double> row;
       for (Eigen::Index j = 0; j < s.map_pp_deg.cols(); ++j) row.push_back(s.map_pp_deg(i, j));
@@ -233,7 +235,7 @@ void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions
     const std::size_t W = r.sensors.empty() ? 0 : r.sensors.front().wires.size();
     for (std::size_t i = 0; i < W; ++i) {
       const WireCase& w = r.sensors.front().wires[i];
-      std::vector<std::string> row = {w.orientation, fmt_auto(w.distance_mm, 3), fmt_auto(w.current_A, 4),
+      std::vector<std::string> row = {w.orientation, fmt_sig(w.distance_mm, 4), fmt_sig(w.current_A, 4),
                                       fmt_auto(w.field_mT, 3)};
       for (const auto& s : r.sensors) row.push_back(fmt_deg(s.wires[i].pp_deg));
       t.push_back(row);
