@@ -541,6 +541,11 @@ Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel) {
 std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0_mm) {
   double xy = std::max(opt.box.max_inplane_mm(), std::max(opt.case_offset_mm, std::hypot(opt.case_residual_dx_mm, 0.0)));
   double z = std::max(opt.box.dz_mm, opt.case_dz_mm);
+  if (opt.box.has_environment()) {  // the air gap's drift over the box's temperatures
+    const double dT = std::max(std::abs(opt.box.temperature_min_C - kReferenceTemperature_C),
+                               std::abs(opt.box.temperature_max_C - kReferenceTemperature_C));
+    z = std::max(z, opt.box.dz_mm + 1e-3 * std::abs(opt.box.env_coefficients.dz_tc_um_per_K) * dT);
+  }
   if (opt.box.has_tilts()) {
     // Sensor tilt a, b: a probe at radius r0 rises or sinks by up to r0 (sin a + sin b) and moves in
     // plane by r0 (2 - cos a - cos b). Magnet lean g (up to sqrt(2) x the half-width): a point at height
