@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/units.hpp"
 
 namespace magenc {
 
@@ -48,6 +49,15 @@ void ToleranceBox::validate(const std::string& prefix) const {
   for (const auto& it : more)
     if (!(std::isfinite(it.v) && it.v >= 0 && it.v <= it.hi))
       throw InputError(prefix + it.name + " = " + num(it.v) + " is out of range: allowed [0, " + num(it.hi) + "]" + it.unit);
+  for (const auto& [name, v] : {std::pair<const char*, double>{"temperature_min_C", temperature_min_C},
+                                std::pair<const char*, double>{"temperature_max_C", temperature_max_C}})
+    if (!(std::isfinite(v) && v >= -273.15 && v <= 1000))
+      throw InputError(prefix + name + " = " + num(v) + " is out of range: allowed [-273.15, 1000] C");
+  if (temperature_min_C > temperature_max_C)
+    throw InputError(prefix + "temperature_min_C = " + num(temperature_min_C) + " exceeds " + prefix +
+                     "temperature_max_C = " + num(temperature_max_C) + ": allowed min <= max");
+  if (!(std::isfinite(stray_mT) && stray_mT >= 0 && stray_mT <= 1e4))
+    throw InputError(prefix + "stray_mT = " + num(stray_mT) + " is out of range: allowed [0, 10000] mT");
 }
 
 namespace {
@@ -118,16 +128,26 @@ ToleranceCase ToleranceBox::case_sample(std::uint64_t seed, std::uint64_t index)
     state = splitmix64(state);
     return 2.0 * unit_uniform(state) - 1.0;  // [-1, 1)
   };
-  const int draws = has_elevation() ? 14 : has_chain() ? 13 : has_tilts() ? 9 : 5;
+  const int draws = has_environment() ? 18 : has_elevation() ? 14 : has_chain() ? 13 : has_tilts() ? 9 : 5;
   const double half[kAxes] = {sx_mm,         sy_mm,         dx_mm,         dy_mm,           dz_mm,
                               tilt_x_deg,    tilt_y_deg,    magnet_tilt_deg, magnet_tilt_deg, offset_cos_mT,
                               offset_sin_mT, gain_mismatch, phase_error_deg, magnetization_elevation_deg};
   double v[kAxes] = {};
-  for (int b = 0; b < draws; ++b) {
+  for (int b = 0; b < std::min(draws, kAxes); ++b) {
     const double u = next();
     v[b] = half[b] * u;
   }
-  return case_of(v);
+  ToleranceCase c = case_of(v);
+  if (has_environment()) {
+    const double u_t = next(), u_b = next(), z = next(), u_phi = next();  // each in [-1, 1)
+    c.env = env_coefficients;
+    c.env.temperature_C = temperature_min_C + 0.5 * (u_t + 1.0) * (temperature_max_C - temperature_min_C);
+    const double b_mT = 0.5 * (u_b + 1.0) * stray_mT, rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = kPi * (u_phi + 1.0);  // z uniform in [-1, 1) and phi uniform: uniform on the sphere
+    c.env.stray = StrayField{};
+    c.env.stray.uniform_mT = b_mT * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z);
+  }
+  return c;
 }
 
 const std::vector<std::string>& ToleranceBox::groups() {

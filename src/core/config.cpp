@@ -73,7 +73,7 @@ KeySpec real_list_key(std::string key, const std::vector<double>& def, double mi
   s.type = KeySpec::Type::RealList;
   s.default_value.clear();
   for (std::size_t i = 0; i < def.size(); ++i) {
-    if (i) s.default_value += ",";  // two appends: GCC 12's -Wrestrict misreads ("," or "") + text here
+    if (i) s.default_value += ',';  // not ("," or "") + text: GCC 12 reports a false -Wrestrict for that once inlined
     s.default_value += fmt_sig(def[i], 15);
   }
   s.min_elements = min_elements;
@@ -1043,6 +1043,28 @@ std::vector<KeySpec> common_keys() {
                "xmr/amr: offset of the cos channel as a fraction of the unit amplitude (signal chain)"),
       real_key("sensor.offset_sin_rel", 0.0, -1, 1, "",
                "xmr/amr: offset of the sin channel as a fraction of the unit amplitude (signal chain)"),
+      // Environment: stray fields and temperature (docs/physics.md "Environment"; probe/environment.hpp).
+      real_list_key("stray.uniform_mT", {0, 0, 0}, -1e4, 1e4, "mT",
+                    "uniform stray field [Bx, By, Bz] in the fixed frame, added at every probe (1 kA/m = 1.257 mT)",
+                    false, 3),
+      real_key("stray.wire_current_A", 0.0, -1e6, 1e6, "A",
+               "current of an infinite straight conductor (0 = none): B = 0.2 mT mm/A I (u x r)/|r|^2"),
+      real_list_key("stray.wire_point_mm", {0, 0, 0}, -1e6, 1e6, "mm",
+                    "a point [x, y, z] of the conductor, fixed frame (magnet frame at rest)", false, 3),
+      real_list_key("stray.wire_direction", {0, 1, 0}, -1e6, 1e6, "",
+                    "direction [ux, uy, uz] of the conductor (and of its current); any non-zero length", false, 3),
+      real_key("environment.temperature_C", 20.0, -273.15, 1000, "C",
+               "temperature: Br(T) = Br (1 + magnet.br_tc_per_K (T - 20)), offset and air-gap drifts from 20 C"),
+      real_key("magnet.br_tc_per_K", -0.0012, -0.01, 0.01, "1/K",
+               "reversible temperature coefficient of Br (set by magnet.material unless changed from its default)"),
+      string_key("magnet.material", "none", {"none", "ndfeb_sintered", "smco", "ferrite_hard", "ndfeb_bonded"},
+                 "magnet material of the library (docs/physics.md): sets magnet.br_tc_per_K; none = the key's value"),
+      real_key("sensor.offset_cos_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the cos channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("sensor.offset_sin_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the sin channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("mount.dz_tc_um_per_K", 0.0, -1e3, 1e3, "um/K",
+               "air-gap drift with temperature (thermal growth of shaft and housing), from 20 C; + = farther"),
       real_key("mount.sx_mm", 0.0, -big, big, "mm", "static eccentricity x (sensor off axis)"),
       real_key("mount.sy_mm", 0.0, -big, big, "mm", "static eccentricity y"),
       real_key("mount.dx_mm", 0.0, -big, big, "mm", "dynamic eccentricity x (magnet off axis)"),

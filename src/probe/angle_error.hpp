@@ -5,6 +5,7 @@
 
 #include "core/defaults.hpp"
 #include "fields/field_source.hpp"
+#include "probe/environment.hpp"
 #include "probe/mounting.hpp"
 #include "core/config.hpp"
 #include "probe/probe_array.hpp"
@@ -31,6 +32,10 @@ struct ProbeSetup {
   SensorPrinciple principle = SensorPrinciple::Bz;
   SensingArea area{};         // finite sensing area (plate_mm = 0: points)
   FieldWindow window{};       // the field magnitude the chip needs (off by default)
+  // Stray fields and temperature (probe/environment.hpp): the magnet's field scaled by Br(T)/Br, the
+  // stray field added at every probe before the reading, the offsets and the air gap at T. Neutral
+  // by default (no stray field, 20 C): then the pipeline is exactly the one without it.
+  Environment env{};
 };
 
 // The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),
