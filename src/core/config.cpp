@@ -85,7 +85,10 @@ KeySpec int_list_key(std::string key, const std::vector<long>& def, long min, lo
   KeySpec s = int_key(std::move(key), 0, min, max, std::move(help));
   s.type = KeySpec::Type::IntList;
   s.default_value.clear();
-  for (std::size_t i = 0; i < def.size(); ++i) s.default_value += (i ? "," : "") + std::to_string(def[i]);
+  for (std::size_t i = 0; i < def.size(); ++i) {
+    if (i) s.default_value += ',';  // as in real_list_key (GCC 12's false -Wrestrict)
+    s.default_value += std::to_string(def[i]);
+  }
   s.min_elements = min_elements;
   return s;
 }
