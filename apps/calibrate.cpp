@@ -57,7 +57,7 @@ int run(int argc, char** argv) {
   CLI::App app{"calibrate: the factory correction as a firmware table, and the residual after a change (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
-  const auto schema = magenc::common_keys();
+  const auto schema = magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys());
   magenc::add_common_options(app, common, schema);
   app.add_option("--measured", f.measured, "calibration curve CSV: theta_deg,error_deg | theta_deg,phi_deg | theta_deg,u_cos,u_sin");
   app.add_option("--correction", f.correction, "a correction.csv written before (instead of calibrating)");

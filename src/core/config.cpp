@@ -1079,6 +1079,11 @@ std::vector<KeySpec> common_keys() {
                "magnet tilt g on the shaft, about the centre of its bottom face"),
       real_key("mount.magnet_tilt_azimuth_deg", 0.0, -360, 360, "deg",
                "azimuth psi (rotor frame) towards which the tilted magnet's top leans"),
+  };
+}
+
+std::vector<KeySpec> calibration_keys() {
+  return {
       // Calibration (docs/physics.md "Calibration"; analysis/calibration.hpp).
       string_key("calibration.method", "none", {},
                  "factory correction taken at calibration.at: none, harmonics:N (least-squares harmonics of the "

@@ -254,7 +254,7 @@ TEST_CASE("calibration methods: bad text is one error naming the key", "[analysi
 }
 
 TEST_CASE("the configured calibration: calibration.at over the run's values", "[analysis][contract][bad-input]") {
-  Config cfg(common_keys());
+  Config cfg(merge_schemas(common_keys(), calibration_keys()));
   const AnalyticField f{Magnet{}};
   // Default method none: no correction, the run unchanged.
   const Correction none = correction_from_config(f, cfg, "two");

@@ -333,7 +333,7 @@ TEST_CASE("table-list keys: bad tables are one line naming the key the element a
 
 TEST_CASE("calibration.at is a table of keys from a file or --set or the default and is echoed and checked",
           "[core][contract][bad-input]") {
-  Config cfg(common_keys());
+  Config cfg(merge_schemas(common_keys(), calibration_keys()));
   auto entries = [&] { return cfg.tables("calibration.at").front().settings("set"); };
   // The default of docs/interfaces.md.
   REQUIRE(entries().size() == 2);
@@ -352,7 +352,7 @@ TEST_CASE("calibration.at is a table of keys from a file or --set or the default
   const std::string toml = cfg.to_toml();
   CHECK(toml.find("at = { mount.dx_mm = 0.3, mount.sy_mm = -1 }") != std::string::npos);
   CHECK(cfg.to_json().find("\"calibration.at\": {\"mount.dx_mm\": 0.3, \"mount.sy_mm\": -1}") != std::string::npos);
-  Config back(common_keys());
+  Config back(merge_schemas(common_keys(), calibration_keys()));
   back.load_toml_string(toml);
   CHECK(back.to_toml() == toml);
   cfg.set("calibration.at={}");
