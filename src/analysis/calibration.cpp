@@ -260,7 +260,9 @@ Config calibration_state(const Config& cfg) {
   Config state = cfg;
   const ConfigTables at = cfg.tables("calibration.at");
   if (at.empty()) return state;
-  for (const auto& [key, value] : at.front().settings("set")) {
+  for (const auto& entry : at.front().settings("set")) {
+    const std::string& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
+    const auto& value = entry.second;
     const auto refuse = [&](const std::string& why) {
       throw InputError("calibration.at key " + key + ": " + why +
                        ": allowed declared mount, sensor, stray, environment keys (not calibration.*, magnet.*)");
