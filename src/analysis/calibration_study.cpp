@@ -51,7 +51,7 @@ double pp(const Eigen::VectorXd& v) { return v.maxCoeff() - v.minCoeff(); }
 }  // namespace
 
 std::vector<KeySpec> CalibrationStudyOptions::keys() {
-  return {
+  std::vector<KeySpec> k = {
       string_list_key("study.sensors", {"two", "diff4", "inplane", "xmr"}, {},
                       "sensors: bz arrays two, diff4, ring:N (on sensor.r0_mm) and the one-spot principles inplane, xmr, amr"),
       string_list_key("study.methods", {"harmonics:8", "lut:32", "ogp"}, {},
@@ -62,14 +62,12 @@ std::vector<KeySpec> CalibrationStudyOptions::keys() {
       int_key("study.mc_steps", 360, 16, 100000, "theta samples per turn of every state"),
       real_list_key("study.drift_scales", {0.25, 0.5, 1, 2}, 0, 100, "",
                     "scale factors of the drift box for the p99-vs-drift-size scan (1 = the box itself)"),
-      real_key("tol.sx_mm", 0.1, 0, 10, "mm", "factory tolerance box half-width of sx"),
-      real_key("tol.sy_mm", 0.1, 0, 10, "mm", "factory tolerance box half-width of sy"),
-      real_key("tol.dx_mm", 0.05, 0, 10, "mm", "factory tolerance box half-width of dx"),
-      real_key("tol.dy_mm", 0.05, 0, 10, "mm", "factory tolerance box half-width of dy"),
-      real_key("tol.dz_mm", 0.2, 0, 10, "mm", "factory tolerance box half-width of dz"),
-      real_key("tol.tilt_x_deg", 0.0, 0, 10, "deg", "factory tolerance box half-width of the sensor tilt about x"),
-      real_key("tol.tilt_y_deg", 0.0, 0, 10, "deg", "factory tolerance box half-width of the sensor tilt about y"),
-      real_key("tol.magnet_tilt_deg", 0.0, 0, 10, "deg", "factory tolerance box half-width of each magnet lean component"),
+  };
+  ToleranceBox box;  // the factory box: sx, sy 0.1, dx, dy 0.05, dz 0.2 mm; no tilts
+  box.dx_mm = box.dy_mm = 0.05;
+  const auto tol = mount_box_keys(box, true, "factory tolerance box");
+  k.insert(k.end(), tol.begin(), tol.end());
+  k.push_back(
       table_list_key("drift.keys",
                      {required(string_key("key", "", {}, "a real configuration key (mount.sx_mm, sensor.gain_mismatch, ...)")),
                       required(real_key("half_width", 0, 0, 1e6, "", "the drift is uniform in +-half_width (the key's unit)"))},
@@ -77,8 +75,8 @@ std::vector<KeySpec> CalibrationStudyOptions::keys() {
                      "{ key = \"mount.dx_mm\", half_width = 0.02 }, { key = \"mount.dy_mm\", half_width = 0.02 }, "
                      "{ key = \"mount.dz_mm\", half_width = 0.05 }]",
                      "the drift box: configuration keys and half-widths added to each factory state (a re-mount within a "
-                     "smaller tolerance by default; temperature, stray fields as further lines)"),
-  };
+                     "smaller tolerance by default; temperature, stray fields as further lines)"));
+  return k;
 }
 
 CalibrationStudyOptions CalibrationStudyOptions::from_config(const Config& cfg) {
@@ -90,16 +88,7 @@ CalibrationStudyOptions CalibrationStudyOptions::from_config(const Config& cfg) 
   o.seed = static_cast<std::uint64_t>(cfg.integer("study.seed"));
   o.mc_steps = static_cast<int>(cfg.integer("study.mc_steps"));
   o.scales = cfg.reals("study.drift_scales");
-  o.box = ToleranceBox{};
-  o.box.sx_mm = cfg.real("tol.sx_mm");
-  o.box.sy_mm = cfg.real("tol.sy_mm");
-  o.box.dx_mm = cfg.real("tol.dx_mm");
-  o.box.dy_mm = cfg.real("tol.dy_mm");
-  o.box.dz_mm = cfg.real("tol.dz_mm");
-  o.box.tilt_x_deg = cfg.real("tol.tilt_x_deg");
-  o.box.tilt_y_deg = cfg.real("tol.tilt_y_deg");
-  o.box.magnet_tilt_deg = cfg.real("tol.magnet_tilt_deg");
-  o.box.validate("tol.");
+  o.box = mount_box_from_config(cfg, true);
   for (const auto& t : cfg.tables("drift.keys")) {
     DriftKey d{t.text("key"), 0};
     for (const auto& e : t.entries)

@@ -11,7 +11,7 @@ namespace magenc {
 
 std::vector<KeySpec> TemperatureOptions::keys() {
   const TemperatureOptions d;
-  return {
+  std::vector<KeySpec> k = {
       string_list_key("study.sensors", d.sensors, {},
                       "sensors: bz arrays two, diff4, ring:N (on sensor.r0_mm) and inplane (mT offsets drift)"),
       string_key("study.field", "analytic", {}, "field source (analytic, fem:DIR, grid:FILE.vti, table:FILE)"),
@@ -21,14 +21,13 @@ std::vector<KeySpec> TemperatureOptions::keys() {
       int_key("study.samples", d.samples, 1, 10000000, "Monte Carlo samples of the box at 20 C (p99 mount)"),
       int_key("study.seed", 1, 0, 2147483647, "Monte Carlo seed"),
       int_key("study.steps", d.steps, 16, 100000, "theta samples per turn"),
-      real_key("tol.sx_mm", 0.1, 0, 10, "mm", "tolerance box half-width of sx"),
-      real_key("tol.sy_mm", 0.1, 0, 10, "mm", "tolerance box half-width of sy"),
-      real_key("tol.dx_mm", 0.05, 0, 10, "mm", "tolerance box half-width of dx"),
-      real_key("tol.dy_mm", 0.05, 0, 10, "mm", "tolerance box half-width of dy"),
-      real_key("tol.dz_mm", 0.2, 0, 10, "mm", "tolerance box half-width of dz"),
-      real_key("tol.tilt_x_deg", 0.5, 0, 10, "deg", "tolerance box half-width of the sensor tilt about x"),
-      real_key("tol.tilt_y_deg", 0.5, 0, 10, "deg", "tolerance box half-width of the sensor tilt about y"),
   };
+  ToleranceBox box;  // sx, sy 0.1, dx, dy 0.05, dz 0.2 mm; sensor tilts 0.5 deg
+  box.dx_mm = box.dy_mm = 0.05;
+  box.tilt_x_deg = box.tilt_y_deg = 0.5;
+  const auto tol = mount_box_keys(box, false, "tolerance box");
+  k.insert(k.end(), tol.begin(), tol.end());
+  return k;
 }
 
 TemperatureOptions TemperatureOptions::from_config(const Config& cfg) {
@@ -46,15 +45,7 @@ TemperatureOptions TemperatureOptions::from_config(const Config& cfg) {
   o.samples = cfg.integer("study.samples");
   o.seed = static_cast<std::uint64_t>(cfg.integer("study.seed"));
   o.steps = static_cast<int>(cfg.integer("study.steps"));
-  o.box = ToleranceBox{};
-  o.box.sx_mm = cfg.real("tol.sx_mm");
-  o.box.sy_mm = cfg.real("tol.sy_mm");
-  o.box.dx_mm = cfg.real("tol.dx_mm");
-  o.box.dy_mm = cfg.real("tol.dy_mm");
-  o.box.dz_mm = cfg.real("tol.dz_mm");
-  o.box.tilt_x_deg = cfg.real("tol.tilt_x_deg");
-  o.box.tilt_y_deg = cfg.real("tol.tilt_y_deg");
-  o.box.validate("tol.");
+  o.box = mount_box_from_config(cfg, false);
   return o;
 }
 

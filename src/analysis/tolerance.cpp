@@ -25,6 +25,35 @@ std::uint64_t splitmix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+std::vector<KeySpec> mount_box_keys(const ToleranceBox& d, bool magnet_tilt, const std::string& what) {
+  const std::string h = what + " half-width of ";
+  std::vector<KeySpec> k = {
+      real_key("tol.sx_mm", d.sx_mm, 0, 10, "mm", h + "sx"),
+      real_key("tol.sy_mm", d.sy_mm, 0, 10, "mm", h + "sy"),
+      real_key("tol.dx_mm", d.dx_mm, 0, 10, "mm", h + "dx"),
+      real_key("tol.dy_mm", d.dy_mm, 0, 10, "mm", h + "dy"),
+      real_key("tol.dz_mm", d.dz_mm, 0, 10, "mm", h + "dz"),
+      real_key("tol.tilt_x_deg", d.tilt_x_deg, 0, 10, "deg", h + "the sensor tilt about x"),
+      real_key("tol.tilt_y_deg", d.tilt_y_deg, 0, 10, "deg", h + "the sensor tilt about y"),
+  };
+  if (magnet_tilt) k.push_back(real_key("tol.magnet_tilt_deg", d.magnet_tilt_deg, 0, 10, "deg", h + "each magnet lean component"));
+  return k;
+}
+
+ToleranceBox mount_box_from_config(const Config& cfg, bool magnet_tilt) {
+  ToleranceBox b{};
+  b.sx_mm = cfg.real("tol.sx_mm");
+  b.sy_mm = cfg.real("tol.sy_mm");
+  b.dx_mm = cfg.real("tol.dx_mm");
+  b.dy_mm = cfg.real("tol.dy_mm");
+  b.dz_mm = cfg.real("tol.dz_mm");
+  b.tilt_x_deg = cfg.real("tol.tilt_x_deg");
+  b.tilt_y_deg = cfg.real("tol.tilt_y_deg");
+  if (magnet_tilt) b.magnet_tilt_deg = cfg.real("tol.magnet_tilt_deg");
+  b.validate("tol.");
+  return b;
+}
+
 void ToleranceBox::validate(const std::string& prefix) const {
   const std::pair<const char*, double> items[] = {
       {"sx_mm", sx_mm}, {"sy_mm", sy_mm}, {"dx_mm", dx_mm}, {"dy_mm", dy_mm}, {"dz_mm", dz_mm}};

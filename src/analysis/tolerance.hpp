@@ -38,6 +38,7 @@
 
 #include <Eigen/Core>
 
+#include "core/config.hpp"
 #include "probe/environment.hpp"
 #include "probe/mounting.hpp"
 #include "probe/signal_chain.hpp"
@@ -120,6 +121,12 @@ struct ToleranceBox {
   // box: |s| + |d| at a corner (mm).
   double max_inplane_mm() const;
 };
+
+// A study's mounting box in `tol.` keys: tol.sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg and, with
+// magnet_tilt, tol.magnet_tilt_deg; defaults from `d`, each help text "<what> half-width of ...".
+std::vector<KeySpec> mount_box_keys(const ToleranceBox& d, bool magnet_tilt, const std::string& what);
+// The box those keys give (every other half-width 0), validated with the prefix "tol.".
+ToleranceBox mount_box_from_config(const Config& cfg, bool magnet_tilt);
 
 // SplitMix64 step (public for tests): a bijective 64-bit mixer.
 std::uint64_t splitmix64(std::uint64_t x);
