@@ -11,6 +11,9 @@
 #   7. radius             choosing r0, tolerance analysis   -> output/radius
 #   8. error_sources      tilts, elevation, signal chain    -> output/error_sources
 #      sensor_principles  Bz arrays vs inplane/xmr/amr      -> output/sensor_principles
+#      calibration        residual of factory corrections   -> output/calibration
+#      stray_field        homogeneous fields, a conductor   -> output/stray_field
+#      temperature        -40 to 150 C: spectra, field margin -> output/temperature
 #   9. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
 #  10. diagnosis          diagnose round trip + anomalies    -> output/diagnosis
 #      (exact field, 100 cases per array; FE field 5 cases per array from output/field)
@@ -33,6 +36,9 @@ step "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field --out out
 step "$BIN/radius" --out output/radius
 step "$BIN/error_sources" --config studies/error_sources.toml --out output/error_sources
 step "$BIN/sensor_principles" --config studies/sensor_principles.toml --out output/sensor_principles
+step "$BIN/calibration" --config studies/calibration.toml --out output/calibration
+step "$BIN/stray_field" --config studies/stray_field.toml --out output/stray_field
+step "$BIN/temperature" --config studies/temperature.toml --out output/temperature
 # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
 step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
   --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv

@@ -34,6 +34,7 @@
 #include <iostream>
 #include <optional>
 
+#include "analysis/calibration.hpp"
 #include "probe/angle_error.hpp"
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
@@ -91,7 +92,7 @@ int run(int argc, char** argv) {
   CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
-  const auto schema = magenc::common_keys();
+  const auto schema = magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys());
   magenc::add_common_options(app, common, schema);
   app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, table:FILE, fem:DIR (default analytic)");
   app.add_option("--array", f.array, "probe array: two, diff4, ring:N (principle bz); point (inplane, xmr, amr) (sensor.array)");
@@ -132,6 +133,9 @@ int run(int argc, char** argv) {
   magenc::FieldOptions field_opts;
   field_opts.interp = magenc::parse_interp(f.interp, "--interp");
   const magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, field_opts);
+  // calibration.method: the correction taken at calibration.at; the table then describes the residual.
+  const magenc::Correction correction = magenc::correction_from_config(
+      *field, cfg, cfg.str("sensor.array"), f.array ? "--array" : "sensor.array");
 
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;
@@ -151,9 +155,10 @@ int run(int argc, char** argv) {
                    {"magnet_tilt_deg", g10(mount.magnet_tilt_deg)},
                    {"magnet_tilt_azimuth_deg", g10(mount.magnet_tilt_azimuth_deg)}};
     }
-    magenc::AngleErrorResult res = magenc::angle_error(*field, setup, mount);
+    magenc::AngleErrorResult res = magenc::corrected(correction, magenc::angle_error(*field, setup, mount));
     row.spectrum = res.spectrum;
     auto g10 = [](double v) { return magenc::fmt_sig(v, 10); };
+    if (!correction.method.none()) row.extra.push_back({"calibration", correction.method.name()});
     row.extra.push_back({"principle", magenc::principle_name(setup.principle)});
     row.extra.push_back({"field_min_mT", g10(res.field_min_mT)});
     row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});

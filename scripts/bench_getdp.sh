@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Benchmark: GetDP 3.2 and magenc on the same problem, one core each, time and
-# accuracy side by side (issue 14). The problem: the default magnet (R = 2 mm,
+# accuracy side by side (docs/fem.md). The problem: the default magnet (R = 2 mm,
 # L = 4 mm, Br = 1.2 T along x, mu_r = 1) in an air sphere of 60 mm with the
 # dipole Robin condition; Bz on the 81 x 81 grid -4..4 mm (step 0.1 mm) of the
 # sensing plane z = 4.55 mm, compared with the exact field (magenc's

@@ -12,7 +12,7 @@ SECONDS_PER_TARGET="${1:-25}"
 shift || true
 TARGETS=("$@")
 [ ${#TARGETS[@]} -gt 0 ] || TARGETS=(toml cases_csv vti solve_json field_table measured_curve text_table comsol_table ansys_fld
-                                     points_csv scan_csv bh_csv)
+                                     points_csv scan_csv correction_csv bh_csv)
 scripts/san_build.sh "${TARGETS[@]/#/fuzz_}"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"

@@ -1,6 +1,5 @@
 // Study radius: which probe radius r0 to choose for the configured magnet, and
-// what a mounting tolerance costs there (GitHub issue "Choosing the probe
-// radius r0"). For every field in radius.fields (plus the FEM field when
+// what a mounting tolerance costs there (docs/studies/radius.md). For every field in radius.fields (plus the FEM field when
 // radius.fem_dir holds a solved field), every array in radius.arrays and every
 // r0 in radius.r0_min_mm..r0_max_mm: the spectra of six mounting cases, the
 // worst case over the tolerance box corners, a seeded Monte Carlo over the box
@@ -31,6 +30,7 @@ void run(const Config& cfg, StudyOutput& out) {
       radius_field_specs(cfg, notes, [&](const std::string& dir) { return SolvedFieldDir(dir).mismatch(cfg); });
   std::vector<std::pair<std::string, FieldSourcePtr>> fields;
   for (const auto& s : specs) fields.emplace_back(s, open_field_source(s, cfg));
+  check_distinct_field_kinds(fields);
   for (const auto& [spec, field] : fields) check_field_serves_box(*field, spec, opt);  // e.g. an elevation axis
 
   // 2. The scan, one field after another.

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "analysis/sensor_noise.hpp"
 #include "analysis/sweep.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -24,7 +25,6 @@ CurveInput synthetic_curve(const FieldSource& field, const ModelState& base, con
   const int n = so.points;
   if (n < 64) throw InputError("synthetic curve points " + std::to_string(n) + " is out of range: allowed >= 64");
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  std::normal_distribution<double> gauss(0.0, 1.0);
   CurveInput c{{}, base, {}};
   c.curve.path = "synthetic";
   c.curve.format = "error_deg";
@@ -32,17 +32,11 @@ CurveInput synthetic_curve(const FieldSource& field, const ModelState& base, con
   for (int i = 0; i < n; ++i) theta[i] = 360.0 * (i + 0.5 + jitter(rng)) / n;  // true rotor angles in (0, 360)
   c.curve.theta_deg = theta;
   const Eigen::VectorXd eps = model_curve_deg(field, c, values);  // at the true angles
-  const double q = so.quant_positions > 0 ? 360.0 / so.quant_positions : 0.0;
-  c.curve.error_deg.resize(n);
+  // The reference readout shared with the calibration run (analysis/sensor_noise.hpp).
+  observe_curve(theta, eps, ReferenceReadout{so.noise_deg, so.quant_positions, so.zero_deg}, rng, c.curve.theta_deg,
+                c.curve.error_deg);
   c.curve.row.resize(n);
-  for (int i = 0; i < n; ++i) {
-    double phi = theta[i] + eps[i];
-    if (q > 0) phi = std::round(phi / q) * q;
-    const double ref = theta[i] + so.noise_deg * gauss(rng);
-    c.curve.theta_deg[i] = ref;
-    c.curve.error_deg[i] = wrap_deg(phi + so.zero_deg - ref);
-    c.curve.row[i] = i + 2;
-  }
+  for (int i = 0; i < n; ++i) c.curve.row[i] = i + 2;
   c.curve.turns = 1.0;
   c.curve.median_step_deg = 360.0 / n;
   return c;

@@ -142,6 +142,7 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
   std::vector<double> theta_raw, err;
   std::vector<int> rows;
   std::map<double, std::pair<double, int>> seen;  // raw theta -> (error, row)
+  std::map<int, std::pair<double, double>> channels_of_row;  // raw format: row -> (u_cos, u_sin)
   while (reader.next(line)) {
     lineno = int(line.line);
     const auto& cells = line.cells;
@@ -165,6 +166,7 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
         throw InputError(origin + " row " + std::to_string(lineno) +
                          ": u_cos = u_sin = 0 gives no angle: allowed channels not both zero");
       e = rad_to_deg(std::atan2(us, uc)) - th;
+      channels_of_row[lineno] = {uc, us};
     }
     e = wrap_deg(std::fmod(e, 360.0));
     const auto it = seen.find(th);
@@ -183,6 +185,14 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
   }
 
   check_curve_coverage(c, origin, opts, theta_raw, err, rows);
+  if (c.format == "raw") {
+    c.channels.resize(c.theta_deg.size(), 2);
+    for (Eigen::Index i = 0; i < c.theta_deg.size(); ++i) {
+      const auto& [uc, us] = channels_of_row.at(c.row[i]);
+      c.channels(i, 0) = uc;
+      c.channels(i, 1) = us;
+    }
+  }
   return c;
 }
 

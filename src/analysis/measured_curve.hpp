@@ -37,6 +37,7 @@ struct MeasuredCurve {
   Eigen::VectorXd theta_deg;     // folded into [0, 360), sorted ascending
   Eigen::VectorXd error_deg;     // eps = wrap(sensor - reference), same order
   Eigen::VectorXi row;           // 1-based line of each sample in the file
+  Eigen::MatrixXd channels;      // raw format: the channels (u_cos, u_sin) of each sample, same order; else empty
   double raw_span_deg = 0;       // max - min of the unfolded theta
   double turns = 0;              // raw span / 360 (fractional)
   double median_step_deg = 0;    // median spacing of the folded samples

@@ -192,7 +192,8 @@ void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalCh
 }
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
-                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T) const {
+                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
+                              const EnvReadings* env) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
@@ -226,6 +227,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
         for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
       }
       Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+      if (env) Bn[i] = env->br_scale * Bn[i] + env->stray_T[i];
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(Bn[i]));
     }
     angles_at(m, Bn, chain, eps_deg);
@@ -236,17 +238,34 @@ void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) c
   eps_mount(mt, SignalChain::Applied{}, elevation_deg_, eps_deg);
 }
 
+bool FastPipeline::env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const {
+  if (c.env.neutral()) return false;
+  c.env.validate_for(SensorPrinciple::Bz);
+  out.br_scale = c.env.br_scale();
+  const MountKinematics K(mt, model_.plane_z_mm(), magnet_height_mm_);
+  std::vector<Eigen::Vector2d> xy;
+  for (int idx : angle_index_)
+    xy.emplace_back(model_.r0_mm() * cos_theta_[std::size_t(idx)], model_.r0_mm() * sin_theta_[std::size_t(idx)]);
+  out.stray_T = stray_readings_T(c.env.stray, K, xy, SensingArea{}, false);
+  return true;
+}
+
 void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
   if (c.elevation_deg != 0 && !axial_)
     throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
                      "(FastPipeline axial)");
-  c.chain.validate();
-  eps_mount(c.mount, c.chain.applied(), elevation_deg_ + c.elevation_deg, eps_deg);
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, eps_deg, nullptr, has_env ? &env : nullptr);
 }
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
-                             std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T);
+                             std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
+                             const EnvReadings* env) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env);
   if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
   const int N = model_.nodes();
   const int T = model_.terms();
@@ -265,6 +284,7 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       int j = angle_index_[i] - m;
       if (j < 0) j += N;
       B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
+      if (env) B[i] = env->br_scale * B[i] + env->stray_T[i];
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
     }
     angles_at(m, B, chain, eps_deg);
@@ -293,10 +313,14 @@ void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin
   if (c.elevation_deg != 0 && !axial_)
     throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
                      "(FastPipeline axial)");
-  c.chain.validate();
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
   std::vector<Eigen::VectorXd> e;
   std::vector<double> peak_T;
-  eps_mount(c.mount, c.chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T);
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
   peak_to_peak(e, pp_deg);
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
@@ -337,6 +361,12 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       real_key("radius.tol_phase_error_deg", 0, 0, 45, "deg", "tolerance box: |channel phase error| <= this"),
       real_key("radius.tol_magnetization_elevation_deg", 0, 0, 45, "deg",
                "tolerance box: |magnetization elevation - magnet.magnetization_elevation_deg| <= this (analytic field only)"),
+      real_key("radius.tol_temperature_min_C", 20, -273.15, 1000, "C",
+               "tolerance box: temperature drawn uniform in [min, max] (both 20 = off); coefficients: "
+               "magnet.br_tc_per_K, sensor.offset_*_tc_uT_per_K, mount.dz_tc_um_per_K"),
+      real_key("radius.tol_temperature_max_C", 20, -273.15, 1000, "C", "tolerance box: highest temperature"),
+      real_key("radius.tol_stray_mT", 0, 0, 1e4, "mT",
+               "tolerance box: homogeneous stray field, magnitude uniform in [0, this], direction uniform (0 = off)"),
       real_key("radius.case_offset_mm", 0.1, 0, 10, "mm", "spectra cases: this much of each of sx, sy, dx, dy"),
       real_key("radius.case_dz_mm", 0.2, 0, 10, "mm", "spectra cases: dz = +-this (with the residual dx)"),
       real_key("radius.case_residual_dx_mm", 0.05, 0, 10, "mm", "spectra cases: residual dx of the dz cases"),
@@ -379,6 +409,19 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.box.gain_mismatch = cfg.real("radius.tol_gain_mismatch");
   o.box.phase_error_deg = cfg.real("radius.tol_phase_error_deg");
   o.box.magnetization_elevation_deg = cfg.real("radius.tol_magnetization_elevation_deg");
+  o.box.temperature_min_C = cfg.real("radius.tol_temperature_min_C");
+  o.box.temperature_max_C = cfg.real("radius.tol_temperature_max_C");
+  o.box.stray_mT = cfg.real("radius.tol_stray_mT");
+  {
+    // The coefficients of the drawn environment; its temperature and stray field come from the box, so a
+    // configured one would be ignored: refuse it.
+    Environment coeff = Environment::from_config(cfg);
+    if (coeff.temperature_C != kReferenceTemperature_C || coeff.stray.active())
+      throw InputError("environment.temperature_C / stray.*: the radius study draws the temperature and the stray "
+                       "field from its tolerance box: allowed the defaults (set radius.tol_temperature_min_C, "
+                       "tol_temperature_max_C, tol_stray_mT)");
+    o.box.env_coefficients = coeff;
+  }
   o.elevation_deg = cfg.real("magnet.magnetization_elevation_deg");
   o.magnet_height_mm = cfg.real("magnet.height_mm");
   o.case_offset_mm = cfg.real("radius.case_offset_mm");
@@ -498,6 +541,11 @@ Recommendation recommend(const std::vector<RadiusRow>& rows, double band_rel) {
 std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0_mm) {
   double xy = std::max(opt.box.max_inplane_mm(), std::max(opt.case_offset_mm, std::hypot(opt.case_residual_dx_mm, 0.0)));
   double z = std::max(opt.box.dz_mm, opt.case_dz_mm);
+  if (opt.box.has_environment()) {  // the air gap's drift over the box's temperatures
+    const double dT = std::max(std::abs(opt.box.temperature_min_C - kReferenceTemperature_C),
+                               std::abs(opt.box.temperature_max_C - kReferenceTemperature_C));
+    z = std::max(z, opt.box.dz_mm + 1e-3 * std::abs(opt.box.env_coefficients.dz_tc_um_per_K) * dT);
+  }
   if (opt.box.has_tilts()) {
     // Sensor tilt a, b: a probe at radius r0 rises or sinks by up to r0 (sin a + sin b) and moves in
     // plane by r0 (2 - cos a - cos b). Magnet lean g (up to sqrt(2) x the half-width): a point at height
@@ -519,13 +567,22 @@ std::pair<double, double> model_reach_mm(const RadiusScanOptions& opt, double r0
 void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt) {
   if (!opt.box.has_elevation()) return;
   const double tol = opt.box.magnetization_elevation_deg;
-  if (!dynamic_cast<const AnalyticField*>(&field))
+  if (!field.exact_magnet())
     throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + ": field '" + spec +
                      "' has one fixed magnetization (only the analytic field can vary its elevation): allowed 0");
   if (!(std::abs(opt.elevation_deg) + tol <= 90.0))
     throw InputError("radius.tol_magnetization_elevation_deg = " + num(tol) + " is out of range with "
                      "magnet.magnetization_elevation_deg = " + num(opt.elevation_deg) + ": allowed <= " +
                      num(90.0 - std::abs(opt.elevation_deg)));
+}
+
+void check_distinct_field_kinds(const std::vector<std::pair<std::string, FieldSourcePtr>>& fields) {
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fields[i].second->name() == fields[j].second->name())
+        throw InputError("radius.fields: '" + fields[j].first + "' and '" + fields[i].first + "' are both " +
+                         fields[i].second->name() + " fields, whose rows would merge: allowed one field of each " +
+                         "kind (analytic, linear, fem, grid, table) per run");
 }
 
 namespace {
@@ -550,7 +607,7 @@ struct RadiusModels {
       return;
     }
     // B(al) = cos(al) B_diametric + sin(al) B_axial (check_field_serves_box: the exact field).
-    const Magnet& mag = dynamic_cast<const AnalyticField&>(field).magnet();
+    const Magnet& mag = *field.exact_magnet();
     Magnet md = mag, ma = mag;
     md.magnetization_elevation_deg = 0;
     ma.magnetization_elevation_deg = 90;
@@ -680,7 +737,7 @@ void validate_at(const FieldSource& field, const RadiusScanOptions& opt, const s
     // The direct pipeline on the case's own field (elevation) and signal chain.
     std::unique_ptr<AnalyticField> elevated;
     if (vc.elevation_deg != 0) {
-      Magnet mag = dynamic_cast<const AnalyticField&>(field).magnet();
+      Magnet mag = *field.exact_magnet();
       mag.magnetization_elevation_deg = opt.elevation_deg + vc.elevation_deg;
       elevated = std::make_unique<AnalyticField>(mag);
     }

@@ -123,7 +123,9 @@ class FastPipeline {
   // The same for a whole tolerance case: the case's signal chain is applied to
   // the channels before atan2 (SignalChain::Applied, as in angle_error.hpp), and
   // its elevation deviation needs the axial model. An ideal chain and a zero
-  // deviation give exactly eps(c.mount).
+  // deviation give exactly eps(c.mount). The case's environment (a temperature, a homogeneous stray
+  // field: ToleranceBox) scales the readings by Br(T)/Br, adds n.B_stray to each probe's reading and
+  // drifts the offsets and the air gap, as angle_error() does; a neutral one changes nothing.
   void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const;
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
@@ -141,11 +143,21 @@ class FastPipeline {
   double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
+  // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
+  struct EnvReadings {
+    double br_scale = 1;
+    std::vector<double> stray_T;
+  };
+  // The case's environment at its mount (nullopt-like: empty when neutral).
+  bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
   // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
+  // env (optional): the environment's part of the readings (probe/environment.hpp).
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                 std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr) const;
+                 std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
+                 const EnvReadings* env = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr) const;
+                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
+                  const EnvReadings* env = nullptr) const;
   void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
                  std::vector<Eigen::VectorXd>& eps_deg) const;
 };
@@ -181,7 +193,7 @@ struct RadiusScanOptions {
   void validate() const;                // InputError naming the key
 };
 
-// The six spectra cases of the issue: sx, sy, dx, dy = case_offset; dz = +-case_dz with dx = residual.
+// The six spectra cases of the radius study: sx, sy, dx, dy = case_offset; dz = +-case_dz with dx = residual.
 std::vector<std::pair<std::string, Mount>> spectra_cases(const RadiusScanOptions& opt);
 
 // One row of radius.csv: one (field, array, r0).
@@ -267,6 +279,9 @@ struct RadiusScanResult {
 // Also |elevation| + its half-width must stay <= 90 deg. run_radius_scan
 // calls it first; the study calls it for every field before any work.
 void check_field_serves_box(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt);
+// The rows of a scan name their field by FieldSource::name() ("analytic", "fem", "grid", "table"): two
+// sources of one kind would merge in every table and plot: InputError naming both specs.
+void check_distinct_field_kinds(const std::vector<std::pair<std::string, FieldSourcePtr>>& fields);
 
 // The scan for one field; results appended to `out`. `spec` is recorded.
 void run_radius_scan(const FieldSource& field, const std::string& spec, const RadiusScanOptions& opt,

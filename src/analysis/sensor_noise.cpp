@@ -5,6 +5,7 @@
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "probe/spectrum.hpp"
 
 namespace magenc {
 
@@ -147,6 +148,22 @@ AngleNoise angle_noise(const ProbeArray& array, double amplitude_T, const Sensor
   a.pp_deg = noise.pp_sigmas * a.sigma_deg;
   a.adc_clipped = noise.adc_bits > 0 && amplitude_T > noise.adc_full_scale_mT * 1e-3;
   return a;
+}
+
+void observe_curve(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& eps_deg, const ReferenceReadout& r,
+                   std::mt19937& rng, Eigen::VectorXd& reference_deg, Eigen::VectorXd& error_deg) {
+  const auto n = theta_deg.size();
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const double q = r.quant_positions > 0 ? 360.0 / r.quant_positions : 0.0;
+  reference_deg.resize(n);
+  error_deg.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double phi = theta_deg[i] + eps_deg[i];
+    if (q > 0) phi = std::round(phi / q) * q;
+    const double ref = theta_deg[i] + r.noise_deg * gauss(rng);  // drawn also at zero noise: same rng stream
+    reference_deg[i] = ref;
+    error_deg[i] = wrap_deg(phi + r.zero_deg - ref);
+  }
 }
 
 }  // namespace magenc

@@ -32,8 +32,11 @@
 //  * Peak-to-peak equivalent: noise_pp = pp_sigmas * sigma_phi (default 6,
 //    i.e. a +-3 sigma band, exceeded by 0.27% of readings).
 #pragma once
+#include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/config.hpp"
 #include "probe/probe_array.hpp"
@@ -78,5 +81,19 @@ struct AngleNoise {
   bool adc_clipped = false;  // amplitude exceeds the ADC full scale
 };
 AngleNoise angle_noise(const ProbeArray& array, double amplitude_T, const SensorNoise& noise);
+
+// The reference-encoder readout of an error curve (diagnose's synthetic curves and the calibration run
+// share it): the sensor's angle phi = theta + eps is quantized to 360/quant_positions (0: not), the
+// reference encoder reads theta + n with n Gaussian of rms noise_deg (one draw per sample, in order), and
+// the observed pair is (reference, wrap(phi_q + zero_deg - reference)).
+struct ReferenceReadout {
+  double noise_deg = 0;     // reference-encoder noise, rms (deg)
+  int quant_positions = 0;  // sensor output positions per turn (0: no quantization)
+  double zero_deg = 0;      // zero offset between the encoders (deg)
+};
+// theta_deg: true rotor angles; eps_deg: the sensor's error there. Writes reference_deg and error_deg
+// (same size); one Gaussian draw from rng per sample, whatever noise_deg.
+void observe_curve(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& eps_deg, const ReferenceReadout& r,
+                   std::mt19937& rng, Eigen::VectorXd& reference_deg, Eigen::VectorXd& error_deg);
 
 }  // namespace magenc

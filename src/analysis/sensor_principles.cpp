@@ -48,15 +48,13 @@ std::vector<KeySpec> SensorPrinciplesOptions::keys() {
       real_key("study.case_dz_mm", 0.2, 0, 10, "mm", "single-error case dz (with dx = case_residual_dx_mm)", true),
       real_key("study.case_residual_dx_mm", 0.05, 0, 10, "mm", "dx of the dz case (dz alone changes nothing)"),
       real_key("study.case_tilt_deg", 1.0, 0, 10, "deg", "single-error cases: sensor tilt x, y; magnet tilt", true),
-      real_key("tol.sx_mm", 0.1, 0, 10, "mm", "tolerance box half-width of sx"),
-      real_key("tol.sy_mm", 0.1, 0, 10, "mm", "tolerance box half-width of sy"),
-      real_key("tol.dx_mm", 0.05, 0, 10, "mm", "tolerance box half-width of dx"),
-      real_key("tol.dy_mm", 0.05, 0, 10, "mm", "tolerance box half-width of dy"),
-      real_key("tol.dz_mm", 0.2, 0, 10, "mm", "tolerance box half-width of dz"),
-      real_key("tol.tilt_x_deg", 1.0, 0, 10, "deg", "tolerance box half-width of the sensor tilt about x"),
-      real_key("tol.tilt_y_deg", 1.0, 0, 10, "deg", "tolerance box half-width of the sensor tilt about y"),
-      real_key("tol.magnet_tilt_deg", 0.5, 0, 10, "deg", "tolerance box half-width of each magnet lean component"),
   };
+  ToleranceBox box;  // the default box: sx, sy 0.1, dx, dy 0.05, dz 0.2 mm; sensor tilts 1, magnet lean 0.5 deg
+  box.dx_mm = box.dy_mm = 0.05;
+  box.tilt_x_deg = box.tilt_y_deg = 1.0;
+  box.magnet_tilt_deg = 0.5;
+  const auto tol = mount_box_keys(box, true, "tolerance box");
+  k.insert(k.end(), tol.begin(), tol.end());
   for (const char* p : {"bz", "inplane", "xmr", "amr"}) {
     k.push_back(real_key(std::string("window.") + p + "_min_mT", 0.0, 0, 1e6, "mT",
                          std::string("field window of the ") + p + " sensors: least magnitude (0 = none)"));
@@ -76,16 +74,7 @@ SensorPrinciplesOptions SensorPrinciplesOptions::from_config(const Config& cfg) 
   o.case_dz_mm = cfg.real("study.case_dz_mm");
   o.case_residual_dx_mm = cfg.real("study.case_residual_dx_mm");
   o.case_tilt_deg = cfg.real("study.case_tilt_deg");
-  o.box = ToleranceBox{};
-  o.box.sx_mm = cfg.real("tol.sx_mm");
-  o.box.sy_mm = cfg.real("tol.sy_mm");
-  o.box.dx_mm = cfg.real("tol.dx_mm");
-  o.box.dy_mm = cfg.real("tol.dy_mm");
-  o.box.dz_mm = cfg.real("tol.dz_mm");
-  o.box.tilt_x_deg = cfg.real("tol.tilt_x_deg");
-  o.box.tilt_y_deg = cfg.real("tol.tilt_y_deg");
-  o.box.magnet_tilt_deg = cfg.real("tol.magnet_tilt_deg");
-  o.box.validate("tol.");
+  o.box = mount_box_from_config(cfg, true);
   for (const auto& s : o.sensors) {
     const std::string p = is_principle_entry(s) ? s : "bz";
     FieldWindow w{cfg.real("window." + p + "_min_mT"), cfg.real("window." + p + "_max_mT")};

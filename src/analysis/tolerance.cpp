@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/units.hpp"
 
 namespace magenc {
 
@@ -22,6 +23,35 @@ std::uint64_t splitmix64(std::uint64_t x) {
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   return x ^ (x >> 31);
+}
+
+std::vector<KeySpec> mount_box_keys(const ToleranceBox& d, bool magnet_tilt, const std::string& what) {
+  const std::string h = what + " half-width of ";
+  std::vector<KeySpec> k = {
+      real_key("tol.sx_mm", d.sx_mm, 0, 10, "mm", h + "sx"),
+      real_key("tol.sy_mm", d.sy_mm, 0, 10, "mm", h + "sy"),
+      real_key("tol.dx_mm", d.dx_mm, 0, 10, "mm", h + "dx"),
+      real_key("tol.dy_mm", d.dy_mm, 0, 10, "mm", h + "dy"),
+      real_key("tol.dz_mm", d.dz_mm, 0, 10, "mm", h + "dz"),
+      real_key("tol.tilt_x_deg", d.tilt_x_deg, 0, 10, "deg", h + "the sensor tilt about x"),
+      real_key("tol.tilt_y_deg", d.tilt_y_deg, 0, 10, "deg", h + "the sensor tilt about y"),
+  };
+  if (magnet_tilt) k.push_back(real_key("tol.magnet_tilt_deg", d.magnet_tilt_deg, 0, 10, "deg", h + "each magnet lean component"));
+  return k;
+}
+
+ToleranceBox mount_box_from_config(const Config& cfg, bool magnet_tilt) {
+  ToleranceBox b{};
+  b.sx_mm = cfg.real("tol.sx_mm");
+  b.sy_mm = cfg.real("tol.sy_mm");
+  b.dx_mm = cfg.real("tol.dx_mm");
+  b.dy_mm = cfg.real("tol.dy_mm");
+  b.dz_mm = cfg.real("tol.dz_mm");
+  b.tilt_x_deg = cfg.real("tol.tilt_x_deg");
+  b.tilt_y_deg = cfg.real("tol.tilt_y_deg");
+  if (magnet_tilt) b.magnet_tilt_deg = cfg.real("tol.magnet_tilt_deg");
+  b.validate("tol.");
+  return b;
 }
 
 void ToleranceBox::validate(const std::string& prefix) const {
@@ -48,6 +78,15 @@ void ToleranceBox::validate(const std::string& prefix) const {
   for (const auto& it : more)
     if (!(std::isfinite(it.v) && it.v >= 0 && it.v <= it.hi))
       throw InputError(prefix + it.name + " = " + num(it.v) + " is out of range: allowed [0, " + num(it.hi) + "]" + it.unit);
+  for (const auto& [name, v] : {std::pair<const char*, double>{"temperature_min_C", temperature_min_C},
+                                std::pair<const char*, double>{"temperature_max_C", temperature_max_C}})
+    if (!(std::isfinite(v) && v >= -273.15 && v <= 1000))
+      throw InputError(prefix + name + " = " + num(v) + " is out of range: allowed [-273.15, 1000] C");
+  if (temperature_min_C > temperature_max_C)
+    throw InputError(prefix + "temperature_min_C = " + num(temperature_min_C) + " exceeds " + prefix +
+                     "temperature_max_C = " + num(temperature_max_C) + ": allowed min <= max");
+  if (!(std::isfinite(stray_mT) && stray_mT >= 0 && stray_mT <= 1e4))
+    throw InputError(prefix + "stray_mT = " + num(stray_mT) + " is out of range: allowed [0, 10000] mT");
 }
 
 namespace {
@@ -118,16 +157,26 @@ ToleranceCase ToleranceBox::case_sample(std::uint64_t seed, std::uint64_t index)
     state = splitmix64(state);
     return 2.0 * unit_uniform(state) - 1.0;  // [-1, 1)
   };
-  const int draws = has_elevation() ? 14 : has_chain() ? 13 : has_tilts() ? 9 : 5;
+  const int draws = has_environment() ? 18 : has_elevation() ? 14 : has_chain() ? 13 : has_tilts() ? 9 : 5;
   const double half[kAxes] = {sx_mm,         sy_mm,         dx_mm,         dy_mm,           dz_mm,
                               tilt_x_deg,    tilt_y_deg,    magnet_tilt_deg, magnet_tilt_deg, offset_cos_mT,
                               offset_sin_mT, gain_mismatch, phase_error_deg, magnetization_elevation_deg};
   double v[kAxes] = {};
-  for (int b = 0; b < draws; ++b) {
+  for (int b = 0; b < std::min(draws, kAxes); ++b) {
     const double u = next();
     v[b] = half[b] * u;
   }
-  return case_of(v);
+  ToleranceCase c = case_of(v);
+  if (has_environment()) {
+    const double u_t = next(), u_b = next(), z = next(), u_phi = next();  // each in [-1, 1)
+    c.env = env_coefficients;
+    c.env.temperature_C = temperature_min_C + 0.5 * (u_t + 1.0) * (temperature_max_C - temperature_min_C);
+    const double b_mT = 0.5 * (u_b + 1.0) * stray_mT, rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = kPi * (u_phi + 1.0);  // z uniform in [-1, 1) and phi uniform: uniform on the sphere
+    c.env.stray = StrayField{};
+    c.env.stray.uniform_mT = b_mT * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z);
+  }
+  return c;
 }
 
 const std::vector<std::string>& ToleranceBox::groups() {

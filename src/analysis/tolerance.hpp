@@ -38,6 +38,8 @@
 
 #include <Eigen/Core>
 
+#include "core/config.hpp"
+#include "probe/environment.hpp"
 #include "probe/mounting.hpp"
 #include "probe/signal_chain.hpp"
 
@@ -48,6 +50,7 @@ struct ToleranceCase {
   Mount mount;
   SignalChain chain;          // ideal unless the box has a signal chain
   double elevation_deg = 0;   // magnetization elevation minus the magnet's configured one, deg
+  Environment env{};          // temperature and stray field (neutral unless the box draws them)
 };
 
 struct ToleranceBox {
@@ -64,11 +67,18 @@ struct ToleranceBox {
   double gain_mismatch = 0;   // half-width of the gain mismatch g (1 = 100 %)
   double phase_error_deg = 0; // half-width of the phase error delta, deg
   double magnetization_elevation_deg = 0;  // half-width of the elevation deviation, deg
+  // The environment (off by default): a temperature uniform in [temperature_min_C, temperature_max_C]
+  // and a homogeneous stray field (fixed frame) of magnitude uniform in [0, stray_mT] and a direction
+  // uniform on the sphere. Each case's Environment is env_coefficients (Br coefficient, offset and
+  // air-gap drifts) with the drawn temperature and stray field. Corners do not include it.
+  double temperature_min_C = kReferenceTemperature_C, temperature_max_C = kReferenceTemperature_C;
+  double stray_mT = 0;
+  Environment env_coefficients{};
 
   // Throws InputError naming `prefix`+"sx_mm" etc. for a negative or
   // non-finite half-width (allowed [0, 10] mm; tilts [0, 10] deg; channel
   // offsets [0, 100] mT; gain mismatch [0, 0.5]; phase error [0, 45] deg;
-  // elevation [0, 45] deg).
+  // elevation [0, 45] deg; temperatures finite in [-273.15, 1000] C with min <= max; stray [0, 1e4] mT).
   void validate(const std::string& prefix = "tolerance.") const;
   // The box corners (every component at +-half-width), up to 2^14 of them,
   // fewer when half-widths are 0 (duplicates dropped; with no tilts, chain or
@@ -82,7 +92,8 @@ struct ToleranceBox {
   // Monte Carlo sample `index` (uniform in the box) for `seed`. The stream's
   // draws have fixed places: the five offsets first, then the four tilt
   // components, then the four chain components, then the elevation; the
-  // stream stops after the last group the box has (so a box without tilts,
+  // stream stops after the last group the box has (then four environment draws: temperature, stray
+  // magnitude, cos of its polar angle, its azimuth; so a box without tilts,
   // chain and elevation gives exactly the five-offset samples, and a box
   // without chain and elevation exactly the samples it gave before those
   // axes existed). A group's values do not depend on which other groups are
@@ -93,8 +104,13 @@ struct ToleranceBox {
   bool has_tilts() const { return tilt_x_deg > 0 || tilt_y_deg > 0 || magnet_tilt_deg > 0; }
   bool has_chain() const { return offset_cos_mT > 0 || offset_sin_mT > 0 || gain_mismatch > 0 || phase_error_deg > 0; }
   bool has_elevation() const { return magnetization_elevation_deg > 0; }
+  bool has_environment() const {
+    return temperature_min_C != kReferenceTemperature_C || temperature_max_C != kReferenceTemperature_C || stray_mT > 0;
+  }
   // Every half-width is 0.
-  bool empty() const { return max_inplane_mm() == 0 && dz_mm == 0 && !has_tilts() && !has_chain() && !has_elevation(); }
+  bool empty() const {
+    return max_inplane_mm() == 0 && dz_mm == 0 && !has_tilts() && !has_chain() && !has_elevation() && !has_environment();
+  }
   // The same box with only the named group's half-widths kept (the others 0):
   // "static" (sx, sy), "dynamic" (dx, dy), "air gap" (dz), "sensor tilt"
   // (tilt_x, tilt_y), "magnet tilt", "signal chain" (oc, os, g, delta),
@@ -105,6 +121,12 @@ struct ToleranceBox {
   // box: |s| + |d| at a corner (mm).
   double max_inplane_mm() const;
 };
+
+// A study's mounting box in `tol.` keys: tol.sx_mm, sy_mm, dx_mm, dy_mm, dz_mm, tilt_x_deg, tilt_y_deg and, with
+// magnet_tilt, tol.magnet_tilt_deg; defaults from `d`, each help text "<what> half-width of ...".
+std::vector<KeySpec> mount_box_keys(const ToleranceBox& d, bool magnet_tilt, const std::string& what);
+// The box those keys give (every other half-width 0), validated with the prefix "tol.".
+ToleranceBox mount_box_from_config(const Config& cfg, bool magnet_tilt);
 
 // SplitMix64 step (public for tests): a bijective 64-bit mixer.
 std::uint64_t splitmix64(std::uint64_t x);

@@ -72,7 +72,10 @@ KeySpec real_list_key(std::string key, const std::vector<double>& def, double mi
   KeySpec s = real_key(std::move(key), 0.0, min, max, std::move(unit), std::move(help), min_exclusive);
   s.type = KeySpec::Type::RealList;
   s.default_value.clear();
-  for (std::size_t i = 0; i < def.size(); ++i) s.default_value += (i ? "," : "") + fmt_sig(def[i], 15);
+  for (std::size_t i = 0; i < def.size(); ++i) {
+    if (i) s.default_value += ',';  // not ("," or "") + text: GCC 12 reports a false -Wrestrict for that once inlined
+    s.default_value += fmt_sig(def[i], 15);
+  }
   s.min_elements = min_elements;
   return s;
 }
@@ -82,7 +85,10 @@ KeySpec int_list_key(std::string key, const std::vector<long>& def, long min, lo
   KeySpec s = int_key(std::move(key), 0, min, max, std::move(help));
   s.type = KeySpec::Type::IntList;
   s.default_value.clear();
-  for (std::size_t i = 0; i < def.size(); ++i) s.default_value += (i ? "," : "") + std::to_string(def[i]);
+  for (std::size_t i = 0; i < def.size(); ++i) {
+    if (i) s.default_value += ',';  // as in real_list_key (GCC 12's false -Wrestrict)
+    s.default_value += std::to_string(def[i]);
+  }
   s.min_elements = min_elements;
   return s;
 }
@@ -376,6 +382,42 @@ ConfigTables toml_tables(const KeySpec& s, const toml::node& node, const std::st
   return out;
 }
 
+// A Settings key (a table of key = scalar as the value of one key, e.g. calibration.at = { mount.sx_mm = 0.1 })
+// is held as one table whose entries are field "set" with the dotted keys (nested tables flattened).
+ConfigTables settings_tables(const KeySpec& s, const toml::node& node, const std::string& where) {
+  const toml::table* t = node.as_table();
+  if (!t) throw InputError(where + s.key + " must be a table: allowed " + allowed_range(s));
+  ConfigTable table;
+  walk_table(*t, "", [&](const std::string& key, const toml::node& x) {
+    const auto v = toml_scalar(x);
+    if (!v) throw InputError(where + s.key + " key " + key + " is an array: allowed " + allowed_range(s));
+    table.entries.push_back({"set", key, *v});
+  });
+  return {table};
+}
+
+// A Settings value as a JSON object of its dotted keys.
+std::string settings_json(const ConfigTables& t) {
+  std::string out = "{";
+  if (!t.empty())
+    for (std::size_t j = 0; j < t.front().entries.size(); ++j) {
+      const ConfigTableEntry& e = t.front().entries[j];
+      out += (j ? ", " : "") + quoted(e.key) + ": " +
+             (std::holds_alternative<double>(e.value) ? fmt_sig(std::get<double>(e.value), 12) : scalar_toml(e.value));
+    }
+  return out + "}";
+}
+
+// A Settings value as TOML: { a.b = 1, c = "x" } ({} when empty).
+std::string settings_toml(const ConfigTables& t) {
+  if (t.empty() || t.front().entries.empty()) return "{}";
+  std::string out = "{ ";
+  const auto& e = t.front().entries;
+  for (std::size_t j = 0; j < e.size(); ++j)
+    out += (j ? ", " : "") + dotted_key_toml(e[j].key) + " = " + scalar_toml(e[j].value);
+  return out + " }";
+}
+
 // Parse textual value per spec type (for defaults and --set).
 ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
   std::string t = trim(raw);
@@ -383,6 +425,15 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
                      allowed_range(s));
   };
+  if (s.type == KeySpec::Type::Settings) {
+    if (t.empty()) return ConfigTables{ConfigTable{}};
+    const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+      return origin + ": " + s.key + " is not a TOML inline table (" + why + "): allowed " + allowed_range(s);
+    });
+    const toml::node* value = tbl.get("value");
+    if (!value) throw InputError(origin + ": " + s.key + " is not a TOML inline table: allowed " + allowed_range(s));
+    return settings_tables(s, *value, origin + ": ");
+  }
   if (s.type == KeySpec::Type::TableList) {
     if (t.empty()) return ConfigTables{};
     if (t.front() == '[') {
@@ -468,7 +519,7 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     case KeySpec::Type::StringList:
     case KeySpec::Type::TableList:
     case KeySpec::Type::Settings:
-      break;  // handled above (Settings: only a field of a TableList)
+      break;  // handled above
   }
   return fail();
 }
@@ -642,6 +693,24 @@ ConfigTables checked_tables(const KeySpec& s, ConfigTables tables, const std::st
 
 void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::string& origin) {
   const std::string where = origin.empty() ? "" : origin + ": ";
+  if (s.type == KeySpec::Type::Settings) {
+    const auto* t = std::get_if<ConfigTables>(&v);
+    if (!t || t->size() != 1) throw InputError(where + s.key + " must be a table: allowed " + allowed_range(s));
+    ConfigTable table = t->front();
+    auto& e = table.entries;
+    std::stable_sort(e.begin(), e.end(), [](const ConfigTableEntry& a, const ConfigTableEntry& b) { return a.key < b.key; });
+    for (std::size_t j = 0; j < e.size(); ++j) {
+      if (e[j].key.empty() || e[j].key.front() == '.' || e[j].key.back() == '.' || e[j].key.find("..") != std::string::npos)
+        throw InputError(where + s.key + " is not a table of key = value: allowed " + allowed_range(s));
+      if (j > 0 && e[j - 1].key == e[j].key)
+        throw InputError(where + s.key + " key " + e[j].key + " is given twice: allowed " + allowed_range(s));
+      if (auto d = std::get_if<double>(&e[j].value); d && !std::isfinite(*d))
+        throw InputError(where + s.key + " key " + e[j].key + " = " + fmt_sig(*d, 6) + " is not finite: allowed " +
+                         allowed_range(s));
+    }
+    values_[s.key] = ConfigTables{table};
+    return;
+  }
   if (s.type == KeySpec::Type::TableList) {
     if (auto t = std::get_if<ConfigTables>(&v)) {
       values_[s.key] = checked_tables(s, *t, where);
@@ -760,7 +829,7 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
   }
   const auto table_list = [&](const std::string& key) {
     for (const auto& s : schema_)
-      if (s.key == key) return s.type == KeySpec::Type::TableList;
+      if (s.key == key) return s.type == KeySpec::Type::TableList || s.type == KeySpec::Type::Settings;
     return false;
   };
   walk_table(tbl, "", [&](const std::string& key, const toml::node& node) {
@@ -768,6 +837,8 @@ void Config::load_toml_string(const std::string& text, const std::string& origin
     ConfigValue v;
     if (s.type == KeySpec::Type::TableList) {
       v = toml_tables(s, node, origin + ": ");
+    } else if (s.type == KeySpec::Type::Settings) {
+      v = settings_tables(s, node, origin + ": ");
     } else if (auto x = toml_scalar(node)) {
       v = std::visit([](const auto& y) { return ConfigValue(y); }, *x);
     } else if (auto a = node.as_array(); a && is_list(s.type)) {
@@ -873,7 +944,8 @@ std::string Config::to_toml() const {
       os << name << " = ";
       if (auto str = std::get_if<std::string>(&v)) os << quoted(*str);
       else if (std::holds_alternative<ConfigList>(v)) os << quoted(value_text(v));
-      else if (auto t = std::get_if<ConfigTables>(&v)) os << tables_toml(*t, "\n  ", ",\n  ", ",\n");
+      else if (auto t = std::get_if<ConfigTables>(&v))
+        os << (s.type == KeySpec::Type::Settings ? settings_toml(*t) : tables_toml(*t, "\n  ", ",\n  ", ",\n"));
       else if (auto d = std::get_if<double>(&v)) os << real_text(*d);
       else os << value_text(v);
       os << "\n";
@@ -893,7 +965,8 @@ std::string Config::to_json() const {
     first = false;
     if (auto str = std::get_if<std::string>(&v)) os << quoted(*str);
     else if (std::holds_alternative<ConfigList>(v)) os << quoted(value_text(v));
-    else if (auto t = std::get_if<ConfigTables>(&v)) os << tables_json(*t);
+    else if (auto t = std::get_if<ConfigTables>(&v))
+      os << (s.type == KeySpec::Type::Settings ? settings_json(*t) : tables_json(*t));
     else if (auto d = std::get_if<double>(&v); d && !std::isfinite(*d)) os << quoted(real_text(*d));  // "inf": JSON has no infinity
     else os << value_text(v);
   }
@@ -919,6 +992,19 @@ std::vector<KeySpec> merge_schemas(std::vector<KeySpec> a, const std::vector<Key
   }
   return a;
 }
+
+namespace {
+// calibration.at: a table of any configuration keys, set over the run's own values for the calibration state.
+KeySpec calibration_at_key() {
+  KeySpec s;
+  s.key = "calibration.at";
+  s.type = KeySpec::Type::Settings;
+  s.default_value = "{ mount.sx_mm = 0.1, mount.dx_mm = 0.1 }";
+  s.help = "the calibration state: a table of configuration keys (mount, sensor, ...) set over the run's own "
+           "values, e.g. { mount.sx_mm = 0.1, mount.dx_mm = 0.1 }";
+  return s;
+}
+}  // namespace
 
 std::vector<KeySpec> common_keys() {
   const double big = 1000.0;  // mm: a sanity bound on every length
@@ -960,6 +1046,28 @@ std::vector<KeySpec> common_keys() {
                "xmr/amr: offset of the cos channel as a fraction of the unit amplitude (signal chain)"),
       real_key("sensor.offset_sin_rel", 0.0, -1, 1, "",
                "xmr/amr: offset of the sin channel as a fraction of the unit amplitude (signal chain)"),
+      // Environment: stray fields and temperature (docs/physics.md "Environment"; probe/environment.hpp).
+      real_list_key("stray.uniform_mT", {0, 0, 0}, -1e4, 1e4, "mT",
+                    "uniform stray field [Bx, By, Bz] in the fixed frame, added at every probe (1 kA/m = 1.257 mT)",
+                    false, 3),
+      real_key("stray.wire_current_A", 0.0, -1e6, 1e6, "A",
+               "current of an infinite straight conductor (0 = none): B = 0.2 mT mm/A I (u x r)/|r|^2"),
+      real_list_key("stray.wire_point_mm", {0, 0, 0}, -1e6, 1e6, "mm",
+                    "a point [x, y, z] of the conductor, fixed frame (magnet frame at rest)", false, 3),
+      real_list_key("stray.wire_direction", {0, 1, 0}, -1e6, 1e6, "",
+                    "direction [ux, uy, uz] of the conductor (and of its current); any non-zero length", false, 3),
+      real_key("environment.temperature_C", 20.0, -273.15, 1000, "C",
+               "temperature: Br(T) = Br (1 + magnet.br_tc_per_K (T - 20)), offset and air-gap drifts from 20 C"),
+      real_key("magnet.br_tc_per_K", -0.0012, -0.01, 0.01, "1/K",
+               "reversible temperature coefficient of Br (set by magnet.material unless changed from its default)"),
+      string_key("magnet.material", "none", {"none", "ndfeb_sintered", "smco", "ferrite_hard", "ndfeb_bonded"},
+                 "magnet material of the library (docs/physics.md): sets magnet.br_tc_per_K; none = the key's value"),
+      real_key("sensor.offset_cos_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the cos channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("sensor.offset_sin_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the sin channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("mount.dz_tc_um_per_K", 0.0, -1e3, 1e3, "um/K",
+               "air-gap drift with temperature (thermal growth of shaft and housing), from 20 C; + = farther"),
       real_key("mount.sx_mm", 0.0, -big, big, "mm", "static eccentricity x (sensor off axis)"),
       real_key("mount.sy_mm", 0.0, -big, big, "mm", "static eccentricity y"),
       real_key("mount.dx_mm", 0.0, -big, big, "mm", "dynamic eccentricity x (magnet off axis)"),
@@ -971,6 +1079,17 @@ std::vector<KeySpec> common_keys() {
                "magnet tilt g on the shaft, about the centre of its bottom face"),
       real_key("mount.magnet_tilt_azimuth_deg", 0.0, -360, 360, "deg",
                "azimuth psi (rotor frame) towards which the tilted magnet's top leans"),
+  };
+}
+
+std::vector<KeySpec> calibration_keys() {
+  return {
+      // Calibration (docs/physics.md "Calibration"; analysis/calibration.hpp).
+      string_key("calibration.method", "none", {},
+                 "factory correction taken at calibration.at: none, harmonics:N (least-squares harmonics of the "
+                 "error over the sensor's angle), lut:K (K-point periodic linear table), ogp (channel offsets, "
+                 "gain ratio, phase)"),
+      calibration_at_key(),
   };
 }
 

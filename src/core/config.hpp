@@ -131,6 +131,9 @@ std::string allowed_range(const KeySpec& s);
 
 // Keys every executable shares: [magnet], [sensor], [mount] (docs/interfaces.md).
 std::vector<KeySpec> common_keys();
+// calibration.method and calibration.at: declared only by the executables that apply a calibration
+// (error_spectrum, calibrate); everywhere else they are unknown keys, never silently ignored.
+std::vector<KeySpec> calibration_keys();
 
 // Concatenate schemas (later ones may not redeclare a key).
 std::vector<KeySpec> merge_schemas(std::vector<KeySpec> a, const std::vector<KeySpec>& b);

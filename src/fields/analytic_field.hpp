@@ -54,6 +54,7 @@ class AnalyticField final : public FieldSource {
   Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const override;
   Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const override;
   const Magnet& magnet() const { return magnet_; }
+  const Magnet* exact_magnet() const override { return &magnet_; }
 
   // True when p_mm lies inside the magnet or on its surface (r <= R, |z| <= L/2).
   bool inside_or_on_magnet(const Vec3& p_mm) const;

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/errors.hpp"
-#include "fields/analytic_field.hpp"
+#include "fields/magnet.hpp"
 
 namespace magenc {
 
@@ -32,14 +32,12 @@ Eigen::Matrix3Xd field_at(const FieldSource& field, const Eigen::Matrix3Xd& p) {
                      "(3-D grids and tables give B, 2-D ones the plane only)");
   for (Eigen::Index j = 0; j < p.cols(); ++j)
     if (!p.col(j).allFinite()) throw InputError(point_label(p, j) + " is not finite: allowed finite coordinates (mm)");
-  if (const auto* exact = dynamic_cast<const AnalyticField*>(&field)) {
+  if (const Magnet* magnet = field.exact_magnet())
     for (Eigen::Index j = 0; j < p.cols(); ++j)
-      if (on_magnet_surface(exact->magnet(), Vec3(p.col(j))))
-        throw InputError(point_label(p, j) + " lies on the magnet's surface (radius " +
-                         num(exact->magnet().radius_mm) + " mm, |z| = " + num(exact->magnet().top_z_mm()) +
-                         " mm), where B jumps: allowed points inside or outside the magnet");
-    return exact->B_T(p);
-  }
+      if (on_magnet_surface(*magnet, Vec3(p.col(j))))
+        throw InputError(point_label(p, j) + " lies on the magnet's surface (radius " + num(magnet->radius_mm) +
+                         " mm, |z| = " + num(magnet->top_z_mm()) + " mm), where B jumps: allowed points inside or "
+                         "outside the magnet");
   try {
     return field.B_T(p);  // batch (parallel): any refused point throws
   } catch (const InputError&) {

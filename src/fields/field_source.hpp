@@ -8,6 +8,7 @@
 namespace magenc {
 
 using Vec3 = Eigen::Vector3d;
+struct Magnet;
 
 class FieldSource {
  public:
@@ -28,6 +29,9 @@ class FieldSource {
   virtual Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
   // Batch Bz: p_mm 3xN -> N values (T). Parallel (OpenMP).
   virtual Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const;
+  // The magnet when this source is its exact field (the body is known: paths may be checked against it,
+  // the magnetization varied), else nullptr.
+  virtual const Magnet* exact_magnet() const { return nullptr; }
 };
 
 using FieldSourcePtr = std::shared_ptr<const FieldSource>;

@@ -243,7 +243,8 @@ void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSp
   gp << "# " << name << ".gp: draws " << png << " from " << datfile << " (run: gnuplot " << name << ".gp)\n";
   gp << "set terminal pngcairo size " << spec.width_px << "," << spec.height_px << " enhanced font 'sans,11'\n";
   gp << "set output " << quoted(png) << "\n";
-  gp << "set datafile missing 'NaN'\n";
+  // No "set datafile missing": a missing cell would drop out of the image's grid and shift the cells
+  // after it; a NaN value is drawn blank in place.
   gp << "set title " << quoted(spec.title) << " font 'sans,13'\n";
   gp << "set xlabel " << quoted(spec.xlabel) << "\nset ylabel " << quoted(spec.ylabel) << "\n";
   gp << "set xrange [-0.5:" << nc - 0.5 << "]\nset yrange [-0.5:" << nr - 0.5 << "]\n";

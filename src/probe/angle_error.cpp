@@ -4,10 +4,9 @@
 #include <sstream>
 #include <string>
 
-#include "fields/analytic_field.hpp"
-#include "fields/magnet.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "fields/magnet.hpp"
 
 namespace magenc {
 
@@ -34,6 +33,7 @@ void validate_setup(const ProbeSetup& setup, const Mount& mount) {
     throw InputError("sensor.array '" + setup.array.name + "' has no probes or inconsistent weights");
   mount.validate();
   setup.chain.validate_for(setup.principle);
+  setup.env.validate_for(setup.principle);
   if (mount.magnet_tilted() && !(std::isfinite(setup.magnet_height_mm) && setup.magnet_height_mm > 0))
     throw InputError("magnet.height_mm = " + num(setup.magnet_height_mm) +
                      " (pivot of the magnet tilt) is out of range: allowed (0, 1000] mm");
@@ -96,8 +96,7 @@ std::vector<Eigen::Vector3d> fixed_probe_positions(const ProbeSetup& setup, cons
 // magnet tilt g the magnet is replaced by a hull containing it: radius
 // R + L|sin g| about d, z in [-L/2 - R|sin g|, -L/2 + L cos g + R|sin g|]
 // (conservative; see angle_error.hpp).
-void check_paths_outside_magnet(const AnalyticField& field, const ProbeSetup& setup, const Mount& mount) {
-  const Magnet& mag = field.magnet();
+void check_paths_outside_magnet(const Magnet& mag, const ProbeSetup& setup, const Mount& mount) {
   if (mount.magnet_tilted() && std::abs(setup.magnet_height_mm - mag.height_mm) > 1e-9 * mag.height_mm)
     throw InputError("magnet tilt pivot: the probe setup's magnet height " + num(setup.magnet_height_mm) +
                      " mm differs from the analytic field's magnet.height_mm = " + num(mag.height_mm) +
@@ -252,24 +251,38 @@ Eigen::MatrixXd inplane_readings(const FieldSource& field, const ProbeSetup& set
 // The pipeline at rotor angles theta_rad (theta_deg: the same angles in degrees, as reported).
 // check_winding (uniform samples of a whole turn, in-plane principles): the field direction at the spot,
 // atan2(-b2, -b1), must turn once per turn.
-AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
+AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& setup, const Mount& mount_20C,
                                     const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& theta_rad,
                                     bool check_winding = false) {
+  // 0. The environment: the mount (air gap) at the temperature; the chain's offsets below.
+  setup.env.validate_for(setup.principle);
+  const Mount mount = setup.env.mount_at_temperature(mount_20C);
   // 1. Validate the setup, the mount, the source's ability to serve a tilt and
   //    the principle, and (exact field) that no path enters the magnet.
   validate_setup(setup, mount);
   check_source_serves_tilt(field, mount);
   check_source_serves_principle(field, setup);
-  if (const auto* exact = dynamic_cast<const AnalyticField*>(&field))
-    check_paths_outside_magnet(*exact, setup, mount);
+  if (const Magnet* magnet = field.exact_magnet()) check_paths_outside_magnet(*magnet, setup, mount);
 
   const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());
-  const SignalChain::Applied chain = setup.chain.applied(setup.principle);
+  const SignalChain::Applied chain = setup.env.chain_at_temperature(setup.chain).applied(setup.principle);
+  // The environment's part of the readings: the magnet's field times Br(T)/Br, plus the stray field's
+  // constant part of each reading (the sensor does not turn).
+  const bool env = !setup.env.neutral();
+  const double br_scale = setup.env.br_scale();
+  std::vector<double> stray_T;
+  if (env) {
+    std::vector<Eigen::Vector2d> xy;
+    for (std::size_t k = 0; k < setup.array.size(); ++k) xy.push_back(nominal_xy_mm(setup, k));
+    const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm);
+    stray_T = stray_readings_T(setup.env.stray, kin, xy, setup.area, reads_in_plane(setup.principle));
+  }
   AngleErrorResult res;
   res.theta_deg = theta_deg;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
+  res.channels.resize(M, 2);
   auto check_finite = [&](Eigen::Index m) {
     if (!std::isfinite(res.eps_deg[m]))
       throw ComputeError(field.name() + " field gave a non-finite angle at theta = " + num(theta_deg[m]) +
@@ -291,6 +304,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       const Eigen::Matrix3Xd Bv = field.B_T(p);
       B = (Bv.array() * normals.array()).colwise().sum().transpose();
     }
+    if (env)
+      for (Eigen::Index i = 0; i < B.size(); ++i) B[i] = br_scale * B[i] + stray_T[static_cast<std::size_t>(i % K)];
 
     // 3. Channels, signal chain, angle and error per theta.
     for (Eigen::Index m = 0; m < M; ++m) {
@@ -302,6 +317,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
         ch_sin += setup.array.w_sin[k] * b;
       }
       chain(ch_cos, ch_sin);
+      res.channels(m, 0) = ch_cos;
+      res.channels(m, 1) = ch_sin;
       const double phi_rad = std::atan2(ch_sin, ch_cos);
       res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
       check_finite(m);
@@ -313,6 +330,11 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
   } else {
     // 2. The in-plane components at the spot (mean over its area), from the full vector.
     res.inplane_B_T = inplane_readings(field, setup, mount, theta_rad);
+    if (env) {
+      res.inplane_B_T *= br_scale;
+      res.inplane_B_T.col(0).array() += stray_T[0];
+      res.inplane_B_T.col(1).array() += stray_T[1];
+    }
     // 3. Channels by principle, signal chain, angle (electrical angle psi; amr: phi = psi/2) and error.
     const int turns = electrical_turns(setup.principle);
     double winding_deg = 0, field_prev = 0, field_first = 0;
@@ -330,6 +352,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
         u_s = std::sin(2.0 * alpha);
       }
       chain(u_c, u_s);
+      res.channels(m, 0) = u_c;
+      res.channels(m, 1) = u_s;
       const double psi_deg = rad_to_deg(std::atan2(u_s, u_c));
       // eps = wrap(phi - theta); amr: phi = psi/2 modulo 180, eps = wrap(psi - 2 theta)/2 in (-90, 90].
       res.eps_deg[m] = wrap_deg(psi_deg - turns * theta_deg[m]) / turns;
@@ -420,6 +444,8 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   s.window.min_mT = cfg.real("sensor.field_min_mT");
   s.window.max_mT = cfg.real("sensor.field_max_mT");
   s.window.validate();
+  s.env = Environment::from_config(cfg);
+  s.env.validate_for(s.principle);
   return s;
 }
 

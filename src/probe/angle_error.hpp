@@ -5,6 +5,7 @@
 
 #include "core/defaults.hpp"
 #include "fields/field_source.hpp"
+#include "probe/environment.hpp"
 #include "probe/mounting.hpp"
 #include "core/config.hpp"
 #include "probe/probe_array.hpp"
@@ -31,6 +32,10 @@ struct ProbeSetup {
   SensorPrinciple principle = SensorPrinciple::Bz;
   SensingArea area{};         // finite sensing area (plate_mm = 0: points)
   FieldWindow window{};       // the field magnitude the chip needs (off by default)
+  // Stray fields and temperature (probe/environment.hpp): the magnet's field scaled by Br(T)/Br, the
+  // stray field added at every probe before the reading, the offsets and the air gap at T. Neutral
+  // by default (no stray field, 20 C): then the pipeline is exactly the one without it.
+  Environment env{};
 };
 
 // The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),
@@ -47,6 +52,8 @@ struct AngleErrorResult {
   Eigen::MatrixXd probe_B_T;  // M x K probe readings (T; before the signal chain): bz n.B of each probe,
                               // in-plane principles hypot(b1, b2) of the spot (K = 1)
   Eigen::MatrixXd inplane_B_T;// in-plane principles: M x 2, the components b1 = x'.B, b2 = y'.B (T); bz: empty
+  Eigen::MatrixXd channels;   // M x 2: the channels (u_c, u_s) after the signal chain, the arguments of atan2
+                              // (T for bz and inplane, unit amplitude for xmr and amr; amr: twice the angle)
   Spectrum spectrum;
   // Field window (docs/physics.md "Sensor principles"): the extremes of the magnitude the principle uses, mT:
   // bz the peak |reading| over the turn of each probe, min and max over the probes; in-plane principles

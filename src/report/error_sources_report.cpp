@@ -112,10 +112,7 @@ void write_source_heatmap(StudyOutput& out, const ErrorSourcesRun& run, const st
       std::vector<std::string> t;
       for (double c : v)
         t.push_back(std::isnan(c) ? "n/a" : c < kRoundingZeroDeg ? "0" : (c < 1e-4 ? "<1e-4" : g_text(c, 2)));
-      // A source that does not apply: the lowest colour with the text n/a (write_heatmap's NaN cells are
-      // dropped by gnuplot's `with image`, which shifts the cells after them).
-      for (double& c : v)
-        if (std::isnan(c)) c = 0.0;
+      // A source that does not apply: NaN, a blank cell with the text n/a.
       hm.values.push_back(v);
       hm.cell_text.push_back(t);
     }

@@ -21,7 +21,7 @@ void real_field_acceptance_section(std::ostringstream& md, const RealFieldResult
   const double ref_mm = result.options.reference_mm;
   const AcceptanceResult& acc = result.acceptance;
   md << "## Acceptance at " << fmt(ref_mm, 2) << " mm: FEM vs exact\n\n"
-     << "Rule (issue \"FEM-driven probe studies\"): for arrays ";
+     << "Rule (docs/studies/real_field.md): for arrays ";
   for (std::size_t i = 0; i < acc.arrays.size(); ++i) md << (i ? ", " : "") << "`" << acc.arrays[i] << "`";
   md << ", each of ";
   for (std::size_t i = 0; i < acc.coefs.size(); ++i) md << (i ? ", " : "") << acc.coefs[i];

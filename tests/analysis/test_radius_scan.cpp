@@ -444,3 +444,79 @@ TEST_CASE("radius scan with the magnetization elevation in the box", "[analysis]
   opt.box.magnetization_elevation_deg = 0;
   CHECK_NOTHROW(check_field_serves_box(LinearField(), "linear", opt));
 }
+
+TEST_CASE("radius fields: two sources of one kind are refused, one of each kind passes", "[analysis][bad-input]") {
+  const auto analytic = std::make_shared<AnalyticField>(Magnet{});
+  const auto linear = std::make_shared<LinearField>();
+  const std::vector<std::pair<std::string, FieldSourcePtr>> mixed = {{"analytic", analytic}, {"linear", linear}};
+  CHECK_NOTHROW(check_distinct_field_kinds(mixed));
+  const std::vector<std::pair<std::string, FieldSourcePtr>> twice = {
+      {"analytic", analytic}, {"linear", linear}, {"analytic", std::make_shared<AnalyticField>(Magnet{})}};
+  CHECK_THROWS_WITH(check_distinct_field_kinds(twice),
+                    Catch::Contains("'analytic' and 'analytic' are both analytic fields") && Catch::Contains("allowed one"));
+}
+
+TEST_CASE("tolerance box environment: off by default, draws in range, mounts unchanged", "[analysis][determinism]") {
+  ToleranceBox off;
+  off.tilt_x_deg = 0.5;
+  REQUIRE_FALSE(off.has_environment());
+  ToleranceBox on = off;
+  on.temperature_min_C = -40;
+  on.temperature_max_C = 150;
+  on.stray_mT = 2.0;
+  on.env_coefficients.offset_cos_tc_uT_per_K = 3;
+  REQUIRE(on.has_environment());
+  on.validate();
+  double z_mean = 0;
+  const int n = 2000;
+  for (int i = 0; i < n; ++i) {
+    const ToleranceCase a = off.case_sample(7, static_cast<std::uint64_t>(i));
+    const ToleranceCase b = on.case_sample(7, static_cast<std::uint64_t>(i));
+    CHECK(a.env.neutral());  // off: the case's environment is the neutral default
+    // Common random numbers: the environment's draws come after the others, the mounts are identical.
+    CHECK(a.mount.sx_mm == b.mount.sx_mm);
+    CHECK(a.mount.tilt_x_deg == b.mount.tilt_x_deg);
+    CHECK(a.mount.dz_mm == b.mount.dz_mm);
+    CHECK(b.env.temperature_C >= -40);
+    CHECK(b.env.temperature_C < 150);
+    CHECK(b.env.stray.uniform_mT.norm() <= 2.0 + 1e-12);
+    CHECK(b.env.offset_cos_tc_uT_per_K == 3);
+    if (b.env.stray.uniform_mT.norm() > 0) z_mean += b.env.stray.uniform_mT.normalized().z();
+  }
+  CHECK(std::abs(z_mean / n) < 0.05);  // uniform on the sphere: mean z 0 (sd 1/sqrt(3 n) = 0.013)
+  ToleranceBox bad = on;
+  bad.temperature_min_C = 200;
+  CHECK_THROWS_AS(bad.validate("radius.tol_"), InputError);
+  bad = on;
+  bad.stray_mT = -1;
+  CHECK_THROWS_WITH(bad.validate("radius.tol_"), Catch::Contains("radius.tol_stray_mT"));
+}
+
+TEST_CASE("surrogate with a temperature and a stray field: the direct pipeline", "[analysis][cross-check]") {
+  // A case's environment in the surrogate against angle_error() with the same Environment: Br(T) scaling,
+  // a homogeneous stray field read by each probe (tilted die included), offset and air-gap drift.
+  const AnalyticField field(default_magnet());
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4")};
+  ToleranceBox box;
+  box.tilt_x_deg = 0.5;
+  box.temperature_min_C = -40;
+  box.temperature_max_C = 150;
+  box.stray_mT = 1.5;
+  box.env_coefficients.offset_cos_tc_uT_per_K = 2;
+  box.env_coefficients.dz_tc_um_per_K = 0.5;
+  // The surrogate's reach must cover the air-gap drift (0.5 um/K x 130 K = 0.065 mm on top of dz).
+  const CircleFieldModel model(field, 2.4, kPlaneZ, 360, box.max_inplane_mm() + 0.05, box.dz_mm + 0.1, 4, true);
+  const FastPipeline fast(model, arrays);
+  for (const ToleranceCase& c : monte_carlo_cases(box, 6, 3)) {
+    std::vector<Eigen::VectorXd> eps;
+    fast.eps(c, eps);
+    for (std::size_t a = 0; a < arrays.size(); ++a) {
+      ProbeSetup setup{arrays[a], 2.4, kPlaneZ, 360, {}};
+      setup.env = c.env;
+      const Spectrum direct = error_spectrum(field, setup, c.mount);
+      const Spectrum sur = spectrum_of(eps[a]);
+      CAPTURE(arrays[a].name, c.env.temperature_C, c.env.stray.uniform_mT.transpose(), direct.pp_deg, sur.pp_deg);
+      check_spectra_agree(sur, direct, std::max(0.005, 0.0005 * direct.pp_deg));
+    }
+  }
+}

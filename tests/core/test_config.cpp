@@ -330,3 +330,45 @@ TEST_CASE("table-list keys: bad tables are one line naming the key the element a
   REQUIRE(c.tables("study.variants").size() == 1);
   CHECK(c.tables("study.variants")[0].text("label") == "a");
 }
+
+TEST_CASE("calibration.at is a table of keys from a file or --set or the default and is echoed and checked",
+          "[core][contract][bad-input]") {
+  Config cfg(merge_schemas(common_keys(), calibration_keys()));
+  auto entries = [&] { return cfg.tables("calibration.at").front().settings("set"); };
+  // The default of docs/interfaces.md.
+  REQUIRE(entries().size() == 2);
+  CHECK(entries()[0].first == "mount.dx_mm");
+  CHECK(std::get<double>(entries()[0].second) == 0.1);
+  // A file: inline table, or its own section with nested dotted keys.
+  cfg.load_toml_string("[calibration]\nmethod = \"lut:32\"\nat = { mount.sx_mm = 0.05, sensor.gain_mismatch = 0.01 }\n");
+  REQUIRE(entries().size() == 2);
+  CHECK(entries()[0].first == "mount.sx_mm");
+  CHECK(entries()[1].first == "sensor.gain_mismatch");
+  cfg.load_toml_string("[calibration.at]\nmount.dz_mm = 0.2\n");
+  REQUIRE(entries().size() == 1);
+  CHECK(std::get<double>(entries()[0].second) == 0.2);
+  // --set, and the echo reads back the same.
+  cfg.set("calibration.at={ mount.dx_mm = 0.3, mount.sy_mm = -1 }");
+  const std::string toml = cfg.to_toml();
+  CHECK(toml.find("at = { mount.dx_mm = 0.3, mount.sy_mm = -1 }") != std::string::npos);
+  CHECK(cfg.to_json().find("\"calibration.at\": {\"mount.dx_mm\": 0.3, \"mount.sy_mm\": -1}") != std::string::npos);
+  Config back(merge_schemas(common_keys(), calibration_keys()));
+  back.load_toml_string(toml);
+  CHECK(back.to_toml() == toml);
+  cfg.set("calibration.at={}");
+  CHECK(entries().empty());
+  for (const char* bad : {"calibration.at=5", "calibration.at={ a = [1, 2] }", "calibration.at={ a = ",
+                          "calibration.at={ a = 1, a = 2 }", "calibration.at={ a = nan }"}) {
+    CAPTURE(bad);
+    try {
+      cfg.set(bad);
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      CHECK(msg.find("calibration.at") != std::string::npos);
+      CHECK(msg.find('\n') == std::string::npos);
+    }
+  }
+  CHECK_THROWS_AS(cfg.load_toml_string("[calibration]\nat = 3\n"), InputError);
+  CHECK_THROWS_AS(cfg.load_toml_string("[calibration]\nat = [1]\n"), InputError);
+}

@@ -10,10 +10,33 @@
 #include "io/plot.hpp"
 #include "support/study_test_util.hpp"
 
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+
 using namespace magenc;
 namespace fs = std::filesystem;
 
 namespace {
+// Pixels in the heat map palette's warm colours (red high, blue low) left of the colour box (the left
+// 80 % of the picture): the drawn cells.
+long warm_pixels(const fs::path& png) {
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(png.string().c_str());
+  reader->Update();
+  vtkImageData* img = reader->GetOutput();
+  int dims[3];
+  img->GetDimensions(dims);
+  const int nc = img->GetNumberOfScalarComponents();
+  long n = 0;
+  for (int y = 0; y < dims[1]; ++y)
+    for (int x = 0; x < dims[0] * 8 / 10; ++x) {
+      const double r = img->GetScalarComponentAsDouble(x, y, 0, 0), b = img->GetScalarComponentAsDouble(x, y, 0, nc >= 3 ? 2 : 0);
+      if (r > 150 && b < 170) ++n;
+    }
+  return n;
+}
+
 PlotSpec two_panel_spec() {
   PlotSeries sine{"sin {/Symbol q}", {}, {}, "lines", ""};
   PlotSeries pts{plot_literal("c3_deg (literal)"), {}, {}, "points", ""};
@@ -75,6 +98,11 @@ TEST_CASE("write_heatmap writes a labelled log-colour heat map and refuses incon
   write_heatmap(dir, "hm", h);
   REQUIRE(fs::exists(dir / "hm.png"));
   CHECK(fs::file_size(dir / "hm.png") > 1000);
+  // The cells are drawn (a blank NaN cell must not drop the whole image): the warm cells (2.0 and 0.5 on
+  // a log scale from 1e-4) cover well over 1 % of the 1100 x 900 default picture.
+  const long warm = warm_pixels(dir / "hm.png");
+  INFO("warm pixels " << warm);
+  CHECK(warm > 3000);
   std::ifstream dat(dir / "hm.dat");
   const std::string text((std::istreambuf_iterator<char>(dat)), {});
   CHECK(text.find("0 1 0.5 \"0.5\"") != std::string::npos);  // first row on top (y = 1)

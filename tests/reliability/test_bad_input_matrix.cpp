@@ -194,6 +194,7 @@ Required required_inputs(const fs::path& exe) {
   if (n == "diagnose") return {{"--measured", "good_curve.csv"}, {{"good_curve.csv", good_curve()}}};
   if (n == "table_to_vti") return {{"--table", "good_table.csv"}, {{"good_table.csv", good_table()}}};
   if (n == "field_at") return {{"--points", "good_points.csv"}, {{"good_points.csv", "x_mm,y_mm,z_mm\n0,0,4.55\n"}}};
+  if (n == "calibrate") return {{"--method", "harmonics:8"}, {}};  // (the default method none is refused first)
   if (n == "inspect")
     return {{"--scan", "good_scan.csv"},
             {{"good_scan.csv", "x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n0,0,4.55,-20,0,0\n1,0,4.55,-15,0,10\n0,1,4.55,-18,1,0\n"}}};
@@ -229,7 +230,8 @@ Group group_of(const fs::path& exe) {
   const std::string n = exe.filename().string();
   if (n == "solve_field") return Group::SolveField;
   if (n == "fem_vs_exact") return Group::FemVsExact;
-  if (n == "error_spectrum" || n == "diagnose" || n == "table_to_vti" || n == "field_at" || n == "inspect")
+  if (n == "error_spectrum" || n == "diagnose" || n == "table_to_vti" || n == "field_at" || n == "inspect" ||
+      n == "calibrate")
     return Group::OtherApps;
   return Group::Studies;
 }
@@ -283,9 +285,9 @@ TEST_CASE("bad-input matrix: fem_vs_exact x every declared key x its bad values 
   key_matrix(Group::FemVsExact, 1, "fem_vs_exact");
 }
 
-TEST_CASE("bad-input matrix: error_spectrum diagnose table_to_vti field_at inspect x every declared key x its bad values",
+TEST_CASE("bad-input matrix: error_spectrum diagnose table_to_vti field_at inspect calibrate x every declared key x its bad values",
           "[apps][bad-input][cli]") {
-  key_matrix(Group::OtherApps, 5, "error_spectrum, diagnose, table_to_vti, field_at, inspect");
+  key_matrix(Group::OtherApps, 6, "error_spectrum, diagnose, table_to_vti, field_at, inspect, calibrate");
 }
 
 TEST_CASE("bad-input matrix: every study x every declared key x its bad values (--set and TOML)",

@@ -33,7 +33,7 @@ std::vector<std::string> split(const std::string& line) {
 }  // namespace
 
 TEST_CASE("radius study: tiny configuration", "[studies][cli][slow]") {
-  const fs::path out = fs::temp_directory_path() / "magenc_test_radius_smoke";
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_smoke_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const Run r = run_radius(tiny(), out);
   INFO(r.err);
@@ -122,7 +122,7 @@ TEST_CASE("radius study: the five-offset box (tilt tolerances 0) gives no tilt g
 }
 
 TEST_CASE("radius study: bad input exits non-zero with one line and no output", "[studies][bad-input][cli]") {
-  const fs::path out = fs::temp_directory_path() / "magenc_test_radius_bad";
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_radius_bad_" + std::to_string(::getpid()));
   const std::string bad = GENERATE(as<std::string>{}, "--set radius.tol_dx_mm=-0.1",
                                    "--set radius.r0_min_mm=3 --set radius.r0_max_mm=1", "--set radius.samples=0",
                                    "--set radius.arrays=three", "--set radius.r0_min_mm=0.2",
@@ -143,7 +143,7 @@ TEST_CASE("radius study: a solved field of another magnet is never compared with
   // solve.json of the default magnet (R = 2 mm); the study runs for R = 3 mm. Auto-added
   // (radius.fem_dir): the FEM field is skipped with a note saying why. Listed explicitly
   // (radius.fields = ...,fem:DIR): one-line error naming the key, no output.
-  const fs::path base = fs::temp_directory_path() / "magenc_test_radius_other_magnet";
+  const fs::path base = fs::temp_directory_path() / ("magenc_test_radius_other_magnet_" + std::to_string(::getpid()));
   fs::remove_all(base);
   fs::create_directories(base / "field");
   std::ofstream(base / "field" / "solve.json")

@@ -1,0 +1,34 @@
+// Study temperature: error spectra and the field against the chip's window from -40 to 150 C, for the
+// configured mount and the tolerance box's p99 sample, per sensor (docs/physics.md "Environment: stray
+// fields and temperature"). Computation in src/analysis/temperature_sweep.*, outputs in
+// src/report/temperature_report.*.
+//   temperature [--config studies/temperature.toml] [--set magnet.material=smco] [--out DIR]
+#include "analysis/sweep.hpp"
+#include "analysis/temperature_sweep.hpp"
+#include "fields/field_factory.hpp"
+#include "report/study_output.hpp"
+#include "report/temperature_report.hpp"
+
+using namespace magenc;
+
+namespace {
+
+const char* kStudy = "temperature";
+
+void run(const Config& cfg, StudyOutput& out) {
+  // 1. Inputs (all checked before any work).
+  const TemperatureOptions opt = TemperatureOptions::from_config(cfg);
+  const ProbeSetup base = probe_setup_from_config(cfg, "two");
+  const Mount mount = Mount::from_config(cfg);
+  const FieldSourcePtr field = make_field_source(cfg.str("study.field"), cfg);
+  // 2. The sweep; 3. tables, plots, summary.
+  const TemperatureResult result = run_temperature_sweep(*field, base, mount, opt);
+  write_temperature_report(result, opt, cfg, out);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return run_study(kStudy, "temperature: error spectra and field margin from -40 to 150 C",
+                   TemperatureOptions::keys(), argc, argv, run);
+}
