@@ -98,6 +98,8 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["nonlinear_iterations"] = st.nonlinear_iterations;
   j["nonlinear_residuals"] = st.nonlinear_residuals;
   j["nonlinear_tolerance"] = solver.options().nonlinear_tolerance;
+  j["nonlinear_method"] = solver.options().newton ? "newton" : "picard";
+  j["newton_steps"] = st.newton_steps;
   j["parts"] = nlohmann::json::array();
   for (std::size_t i = 0; i < d.parts.size(); ++i) {
     const PartSpec& p = d.parts[i];

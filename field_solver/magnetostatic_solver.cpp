@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include <Eigen/IterativeLinearSolvers>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +13,7 @@
 #include "core/format.hpp"
 #include "element.hpp"
 #include "linear_solver.hpp"
+#include "nonlinear.hpp"
 #include "reduced_potential.hpp"
 #include "symmetric_mesh.hpp"
 
@@ -234,57 +237,102 @@ void MagnetostaticSolver::solve() {
   SparseMatrix().swap(K_);  // release memory before post-processing (K_ = SparseMatrix() would keep it)
 }
 
-Eigen::VectorXd MagnetostaticSolver::nonlinear_mu_r() const {
-  Eigen::VectorXd mu = mu_r_cell_;
-  const Eigen::MatrixXi& cd = space_->cell_dofs();
-  const int nd = space_->dofs_per_cell();
-  const Eigen::Vector4d centroid = Eigen::Vector4d::Constant(0.25);
-#pragma omp parallel for schedule(static) num_threads(options_.threads)
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
-    const int i = mesh_.region[t] - kRegionPartFirst;
-    if (i < 0 || i >= static_cast<int>(domain_.parts.size())) continue;
-    const PartSpec& p = domain_.parts[static_cast<size_t>(i)];
-    if (!p.bh) continue;
-    Eigen::Matrix<double, 3, 10> G;
-    basis_gradients(options_.order, tet_geometry(mesh_.nodes, mesh_.tets.col(t)), centroid, G);
-    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-    for (int k = 0; k < nd; ++k) grad += psi_[cd(k, t)] * G.col(k);
-    const double H_A_per_m = grad.norm() / kMu0_T_m_per_A;  // mu0 H = -grad psi (T) in the total-potential cells
-    mu[t] = std::clamp(p.bh->mu_r(H_A_per_m), 1.0, 1e6);
-  }
-  return mu;
-}
-
-// 3+4 with B-H parts: fixed-point (Picard) iterations on the secant permeability
-// mu_r = B(|H|) / (mu0 |H|) per cell, starting from the curves' initial mu_r;
-// the residual |f - K(mu(psi_k)) psi_k| / |f| is taken with the stiffness of the
-// permeability psi_k gives, i.e. before the next solve.
+// 3+4 with B-H parts (nonlinear.hpp). The load f (the magnet's, constant: the
+// nonlinear cells carry the total potential) is assembled once; every iterate psi
+// gets the stiffness K(mu(psi)) of its secant permeability and the residual
+// r = |f - K(mu(psi)) psi| / |f|, recorded after each iteration. Iteration 1 is the
+// fixed-point step from the curves' initial permeability; then Newton steps
+// (options_.newton) or fixed-point steps psi <- K(mu(psi))^-1 f.
 void MagnetostaticSolver::solve_nonlinear() {
   auto& hist = stats_.nonlinear_residuals;
   hist.clear();
-  long cg_iterations = 0;
-  for (int k = 0;; ++k) {
-    assemble_system();
-    if (k > 0) {
-      const double r = (f_ - K_ * psi_).norm() / f_.norm();
-      hist.push_back(r);
-      if (!std::isfinite(r)) throw ComputeError("nonlinear solve: the residual is not finite after " + std::to_string(k) + " iterations");
-      if (r < options_.nonlinear_tolerance) break;
-      if (k >= options_.nonlinear_max_iterations) {
-        std::string h;
-        for (size_t j = 0; j < hist.size(); ++j) h += (j ? ", " : "") + std::to_string(j + 1) + ": " + num(hist[j]);
-        throw ComputeError("nonlinear solve did not converge: residual " + num(r) + " > fem.nonlinear_tolerance = " +
-                           num(options_.nonlinear_tolerance) + " after " + std::to_string(k) +
-                           " iterations (fem.nonlinear_max_iterations); residual history " + h);
+  stats_.newton_steps = 0;
+  const std::vector<const BhCurve*> curves = cell_bh_curves(domain_, mesh_);
+  const Eigen::VectorXd mu_linear = mu_r_cell_;
+  const std::vector<int> fixed = options_.robin ? std::vector<int>{} : boundary_dofs(mesh_, *space_);
+  auto stiffness = [&](const Eigen::VectorXd& mu) {
+    SparseMatrix K = assemble_stiffness(mesh_, *space_, mu, options_.robin, options_.threads);
+    Eigen::VectorXd unused = Eigen::VectorXd::Zero(K.rows());
+    if (!options_.robin) apply_zero_dirichlet(K, unused, fixed);
+    return K;
+  };
+  long linear_iterations = 0;
+  double linear_residual = 0;
+  auto fixed_point_step = [&] {  // psi <- K(mu)^-1 f with K_ = K(mu); K_ is released
+    solve();
+    linear_iterations += stats_.iterations;
+    linear_residual = std::max(linear_residual, stats_.residual);
+  };
+  assemble_system();  // K(mu initial), f
+  const double f_norm = f_.norm();
+  fixed_point_step();
+  Eigen::VectorXd R;
+  auto evaluate = [&](const Eigen::VectorXd& psi, Eigen::VectorXd& mu, SparseMatrix& K, Eigen::VectorXd& res) {
+    mu = secant_mu_r(mesh_, *space_, curves, mu_linear, psi, options_.threads);
+    SparseMatrix k = stiffness(mu);
+    K.swap(k);
+    res = K * psi - f_;
+    return res.norm() / f_norm;
+  };
+  double r = evaluate(psi_, mu_r_cell_, K_, R);
+  Eigen::setNbThreads(options_.threads);
+  for (int k = 1;; ++k) {
+    hist.push_back(r);
+    stats_.nonlinear_iterations = k;
+    if (!std::isfinite(r)) throw ComputeError("nonlinear solve: the residual is not finite after " + std::to_string(k) + " iterations");
+    if (r < options_.nonlinear_tolerance) break;
+    if (k >= options_.nonlinear_max_iterations) {
+      std::string h;
+      for (size_t j = 0; j < hist.size(); ++j) h += (j ? ", " : "") + std::to_string(j + 1) + ": " + num(hist[j]);
+      throw ComputeError("nonlinear solve did not converge: residual " + num(r) + " > fem.nonlinear_tolerance = " +
+                         num(options_.nonlinear_tolerance) + " after " + std::to_string(k) +
+                         " iterations (fem.nonlinear_max_iterations); residual history " + h);
+    }
+    bool newton_done = false;
+    if (options_.newton) {
+      SparseMatrix J = nonlinear_jacobian(mesh_, *space_, curves, K_, psi_);
+      if (!options_.robin) {
+        Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
+        apply_zero_dirichlet(J, unused, fixed);
+      }
+      // Inexact Newton: solve J d = -R to eta |R|, eta = min(0.1, max(r, 0.5 tol / r)) (no
+      // tighter than the step needs to reach the tolerance; never below fem.tolerance).
+      const double eta = std::max(options_.tolerance,
+                                  std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
+      Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
+      bicg.setTolerance(eta);
+      bicg.setMaxIterations(options_.max_iterations);
+      bicg.compute(J);
+      const Eigen::VectorXd d = bicg.solve(-R);
+      linear_iterations += bicg.iterations();
+      if (bicg.info() == Eigen::Success && d.allFinite()) {
+        // Backtracking: the first of alpha = 1, 1/2, ... 1/32 with r(psi + alpha d) < (1 - 1e-4 alpha) r.
+        Eigen::VectorXd mu_t, R_t;
+        SparseMatrix K_t;
+        for (double alpha = 1.0; alpha > 1.0 / 33; alpha *= 0.5) {
+          const Eigen::VectorXd psi_t = psi_ + alpha * d;
+          const double r_t = evaluate(psi_t, mu_t, K_t, R_t);
+          if (r_t < (1 - 1e-4 * alpha) * r) {
+            psi_ = psi_t;
+            mu_r_cell_.swap(mu_t);
+            K_.swap(K_t);
+            R.swap(R_t);
+            r = r_t;
+            newton_done = true;
+            ++stats_.newton_steps;
+            break;
+          }
+        }
       }
     }
-    solve();
-    cg_iterations += stats_.iterations;
-    stats_.nonlinear_iterations = k + 1;
-    mu_r_cell_ = nonlinear_mu_r();
+    if (!newton_done) {
+      fixed_point_step();  // K_ holds K(mu(psi)): the secant step
+      r = evaluate(psi_, mu_r_cell_, K_, R);
+    }
   }
   SparseMatrix().swap(K_);
-  stats_.iterations = cg_iterations;
+  stats_.iterations = linear_iterations;
+  stats_.residual = linear_residual;
 }
 
 // 5. Solution object (recovered gradient) and point locator; B at cell centroids on demand (B_cell()).

@@ -56,10 +56,15 @@ struct SolverOptions {
   // onto the whole mesh. Same discrete solution as the whole symmetric mesh
   // (to the CG tolerance) with 1/4 of the unknowns. false: solve the whole mesh.
   bool quadrant = true;
-  // Parts with a B-H curve: fixed-point (secant permeability, Picard) iterations
-  // until |f - K(mu(psi)) psi| / |f| < nonlinear_tolerance.
+  // Parts with a B-H curve (nonlinear.hpp): iterate until |f - K(mu(psi)) psi| / |f| <
+  // nonlinear_tolerance. newton = true: one fixed-point step from the curves' initial
+  // permeability, then Newton steps with the exact Jacobian (BiCGSTAB, forcing term
+  // min(0.1, max(r, 0.5 tol / r)), backtracking on the residual; a fixed-point step when
+  // the backtracking fails). newton = false: fixed-point (secant permeability, Picard)
+  // iterations only (fem.nonlinear_method).
   double nonlinear_tolerance = 1e-6;
   int nonlinear_max_iterations = 300;
+  bool newton = true;
 
   // The linear solver's part (solver resolved by the MagnetostaticSolver's constructor).
   LinearSolveSettings linear() const { return {solver, preconditioner, tolerance, max_iterations, progress_every}; }
@@ -73,7 +78,8 @@ struct SolveStats {
   int order = 0, threads = 0;
   long iterations = 0;  // CG iterations, summed over the solves
   double residual = 0;  // relative residual reported by CG
-  int nonlinear_iterations = 0;              // Picard iterations (0: linear problem)
+  int nonlinear_iterations = 0;              // nonlinear iterations, fixed-point and Newton (0: linear problem)
+  int newton_steps = 0;                      // of which Newton steps
   std::vector<double> nonlinear_residuals;   // |f - K(mu(psi_k)) psi_k| / |f| after each iteration
   double t_mesh_s = 0, t_setup_s = 0, t_assemble_s = 0, t_solve_s = 0, t_post_s = 0, t_total_s = 0;
 };
@@ -107,8 +113,6 @@ class MagnetostaticSolver {
   void solve();
   void compute_cell_fields();
   void solve_nonlinear();
-  // Secant relative permeability B(H)/(mu0 H) per cell of the B-H parts from psi_ (total potential there).
-  Eigen::VectorXd nonlinear_mu_r() const;
   PotentialLoad potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
                                const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const;
 
