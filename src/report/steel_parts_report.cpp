@@ -132,8 +132,10 @@ void write_steel_parts_report(StudyOutput& out, const SteelPartsResult& r) {
     }
   }
   md << "\nEvery case of every array and offset: `steel_parts.csv`; the solves: `solves.csv`; plots `profile.png`, "
-        "`harmonics.png`. Under the ideal mount every harmonic is a mesh artefact (the coaxial parts keep the "
-        "magnet's symmetry): its size is the discretization's, not the part's.\n";
+        "`harmonics.png`. Under the ideal mount a linear coaxial part keeps the magnet's symmetry: its harmonics are "
+        "the mesh's (zero to the solver tolerance below the mesh's symmetry order). A saturating part does not keep "
+        "the field's pure cos(phi) form: its permeability follows |H|, which varies around the part, and the field "
+        "gains higher azimuthal terms (ideal-mount c4 of the saturating cup).\n";
   out.write_text("summary.md", md.str());
 }
 
