@@ -98,10 +98,10 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
   r.arrays = cfg.strings("study.arrays");
   r.offset_mm = cfg.real("steel_parts.offset_mm");
   r.linear_material = cfg.str("steel_parts.linear_material");
-  r.linear_mu_r = part_material_mu_r(r.linear_material, "steel_parts.linear_material");
   if (r.linear_material.rfind("bh:", 0) == 0)
     throw InputError("steel_parts.linear_material = " + r.linear_material +
                      " is out of range: allowed mu_r:VALUE or a named material (the B-H curve is steel_parts.bh_file)");
+  r.linear_mu_r = part_material_mu_r(r.linear_material, "steel_parts.linear_material");
   const bool nonlinear = cfg.flag("steel_parts.nonlinear");
   std::shared_ptr<const BhCurve> bh;
   if (nonlinear) {
