@@ -19,8 +19,26 @@ class CircleFieldModel {
   // polynomial degree 2..4. Stencil: 5 x 5 x 5 points spanning +-reach.
   // full_vector: also fit Bx and By (needed for tilted mounts: the probes
   // then read n.B; the field must give the full vector).
+  //
+  // How the node models are built (`how`):
+  //  axis_aligned: every node's stencil along the magnet frame's axes, one fit per node (N x 125
+  //    field evaluations); any source.
+  //  rotated: every node's stencil turned with the node (node j's = node 0's rotated by 2 pi j/N about
+  //    z), one fit per node; the reference that `symmetry` must equal.
+  //  symmetry: a source with FieldSource::axisymmetric_parts() only: node 0's stencil is sampled once
+  //    per magnetization axis the field needs (2, or 3 with an axial part: 250 or 375 evaluations in
+  //    all) and every node follows from B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B linear in M. Equal
+  //    to `rotated` up to round-off (the least-squares fit is linear and commutes with the rotation).
+  //  automatic: symmetry when the source declares it, else axis_aligned.
+  // Every node's coefficients are in the magnet frame's displacement (a turned stencil's fit is
+  // re-expanded: a rotated polynomial of degree <= order is again one).
+  enum class Construction { automatic, axis_aligned, rotated, symmetry };
   CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes, double reach_xy_mm,
-                   double reach_z_mm, int order = 4, bool full_vector = false);
+                   double reach_z_mm, int order = 4, bool full_vector = false,
+                   Construction how = Construction::automatic);
+  Construction construction() const { return construction_; }
+  // Field evaluations the construction took (points; a full-vector point counts once).
+  long field_evaluations() const { return field_evaluations_; }
 
   int nodes() const { return nodes_; }
   int terms() const { return static_cast<int>(exps_.size()); }
@@ -49,6 +67,7 @@ class CircleFieldModel {
 
  private:
   int nodes_ = 0;
+  int order_ = 4;
   double r0_mm_ = 0, plane_z_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
   std::vector<std::array<int, 3>> exps_;  // exponents (a, b, c) of u_x^a u_y^b u_z^c
   Eigen::MatrixXd coef_;                  // terms x nodes: fit coefficients of Bz per node (T)
@@ -56,6 +75,8 @@ class CircleFieldModel {
   Eigen::VectorXd center_T_;              // exact Bz at the nodes (T)
   double amplitude_T_ = 0;
   double fit_residual_T_ = 0;
+  Construction construction_ = Construction::axis_aligned;
+  long field_evaluations_ = 0;
 };
 
 }  // namespace magenc

@@ -88,13 +88,14 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   for (int m = 0; m < N; ++m) {
-    const double theta = 2.0 * kPi * m / N;
-    const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, theta);
+    // cos, sin of theta_m from the table (the same values std::cos(2 pi m/N) gives: no trig per probe).
+    const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
+    const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, ct, st);
     for (std::size_t i = 0; i < angle_index_.size(); ++i) {
       int j = angle_index_[i] - m;
       if (j < 0) j += N;
       // Displacement from node j (nominal position of this probe at theta, magnet frame).
-      const Eigen::Vector3d q = K.point_to_magnet(fixed[i], theta);
+      const Eigen::Vector3d q = K.point_to_magnet(fixed[i], ct, st);
       model_.monomials(q.x() - r0 * cos_theta_[std::size_t(j)], q.y() - r0 * sin_theta_[std::size_t(j)], q.z() - zs, u.data());
       model_.B_T(j, u.data(), B);
       if (axial_) {

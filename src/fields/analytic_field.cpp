@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
@@ -42,6 +43,18 @@ AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&n
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
   br_inside_T_ = magnet_.remanence_T();
+}
+
+std::optional<FieldSource::AxisymmetricParts> AnalyticField::axisymmetric_parts() const {
+  AxisymmetricParts parts;
+  parts.m = magnet_.remanence_T() / magnet_.br_T;
+  for (int k = 0; k < 3; ++k) {
+    Magnet mk = magnet_;
+    mk.magnetization_deg = k == 1 ? 90.0 : 0.0;
+    mk.magnetization_elevation_deg = k == 2 ? 90.0 : 0.0;
+    parts.along_axis[static_cast<std::size_t>(k)] = std::make_shared<AnalyticField>(mk);
+  }
+  return parts;
 }
 
 bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
