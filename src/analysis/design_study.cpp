@@ -17,7 +17,6 @@ namespace magenc {
 
 namespace {
 constexpr std::uint64_t kDriftStream = 0x9E3779B97F4A7C15ULL;
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<std::string> material_names() {
   std::vector<std::string> n;
@@ -25,7 +24,6 @@ std::vector<std::string> material_names() {
   return n;
 }
 
-std::string num(double v) { return fmt_sig(v, 6); }
 }  // namespace
 
 std::vector<KeySpec> DesignOptions::keys() {
