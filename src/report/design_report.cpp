@@ -210,7 +210,7 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
   const auto& G = o.space.gap_mm;
   HeatmapSpec h;
   h.title = "smallest p99 [deg] over material, height and r0: " + plot_literal(o.space.sensors[s].name) +
-            " (blank: field outside the window)";
+            " (field out: no design there keeps the field in the window)";
   h.xlabel = "magnet radius [mm]";
   h.ylabel = "gap [mm]";
   h.cblabel = "p99 [deg]";
@@ -227,7 +227,8 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
       const double v = r.results[i].p99_req_deg(o.req);
       if (std::isnan(row[ri]) || v < row[ri]) row[ri] = v;
     }
-    for (std::size_t k = 0; k < R.size(); ++k) text[k] = std::isnan(row[k]) ? "" : g3(row[k]);
+    // Blank cells: every design there leaves the window ("field out").
+    for (std::size_t k = 0; k < R.size(); ++k) text[k] = std::isnan(row[k]) ? "field out" : g3(row[k]);
     h.values.push_back(row);
     h.cell_text.push_back(text);
   }
