@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "analysis/design_study.hpp"
+#include "analysis/calibration_study.hpp"
 #include "analysis/radius_scan.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
@@ -243,4 +244,42 @@ TEST_CASE("design: bad input is refused with one line naming the key", "[analysi
   // The defaults are a valid design space.
   Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
   CHECK_NOTHROW(DesignOptions::from_config(cfg));
+}
+
+TEST_CASE("design: calibrated p99 agrees with the calibration study's direct pipeline", "[analysis][cross-check]") {
+  // The calibration study (direct pipeline, its own drift draws) and the design study (fast pipeline) on the
+  // same magnet, box, factory samples and drift box: the p99 agree within the Monte Carlo error of 400 samples
+  // whose drifts differ (p99 = 4th largest of 400: about +-15 %).
+  const long n = 400;
+  CalibrationStudyOptions co;
+  co.sensors = {"diff4"};
+  co.methods = {"harmonics:8"};
+  co.box = ToleranceBox{};
+  co.box.dx_mm = co.box.dy_mm = 0.05;
+  co.samples = n;
+  co.seed = 3;
+  co.scales = {1};
+  co.drift = {{"mount.sx_mm", 0.02}, {"mount.sy_mm", 0.02}, {"mount.dx_mm", 0.02}, {"mount.dy_mm", 0.02},
+              {"mount.dz_mm", 0.05}};
+  const Config cfg(merge_schemas(common_keys(), CalibrationStudyOptions::keys()));
+  const CalibrationStudyResult cr = run_calibration_study(AnalyticField(Magnet{}), cfg, co);
+  REQUIRE(cr.sensors.size() == 1);
+  const auto& cs = cr.sensors[0];
+  const double uncal = cs.uncal_p99[static_cast<Eigen::Index>(cs.scale1)];
+  const double cal = cs.p99(static_cast<Eigen::Index>(cs.scale1), 0);
+
+  DesignOptions o;
+  o.space.sensors = {ProbeArray::parse("diff4")};
+  o.box = co.box;
+  o.samples = n;
+  o.seed = co.seed;
+  o.seed_per_design = false;
+  o.drift_inplane_mm = 0.02;
+  o.drift_dz_mm = 0.05;
+  o.req.calibration = CalibrationMethod::parse("harmonics:8");
+  const DesignResult d = evaluate_designs(o, 0, 1)[0];
+  CAPTURE(uncal, cal, d.p99_uncal_deg, d.p99_cal_deg);
+  CHECK(d.p99_uncal_deg == Approx(uncal).epsilon(0.15));
+  CHECK(d.p99_cal_deg == Approx(cal).epsilon(0.15));
+  CHECK(d.p99_cal_deg < 0.5 * d.p99_uncal_deg);
 }
