@@ -209,8 +209,7 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
   const auto& R = o.space.magnet_radius_mm;
   const auto& G = o.space.gap_mm;
   HeatmapSpec h;
-  h.title = "smallest p99 [deg] over material, height and r0: " + plot_literal(o.space.sensors[s].name) +
-            " (field out: no design there keeps the field in the window)";
+  h.title = plot_literal(o.space.sensors[s].name) + ": smallest p99 [deg] over material, height, r0 (out: field leaves the window)";
   h.xlabel = "magnet radius [mm]";
   h.ylabel = "gap [mm]";
   h.cblabel = "p99 [deg]";
@@ -218,17 +217,18 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t gi = G.size(); gi-- > 0;) {  // largest gap on top
     h.row_labels.push_back(g3(G[gi]));
-    std::vector<double> row(R.size(), nan);
+    std::vector<double> row(R.size(), nan), out_row(R.size(), nan);  // in the window; outside it
     std::vector<std::string> text(R.size());
     for (std::size_t i = 0; i < r.designs.size(); ++i) {
       const Design& d = r.designs[i];
-      if (d.sensor != s || d.gap_mm != G[gi] || !r.results[i].field_ok()) continue;
+      if (d.sensor != s || d.gap_mm != G[gi]) continue;
       const auto ri = static_cast<std::size_t>(std::find(R.begin(), R.end(), d.magnet_radius_mm) - R.begin());
       const double v = r.results[i].p99_req_deg(o.req);
-      if (std::isnan(row[ri]) || v < row[ri]) row[ri] = v;
+      std::vector<double>& target = r.results[i].field_ok() ? row : out_row;
+      if (std::isnan(target[ri]) || v < target[ri]) target[ri] = v;
     }
-    // Blank cells: every design there leaves the window ("field out").
-    for (std::size_t k = 0; k < R.size(); ++k) text[k] = std::isnan(row[k]) ? "field out" : g3(row[k]);
+    // Blank cells: every design there leaves the window; the text gives their smallest p99.
+    for (std::size_t k = 0; k < R.size(); ++k) text[k] = std::isnan(row[k]) ? "out (" + g3(out_row[k]) + ")" : g3(row[k]);
     h.values.push_back(row);
     h.cell_text.push_back(text);
   }
