@@ -92,9 +92,10 @@ void run(const Config& cfg, StudyOutput& out) {
   std::cout << "design: " << design_verdict(opt, r) << "\n";
 }
 
-// Ranks > 0: the same command line and configuration, their block of designs, no output folder.
+// Ranks > 0: the same command line and configuration, their block of designs, no output folder. Their
+// input errors are rank 0's (the same configuration): rank 0 reports them, these ranks exit alike, silently.
 int worker(int argc, char** argv) {
-  return run_main("design", [&]() -> int {
+  try {
     const auto schema = merge_schemas(common_keys(), DesignOptions::keys());
     CLI::App app{kDescription, "design"};
     CommonOptions opts;
@@ -103,7 +104,12 @@ int worker(int argc, char** argv) {
     const Config cfg = load_config(schema, opts);
     evaluate_all(DesignOptions::from_config(cfg));
     return 0;
-  });
+  } catch (const InputError&) {
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "design: rank " << g_rank << ": " << e.what() << "\n";
+    return 3;
+  }
 }
 
 }  // namespace

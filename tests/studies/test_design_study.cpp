@@ -85,6 +85,18 @@ TEST_CASE("design study: mpirun -n 2 writes the tables of one process byte for b
     CHECK(text_of(one / f) == a);
     CHECK(text_of(two / f) == a);
   }
+  // Bad input under mpirun: rank 0 names it once, the other ranks exit alike, no output folder.
+  const fs::path bad = temp_out("design_mpi_bad");
+  const std::string cmd = mpirun + "-n 2 " + MAGENC_BIN_DIR + "/design --out '" + bad.string() + "' " + kTiny +
+                          " --set 'design.gap_mm=[]' > '" + bad.string() + ".log' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  CHECK((WIFEXITED(rc) && WEXITSTATUS(rc) != 0));
+  const std::string log = text_of(bad.string() + ".log");
+  std::size_t mentions = 0;
+  for (std::size_t p = log.find("design.gap_mm"); p != std::string::npos; p = log.find("design.gap_mm", p + 1)) ++mentions;
+  CHECK(mentions == 1);
+  CHECK_FALSE(fs::exists(bad));
+  fs::remove(bad.string() + ".log");
   // The summary names the rank count.
   CHECK(text_of(two / "summary.md").find("on 2 MPI ranks") != std::string::npos);
   for (const auto& p : {one, two, plain}) {
