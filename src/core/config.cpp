@@ -419,12 +419,10 @@ std::string settings_toml(const ConfigTables& t) {
 }
 
 // Parse textual value per spec type (for defaults and --set).
-ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
-  std::string t = trim(raw);
-  auto fail = [&]() -> ConfigValue {
-    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
-                     allowed_range(s));
-  };
+ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin);
+
+// A Settings or TableList value: a TOML inline table / array of tables (empty: none).
+ConfigValue parse_tables_text(const KeySpec& s, const std::string& raw, const std::string& t, const std::string& origin) {
   if (s.type == KeySpec::Type::Settings) {
     if (t.empty()) return ConfigTables{ConfigTable{}};
     const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
@@ -434,50 +432,65 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     if (!value) throw InputError(origin + ": " + s.key + " is not a TOML inline table: allowed " + allowed_range(s));
     return settings_tables(s, *value, origin + ": ");
   }
-  if (s.type == KeySpec::Type::TableList) {
-    if (t.empty()) return ConfigTables{};
-    if (t.front() == '[') {
-      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
-        return origin + ": " + s.key + " is not a TOML array of tables (" + why + "): allowed " + allowed_range(s);
-      });
-      const toml::node* value = tbl.get("value");
-      if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
-      return toml_tables(s, *value, origin + ": ");
-    }
-    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
-                     allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");
+  // TableList
+  if (t.empty()) return ConfigTables{};
+  if (t.front() == '[') {
+    const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+      return origin + ": " + s.key + " is not a TOML array of tables (" + why + "): allowed " + allowed_range(s);
+    });
+    const toml::node* value = tbl.get("value");
+    if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
+    return toml_tables(s, *value, origin + ": ");
   }
-  if (is_list(s.type)) {
-    ConfigList elements;
-    if (!t.empty() && t.front() == '[') {
-      // A TOML array, as in a file: --set 'key=[1, 2]'.
-      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
-        return origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" + why + "): allowed " + allowed_range(s);
-      });
-      const toml::array* a = tbl["value"].as_array();
-      if (!a) return fail();
-      return toml_list(s, *a, origin);
-    }
-    // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
-    KeySpec e = s;
-    e.type = element_type(s.type);
-    std::vector<std::string> parts;
-    if (!t.empty()) {
-      std::stringstream ss(t);
-      for (std::string part; std::getline(ss, part, ',');) parts.push_back(part);
-      if (t.back() == ',') parts.push_back("");
-    }
-    for (std::size_t i = 0; i < parts.size(); ++i) {
-      try {
-        elements.push_back(as_scalar(parse_text(e, parts[i], origin)));
-      } catch (const InputError&) {
-        throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
-                         std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
-                         allowed_range(s));
-      }
-    }
-    return elements;
+  throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
+                   allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");
+}
+
+// A list value: a TOML array, or comma-separated text with each element parsed as a scalar.
+ConfigValue parse_list_text(const KeySpec& s, const std::string& raw, const std::string& t, const std::string& origin) {
+  auto fail = [&]() -> ConfigValue {
+    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
+                     allowed_range(s));
+  };
+  ConfigList elements;
+  if (!t.empty() && t.front() == '[') {
+    // A TOML array, as in a file: --set 'key=[1, 2]'.
+    const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+      return origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" + why + "): allowed " + allowed_range(s);
+    });
+    const toml::array* a = tbl["value"].as_array();
+    if (!a) return fail();
+    return toml_list(s, *a, origin);
   }
+  // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
+  KeySpec e = s;
+  e.type = element_type(s.type);
+  std::vector<std::string> parts;
+  if (!t.empty()) {
+    std::stringstream ss(t);
+    for (std::string part; std::getline(ss, part, ',');) parts.push_back(part);
+    if (t.back() == ',') parts.push_back("");
+  }
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    try {
+      elements.push_back(as_scalar(parse_text(e, parts[i], origin)));
+    } catch (const InputError&) {
+      throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
+                       std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
+                       allowed_range(s));
+    }
+  }
+  return elements;
+}
+
+ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
+  std::string t = trim(raw);
+  auto fail = [&]() -> ConfigValue {
+    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
+                     allowed_range(s));
+  };
+  if (s.type == KeySpec::Type::Settings || s.type == KeySpec::Type::TableList) return parse_tables_text(s, raw, t, origin);
+  if (is_list(s.type)) return parse_list_text(s, raw, t, origin);
   switch (s.type) {
     case KeySpec::Type::Real: {
       if (t.empty()) return fail();
