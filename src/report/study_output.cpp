@@ -15,6 +15,7 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "magenc_version.hpp"
+#include "probe/common_keys.hpp"
 
 namespace fs = std::filesystem;
 
