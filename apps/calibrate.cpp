@@ -21,6 +21,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "fields/field_factory.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 
 namespace {

@@ -31,6 +31,7 @@
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "probe/mounting.hpp"
 #include "probe/spectrum.hpp"
 #include "io/points_csv.hpp"
