@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 
 namespace magenc::fem {
 
