@@ -13,21 +13,19 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
-#include "analysis/calibration.hpp"
+#include "analysis/calibrate_run.hpp"
 #include "analysis/calibration_file.hpp"
-#include "analysis/measured_curve.hpp"
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "fields/field_factory.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 
 namespace {
 
-using magenc::InputError;
 
 struct Flags {
   std::string measured, correction, apply, method;
@@ -36,22 +34,6 @@ struct Flags {
   int error_sign = 1;
   std::string interp = "cubic";
 };
-
-std::string g10(double v) { return magenc::fmt_sig(v, 10); }
-
-// The residual summary: pp before and after, and the least-squares harmonics 1..8 of the residual.
-std::string residual_json(const std::string& source, const std::string& method, const Eigen::VectorXd& theta,
-                          const Eigen::VectorXd& eps, const Eigen::VectorXd& res) {
-  std::ostringstream os;
-  const Eigen::VectorXd h = magenc::harmonics_ls(theta, res, magenc::kHarmonics);
-  os << "{\n  \"curve\": \"" << source << "\",\n  \"method\": \"" << method << "\",\n  \"samples\": " << theta.size()
-     << ",\n  \"pp_before_deg\": " << g10(eps.maxCoeff() - eps.minCoeff())
-     << ",\n  \"pp_after_deg\": " << g10(res.maxCoeff() - res.minCoeff()) << ",\n  \"mean_after_deg\": " << g10(res.mean())
-     << ",\n  \"c_after_deg\": [";
-  for (int n = 1; n <= magenc::kHarmonics; ++n) os << (n > 1 ? ", " : "") << g10(magenc::harmonic_amplitude(h, n));
-  os << "]\n}\n";
-  return os.str();
-}
 
 int run(int argc, char** argv) {
   CLI::App app{"calibrate: the factory correction as a firmware table, and the residual after a change (docs/interfaces.md)"};
@@ -70,23 +52,17 @@ int run(int argc, char** argv) {
   app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   magenc::parse_cli(app, argc, argv);
-  if (!f.measured.empty() && !f.correction.empty())
-    throw InputError("--measured and --correction both give the correction: allowed one of the two");
-  if (f.error_sign != 1 && f.error_sign != -1) throw InputError("--error-sign " + std::to_string(f.error_sign) + ": allowed +1 or -1");
+  const magenc::CalibrateRequest req{f.measured, f.correction, f.apply, f.error_sign};
 
   // 1. Configuration.
   magenc::Config cfg = magenc::load_config(schema, common);
   if (f.array) cfg.set("sensor.array=" + *f.array);
   if (f.r0) cfg.set("sensor.r0_mm=" + *f.r0);
   if (!f.method.empty()) cfg.set("calibration.method=" + f.method);
-  const magenc::CalibrationMethod method = magenc::calibration_method(cfg);
   const std::string what = f.array ? "--array" : "sensor.array";
   const magenc::ProbeSetup setup = magenc::sensor_setup_from_config(cfg, cfg.str("sensor.array"), what);
-  const int turns = magenc::electrical_turns(setup.principle);
-  magenc::CurveReadOptions ro;
-  ro.error_sign = f.error_sign;
   magenc::FieldSourcePtr field;
-  auto the_field = [&]() -> const magenc::FieldSource& {
+  const magenc::FieldGetter the_field = [&]() -> const magenc::FieldSource& {
     if (!field) {
       magenc::FieldOptions fo;
       fo.interp = magenc::parse_interp(f.interp, "--interp");
@@ -96,75 +72,25 @@ int run(int argc, char** argv) {
   };
 
   // 2. The correction.
-  magenc::Correction corr;
-  std::string source;
-  if (!f.correction.empty()) {
-    corr = magenc::read_correction_csv(f.correction);
-    source = f.correction;
-  } else {
-    if (method.none())
-      throw InputError("calibration.method = none: allowed harmonics:N, lut:K or ogp (--method), or --correction FILE");
-    if (!f.measured.empty()) {
-      const magenc::MeasuredCurve c = magenc::read_measured_curve(f.measured, ro);
-      if (method.kind == magenc::CalibrationKind::Ogp) {
-        if (c.format != "raw")
-          throw InputError("--method ogp needs the raw channels: " + f.measured + " has " + c.format +
-                           ", allowed a curve with header theta_deg,u_cos,u_sin");
-        corr = magenc::correct_channels(c.channels, turns);
-      } else {
-        corr = magenc::correct_pairs(method, c.theta_deg + c.error_deg, c.error_deg, turns);
-      }
-      source = f.measured;
-    } else {
-      corr = magenc::correction_from_config(the_field(), cfg, cfg.str("sensor.array"), what);
-      source = "simulated calibration.at";
-    }
-  }
+  const magenc::CalibrationSource cs = magenc::calibrate_correction(req, cfg, what, the_field);
+  const magenc::Correction& corr = cs.correction;
 
   // 3. The residual of another curve.
-  std::optional<std::string> res_csv, res_json;
-  if (!f.apply.empty()) {
-    Eigen::VectorXd theta, eps, res;
-    if (f.apply == "run") {
-      magenc::AngleErrorResult r = magenc::angle_error(the_field(), setup, magenc::Mount::from_config(cfg));
-      theta = r.theta_deg;
-      eps = r.eps_deg;
-      res = magenc::residual_deg(corr, r);
-    } else {
-      const magenc::MeasuredCurve c = magenc::read_measured_curve(f.apply, ro);
-      theta = c.theta_deg;
-      eps = c.error_deg;
-      if (corr.method.kind == magenc::CalibrationKind::Ogp) {
-        if (c.format != "raw")
-          throw InputError("an ogp correction applies to raw channels: " + f.apply + " has " + c.format +
-                           ", allowed a curve with header theta_deg,u_cos,u_sin");
-        res.resize(theta.size());
-        for (Eigen::Index i = 0; i < theta.size(); ++i)
-          res[i] = magenc::wrap_deg(corr.ellipse.angle_deg(c.channels(i, 0), c.channels(i, 1)) - corr.turns * theta[i]) /
-                   corr.turns;
-      } else {
-        res = magenc::residual_of_pairs(corr, theta, eps);
-      }
-    }
-    std::ostringstream os;
-    os << "theta_deg,error_deg,residual_deg\n";
-    for (Eigen::Index i = 0; i < theta.size(); ++i) os << g10(theta[i]) << "," << g10(eps[i]) << "," << g10(res[i]) << "\n";
-    res_csv = os.str();
-    res_json = residual_json(f.apply, corr.method.name(), theta, eps, res);
-  }
+  std::optional<magenc::CalibrationResidual> residual;
+  if (!f.apply.empty()) residual = magenc::calibrate_residual(req, corr, cfg, setup, the_field);
 
   // 4. Outputs, all or nothing.
   magenc::AtomicDir out(common.out.empty() ? std::string("output/calibrate") : common.out);
   magenc::write_file_atomic(out / "correction.csv", magenc::correction_csv(corr));
   magenc::write_file_atomic(out / "correction.json", magenc::correction_json(corr));
   magenc::write_file_atomic(out / "config.toml", cfg.to_toml());
-  if (res_csv) {
-    magenc::write_file_atomic(out / "residual.csv", *res_csv);
-    magenc::write_file_atomic(out / "residual.json", *res_json);
+  if (residual) {
+    magenc::write_file_atomic(out / "residual.csv", residual->csv());
+    magenc::write_file_atomic(out / "residual.json", residual->json());
   }
   out.commit();
-  std::cout << "calibrate: " << corr.method.name() << " from " << source;
-  if (res_json) std::cout << "; residual of " << f.apply << " in residual.json";
+  std::cout << "calibrate: " << corr.method.name() << " from " << cs.source;
+  if (residual) std::cout << "; residual of " << f.apply << " in residual.json";
   std::cout << "; results in " << out.final_path().string() << "\n";
   return 0;
 }

@@ -24,6 +24,7 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/omp_wait.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "report/diagnosis_report.hpp"

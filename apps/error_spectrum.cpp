@@ -40,6 +40,7 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"

@@ -20,6 +20,7 @@
 #include "fields/field_at.hpp"
 #include "fields/field_factory.hpp"
 #include "io/points_csv.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 
 namespace {

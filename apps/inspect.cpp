@@ -18,6 +18,7 @@
 #include "core/errors.hpp"
 #include "fields/magnet.hpp"
 #include "io/points_csv.hpp"
+#include "probe/common_keys.hpp"
 #include "report/inspect_report.hpp"
 
 namespace {

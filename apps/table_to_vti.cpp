@@ -21,6 +21,7 @@
 #include "core/errors.hpp"
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
+#include "probe/common_keys.hpp"
 
 namespace {
 

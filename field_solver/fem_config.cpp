@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 
 namespace magenc::fem {
 

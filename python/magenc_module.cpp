@@ -5,6 +5,7 @@
 //   spectrum(eps_deg)                                       the spectra table's coefficients
 //   diagnose(measured, field, array, r0_mm, free, ...)      diagnose's fit.json as a dict
 //   inspect(scan, free, config, **keys)                     inspect's fit.json as a dict
+//   calibrate(measured, correction, method, apply, ...)     the correction and the residual after it
 //   config_keys()                                           every key: default, allowed range, unit, help
 // Keys come as a dict {"mount.sx_mm": 0.1} and/or keyword arguments (mount_sx_mm=0.1 or
 // **{"mount.sx_mm": 0.1}), checked by the executables' schema (core/config); InputError -> ValueError
@@ -18,6 +19,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "analysis/calibrate_run.hpp"
+#include "analysis/calibration_file.hpp"
 #include "analysis/diagnosis_fit.hpp"
 #include "analysis/inspect_fit.hpp"
 #include "analysis/measured_curve.hpp"
@@ -28,6 +31,7 @@
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "probe/mounting.hpp"
 #include "probe/spectrum.hpp"
 #include "io/points_csv.hpp"
@@ -86,8 +90,9 @@ std::string key_of(const Config& cfg, const std::string& name) {
 }
 
 // The executables' configuration: defaults, then the dict, then the keyword arguments (each checked).
-Config make_config(const py::object& config, const py::kwargs& keys) {
-  Config cfg(magenc::common_keys());
+Config make_config(const py::object& config, const py::kwargs& keys,
+                   const std::vector<magenc::KeySpec>& schema = magenc::common_keys()) {
+  Config cfg(schema);
   auto apply = [&](const std::string& name, const py::handle& value) {
     cfg.set(key_of(cfg, name) + "=" + value_text(value));
   };
@@ -250,6 +255,41 @@ py::dict py_diagnose(const py::object& measured, const std::string& field, const
   return py::module_::import("json").attr("loads")(json).cast<py::dict>();
 }
 
+py::object json_dict(const std::string& json) { return py::module_::import("json").attr("loads")(json); }
+
+// The calibrate executable's steps (analysis/calibrate_run.hpp): the correction, and the residual of `apply`.
+py::dict py_calibrate(const py::object& measured, const py::object& correction, const py::object& method,
+                      const py::object& apply, const std::string& field, const py::object& array,
+                      const py::object& r0_mm, const py::object& config, int error_sign, const std::string& interp,
+                      const py::kwargs& keys) {
+  Config cfg = make_config(config, keys, magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys()));
+  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
+  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + value_text(r0_mm));
+  if (!method.is_none()) cfg.set("calibration.method=" + method.cast<std::string>());
+  const auto path = [](const py::object& o) { return o.is_none() ? std::string() : py::str(o).cast<std::string>(); };
+  const magenc::CalibrateRequest req{path(measured), path(correction), path(apply), error_sign};
+  const std::string what = array.is_none() ? "sensor.array" : "array";
+  const magenc::ProbeSetup setup = magenc::sensor_setup_from_config(cfg, cfg.str("sensor.array"), what);
+  magenc::FieldSourcePtr source;
+  const magenc::FieldGetter the_field = [&]() -> const magenc::FieldSource& {
+    if (!source) source = open_field(field, cfg, interp);
+    return *source;
+  };
+  const magenc::CalibrationSource cs = magenc::calibrate_correction(req, cfg, what, the_field);
+  py::dict out;
+  out["source"] = cs.source;
+  out["correction"] = json_dict(magenc::correction_json(cs.correction));
+  if (!req.apply.empty()) {
+    const magenc::CalibrationResidual r = magenc::calibrate_residual(req, cs.correction, cfg, setup, the_field);
+    py::dict res = json_dict(r.json());
+    res["theta_deg"] = vector_of(r.theta_deg);
+    res["error_deg"] = vector_of(r.error_deg);
+    res["residual_deg"] = vector_of(r.residual_deg);
+    out["residual"] = res;
+  }
+  return out;
+}
+
 py::dict py_inspect(const py::object& scan, const py::object& free, const py::object& config, double cond_limit,
                     const py::kwargs& keys) {
   const Config cfg = make_config(config, keys);
@@ -341,6 +381,16 @@ PYBIND11_MODULE(magenc, m) {
         "  fixed_zero, error_sign (+1 | -1), max_gap_deg, starts, seed, cond_limit: diagnose's flags.\n"
         "Returns diagnose's fit.json as a dict: parameters {name: {value, sigma, free, ...}},\n"
         "residual_rms_deg, not_identifiable, ...");
+  m.def("calibrate", &py_calibrate, py::arg("measured") = py::none(), py::arg("correction") = py::none(),
+        py::arg("method") = py::none(), py::arg("apply") = py::none(), py::arg("field") = "analytic",
+        py::arg("array") = py::none(), py::arg("r0_mm") = py::none(), py::arg("config") = py::none(),
+        py::arg("error_sign") = 1, py::arg("interp") = "cubic",
+        "The factory correction and what is left of it (the calibrate executable).\n\n"
+        "measured: a calibration curve CSV, or correction: a correction.csv written before; neither: the\n"
+        "  simulated calibration state (calibration.at keys). method: none, harmonics:N, lut:K, ogp\n"
+        "  (calibration.method). apply: a curve CSV to correct, or 'run' (the configured mount).\n"
+        "Returns {'source', 'correction': correction.json as a dict, 'residual': residual.json as a dict\n"
+        "  with the arrays theta_deg, error_deg, residual_deg (only with apply)}.");
   m.def("inspect", &py_inspect, py::arg("scan"), py::arg("free") = py::none(), py::arg("config") = py::none(),
         py::arg("cond_limit") = 1e6,
         "Fit a magnet's polarization and a sensor's pose to a 3-axis field scan (the inspect executable).\n\n"

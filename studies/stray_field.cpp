@@ -5,8 +5,6 @@
 // outputs in src/report/stray_field_report.*.
 //   stray_field [--config studies/stray_field.toml] [--set study.levels_kA_per_m=[1,4]] [--out DIR]
 #include "analysis/stray_field.hpp"
-#include "analysis/sweep.hpp"
-#include "fields/field_factory.hpp"
 #include "report/stray_field_report.hpp"
 #include "report/study_output.hpp"
 
@@ -19,11 +17,9 @@ const char* kStudy = "stray_field";
 void run(const Config& cfg, StudyOutput& out) {
   // 1. Inputs: options, the base setup, the mount, the field (all checked before any work).
   const StrayFieldOptions opt = StrayFieldOptions::from_config(cfg);
-  const ProbeSetup base = probe_setup_from_config(cfg, "two");
-  const Mount mount = Mount::from_config(cfg);
-  const FieldSourcePtr field = make_field_source(cfg.str("study.field"), cfg);
+  const StudyCase in = StudyCase::from_config(cfg);
   // 2. The computation; 3. tables, plots, summary.
-  const StrayFieldResult result = run_stray_field(*field, base, mount, opt);
+  const StrayFieldResult result = run_stray_field(*in.field, in.base, in.mount, opt);
   write_stray_field_report(result, opt, cfg, out);
 }
 

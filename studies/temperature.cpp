@@ -3,9 +3,7 @@
 // fields and temperature"). Computation in src/analysis/temperature_sweep.*, outputs in
 // src/report/temperature_report.*.
 //   temperature [--config studies/temperature.toml] [--set magnet.material=smco] [--out DIR]
-#include "analysis/sweep.hpp"
 #include "analysis/temperature_sweep.hpp"
-#include "fields/field_factory.hpp"
 #include "report/study_output.hpp"
 #include "report/temperature_report.hpp"
 
@@ -16,13 +14,11 @@ namespace {
 const char* kStudy = "temperature";
 
 void run(const Config& cfg, StudyOutput& out) {
-  // 1. Inputs (all checked before any work).
+  // 1. Inputs: options, the base setup, the mount, the field (all checked before any work).
   const TemperatureOptions opt = TemperatureOptions::from_config(cfg);
-  const ProbeSetup base = probe_setup_from_config(cfg, "two");
-  const Mount mount = Mount::from_config(cfg);
-  const FieldSourcePtr field = make_field_source(cfg.str("study.field"), cfg);
+  const StudyCase in = StudyCase::from_config(cfg);
   // 2. The sweep; 3. tables, plots, summary.
-  const TemperatureResult result = run_temperature_sweep(*field, base, mount, opt);
+  const TemperatureResult result = run_temperature_sweep(*in.field, in.base, in.mount, opt);
   write_temperature_report(result, opt, cfg, out);
 }
 

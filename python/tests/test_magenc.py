@@ -237,3 +237,42 @@ def test_fem_source_equals_the_executable_to_the_last_bit(tmp_path, run_exe):
     spec = magenc.spectrum(eps)
     for n in (1, 2, 3, 4):
         assert spec[f"c{n}_deg"] == pytest.approx(float(row[f"c{n}_deg"]), rel=1e-8, abs=1e-10)
+
+
+# ---- calibrate ----
+
+def test_calibrate_equals_the_executable(tmp_path, run_exe):
+    # the simulated calibration state at the default calibration.at, applied to a re-mounted run state
+    keys = {"mount.sx_mm": 0.05, "mount.dx_mm": 0.08, "sensor.steps": 720}
+    got = magenc.calibrate(method="harmonics:4", apply="run", config=keys)
+    sets = [a for k, v in keys.items() for a in ("--set", f"{k}={v!r}")]
+    r = run_exe("calibrate", "--method", "harmonics:4", "--apply", "run", *sets, "--out", tmp_path / "out")
+    assert r.returncode == 0, r.stderr
+    corr = json.loads((tmp_path / "out" / "correction.json").read_text())
+    res = json.loads((tmp_path / "out" / "residual.json").read_text())
+    assert got["source"] == "simulated calibration.at"
+    assert got["correction"] == corr
+    for k, v in res.items():
+        assert got["residual"][k] == v, k
+    rows = read_csv((tmp_path / "out" / "residual.csv").read_text())
+    for col in ("theta_deg", "error_deg", "residual_deg"):
+        np.testing.assert_allclose(got["residual"][col], [float(row[col]) for row in rows], rtol=1e-9, atol=1e-12)
+    # the correction removes what it was fitted to: at the calibration state itself the residual is small
+    own = magenc.calibrate(method="harmonics:8", apply="run",
+                           config={"mount.sx_mm": 0.1, "mount.dx_mm": 0.1, "sensor.steps": 720})
+    assert own["residual"]["pp_after_deg"] < 1e-2 * own["residual"]["pp_before_deg"]
+
+
+def test_calibrate_from_a_measured_curve_and_bad_input(tmp_path):
+    theta, eps = magenc.angle_error(config={"mount.sx_mm": 0.1, "sensor.steps": 360})
+    curve = tmp_path / "curve.csv"
+    curve.write_text("theta_deg,error_deg\n" + "".join(f"{t:.17g},{e:.17g}\n" for t, e in zip(theta, eps)))
+    got = magenc.calibrate(measured=curve, method="lut:64", apply=curve)
+    assert got["source"] == str(curve)
+    assert got["residual"]["pp_after_deg"] < 0.05 * got["residual"]["pp_before_deg"]
+    with pytest.raises(ValueError, match="both give the correction"):
+        magenc.calibrate(measured=curve, correction=curve)
+    with pytest.raises(ValueError, match="method = none"):
+        magenc.calibrate(measured=curve)
+    with pytest.raises(ValueError, match="ogp needs the raw channels"):
+        magenc.calibrate(measured=curve, method="ogp")

@@ -79,7 +79,17 @@ std::string correction_json(const Correction& c) {
   return os.str();
 }
 
-Correction parse_correction_csv(const std::string& text, const std::string& origin) {
+namespace {
+
+// The rows of a correction table, checked one by one (header, cell count, index, numbers, each quantity
+// and index once); which constants a method needs is checked by the caller.
+struct CorrectionRows {
+  std::string method_text;
+  long method_line = 0;
+  long turns = 0;
+  std::map<std::string, std::map<long, double>> values;  // quantity -> index -> value
+};
+CorrectionRows read_correction_rows(const std::string& text, const std::string& origin) {
   const std::string allowed_q = "method, turns, lut_deg, a_deg, b_deg, offset_cos, offset_sin, gain_ratio, phase_deg";
   TextTableReader reader(text, "correction " + origin);
   TextRow row;
@@ -87,10 +97,11 @@ Correction parse_correction_csv(const std::string& text, const std::string& orig
   if (row.cells != std::vector<std::string>{"quantity", "index", "value"})
     throw InputError("correction " + origin + " line " + std::to_string(row.line) +
                      ": header is not quantity,index,value: allowed quantity,index,value");
-  std::string method_text;
-  long turns = 0;
-  std::map<std::string, std::map<long, double>> values;
-  long method_line = 0;
+  CorrectionRows out;
+  std::string& method_text = out.method_text;
+  long& turns = out.turns;
+  auto& values = out.values;
+  long& method_line = out.method_line;
   while (reader.next(row)) {
     const std::string at = "correction " + origin + " line " + std::to_string(row.line);
     if (row.cells.size() != 3)
@@ -122,6 +133,17 @@ Correction parse_correction_csv(const std::string& text, const std::string& orig
     if (!values[q].emplace(i, v.value).second)
       throw InputError(at + ": " + q + " index " + std::to_string(i) + " is given twice: allowed once");
   }
+  return out;
+}
+
+}  // namespace
+
+Correction parse_correction_csv(const std::string& text, const std::string& origin) {
+  CorrectionRows rows = read_correction_rows(text, origin);
+  const std::string& method_text = rows.method_text;
+  const long turns = rows.turns;
+  auto& values = rows.values;
+  const long method_line = rows.method_line;
   const std::string where = "correction " + origin;
   if (method_text.empty()) throw InputError(where + " has no method row: allowed method,0,<none | harmonics:N | lut:K | ogp>");
   Correction c;

@@ -159,6 +159,12 @@ Experiment run_experiment(const FieldSource& field, const ModelState& base, cons
       for (const auto& p : r.params)
         if (p.free) cf.values.push_back({p.json_name, {p.value, p.sigma}});
       cf.not_identifiable = r.not_identifiable;
+      for (const auto& a : r.alternatives) {
+        std::string alt;
+        for (std::size_t k = 0; k < r.free.size() && k < a.values.size(); ++k)
+          alt += (alt.empty() ? "" : " ") + r.free[k] + "=" + fmt_sig(a.values[k], 4);
+        cf.alternatives.push_back(alt);
+      }
     } catch (const std::exception& e) {
       cf.residual_rms_deg = std::nan("");
       cf.not_identifiable = {std::string("fit failed: ") + e.what()};

@@ -82,6 +82,7 @@ struct CandidateFit {
   double residual_rms_deg = 0;
   std::vector<std::pair<std::string, std::pair<double, double>>> values;  // json name -> (value, sigma)
   std::vector<std::string> not_identifiable;
+  std::vector<std::string> alternatives;  // equally good minima elsewhere, "name=value ..." each (mirror images)
 };
 struct Experiment {
   std::string title;                 // the anomaly

@@ -27,6 +27,8 @@
 // sensor.steps (default 3600) and at N steps on the spectra cases, the worst
 // corner and some MC samples at a few radii, and reports the discrepancies
 // (tests bound them).
+// CircleFieldModel lives in analysis/circle_field_model.hpp, FastPipeline in
+// analysis/fast_pipeline.hpp; this header includes both.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -36,6 +38,8 @@
 
 #include <Eigen/Core>
 
+#include "analysis/circle_field_model.hpp"
+#include "analysis/fast_pipeline.hpp"
 #include "core/config.hpp"
 #include "core/defaults.hpp"
 #include "fields/field_source.hpp"
@@ -48,119 +52,6 @@
 #include "analysis/tolerance.hpp"
 
 namespace magenc {
-
-// Local polynomial models of Bz around N nodes on a circle (see above).
-class CircleFieldModel {
- public:
-  // field: the source; r0_mm: circle radius; plane_z_mm: its height (magnet
-  // frame); nodes: N; reach_xy_mm / reach_z_mm: largest in-plane / vertical
-  // displacement the model must serve (floored at 0.01 mm); order: total
-  // polynomial degree 2..4. Stencil: 5 x 5 x 5 points spanning +-reach.
-  // full_vector: also fit Bx and By (needed for tilted mounts: the probes
-  // then read n.B; the field must give the full vector).
-  CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes, double reach_xy_mm,
-                   double reach_z_mm, int order = 4, bool full_vector = false);
-
-  int nodes() const { return nodes_; }
-  int terms() const { return static_cast<int>(exps_.size()); }
-  double r0_mm() const { return r0_mm_; }
-  double plane_z_mm() const { return plane_z_mm_; }
-  bool full_vector() const { return coef_x_.size() > 0; }
-  // Model B (T, 3 components) at node j displaced by the displacement whose monomials are u (full_vector only).
-  void B_T(int node, const double* u, double* B) const {
-    const Eigen::Map<const Eigen::VectorXd> uu(u, terms());
-    B[0] = coef_x_.col(node).dot(uu);
-    B[1] = coef_y_.col(node).dot(uu);
-    B[2] = coef_.col(node).dot(uu);
-  }
-  double reach_xy_mm() const { return reach_xy_mm_; }
-  double reach_z_mm() const { return reach_z_mm_; }
-  // Monomials of a displacement (magnet frame, mm): u must hold terms() values.
-  void monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const;
-  // Model Bz (T) at node j displaced by the displacement whose monomials are u.
-  double bz_T(int node, const double* u) const { return coef_.col(node).dot(Eigen::Map<const Eigen::VectorXd>(u, terms())); }
-  // Bz sampled exactly at node j (no displacement), T.
-  double node_bz_T(int node) const { return center_T_[node]; }
-  // Amplitude of the first angular harmonic of Bz on the circle (T).
-  double amplitude_T() const { return amplitude_T_; }
-  // Largest |fit - sample| over every stencil point and node (T): a fit diagnostic.
-  double fit_residual_T() const { return fit_residual_T_; }
-
- private:
-  int nodes_ = 0;
-  double r0_mm_ = 0, plane_z_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
-  std::vector<std::array<int, 3>> exps_;  // exponents (a, b, c) of u_x^a u_y^b u_z^c
-  Eigen::MatrixXd coef_;                  // terms x nodes: fit coefficients of Bz per node (T)
-  Eigen::MatrixXd coef_x_, coef_y_;       // the same for Bx, By (empty unless full_vector)
-  Eigen::VectorXd center_T_;              // exact Bz at the nodes (T)
-  double amplitude_T_ = 0;
-  double fit_residual_T_ = 0;
-};
-
-// The fast pipeline on a CircleFieldModel for several arrays at once.
-class FastPipeline {
- public:
-  // Throws InputError when a probe angle is not a multiple of 360/N degrees
-  // (then choose radius.fast_steps as a multiple of the array's N).
-  // magnet_height_mm: L, the pivot height of a magnet tilt (tilted mounts only).
-  // Magnetization elevation: without `axial`, `model` is the field itself and
-  // every case's elevation deviation must be 0 (InputError otherwise). With
-  // `axial`, `model` is the field of the diametric magnetization alone
-  // (elevation 0) and `axial` that of the axial magnetization alone (|M| = M0
-  // along z; same nodes, stencil and order): the field of a case is
-  // cos(al) model + sin(al) axial, al = elevation_deg + the case's deviation
-  // (exact: B is linear in M).
-  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
-               const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
-  std::size_t arrays() const { return arrays_.size(); }
-  int steps() const { return model_.nodes(); }
-  // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
-  // (ideal signal chain, the nominal elevation).
-  // A tilted mount (sensor or magnet tilt) needs a full_vector model
-  // (InputError otherwise): each probe's position and normal then come from
-  // MountKinematics and it reads n.B of the model at its own displacement.
-  void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
-  // The same for a whole tolerance case: the case's signal chain is applied to
-  // the channels before atan2 (SignalChain::Applied, as in angle_error.hpp), and
-  // its elevation deviation needs the axial model. An ideal chain and a zero
-  // deviation give exactly eps(c.mount). The case's environment (a temperature, a homogeneous stray
-  // field: ToleranceBox) scales the readings by Br(T)/Br, adds n.B_stray to each probe's reading and
-  // drifts the offsets and the air gap, as angle_error() does; a neutral one changes nothing.
-  void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const;
-  // Peak-to-peak of eps of every array (pp_deg has arrays() values).
-  void pp(const Mount& m, double* pp_deg) const;
-  void pp(const ToleranceCase& c, double* pp_deg) const;
-  // pp and the field-window magnitude of every array (docs/physics.md "Sensor principles", bz): the
-  // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
-  void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
-
- private:
-  const CircleFieldModel& model_;
-  std::vector<ProbeArray> arrays_;
-  std::vector<int> angle_index_;                // distinct probe angles as node indices
-  std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
-  std::vector<double> cos_theta_, sin_theta_;   // theta grid
-  double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
-  const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
-  double elevation_deg_ = 0;                    // nominal elevation (with axial_)
-  // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
-  struct EnvReadings {
-    double br_scale = 1;
-    std::vector<double> stray_T;
-  };
-  // The case's environment at its mount (nullopt-like: empty when neutral).
-  bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
-  // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
-  // env (optional): the environment's part of the readings (probe/environment.hpp).
-  void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                 std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                 const EnvReadings* env = nullptr) const;
-  void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
-                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                  const EnvReadings* env = nullptr) const;
-  void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                 std::vector<Eigen::VectorXd>& eps_deg) const;
-};
 
 // Settings of the scan ([radius] keys; [noise] for the noise model).
 struct RadiusScanOptions {

@@ -419,12 +419,10 @@ std::string settings_toml(const ConfigTables& t) {
 }
 
 // Parse textual value per spec type (for defaults and --set).
-ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
-  std::string t = trim(raw);
-  auto fail = [&]() -> ConfigValue {
-    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
-                     allowed_range(s));
-  };
+ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin);
+
+// A Settings or TableList value: a TOML inline table / array of tables (empty: none).
+ConfigValue parse_tables_text(const KeySpec& s, const std::string& raw, const std::string& t, const std::string& origin) {
   if (s.type == KeySpec::Type::Settings) {
     if (t.empty()) return ConfigTables{ConfigTable{}};
     const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
@@ -434,50 +432,65 @@ ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::stri
     if (!value) throw InputError(origin + ": " + s.key + " is not a TOML inline table: allowed " + allowed_range(s));
     return settings_tables(s, *value, origin + ": ");
   }
-  if (s.type == KeySpec::Type::TableList) {
-    if (t.empty()) return ConfigTables{};
-    if (t.front() == '[') {
-      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
-        return origin + ": " + s.key + " is not a TOML array of tables (" + why + "): allowed " + allowed_range(s);
-      });
-      const toml::node* value = tbl.get("value");
-      if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
-      return toml_tables(s, *value, origin + ": ");
-    }
-    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
-                     allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");
+  // TableList
+  if (t.empty()) return ConfigTables{};
+  if (t.front() == '[') {
+    const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+      return origin + ": " + s.key + " is not a TOML array of tables (" + why + "): allowed " + allowed_range(s);
+    });
+    const toml::node* value = tbl.get("value");
+    if (!value) throw InputError(origin + ": " + s.key + " is not a TOML array of tables: allowed " + allowed_range(s));
+    return toml_tables(s, *value, origin + ": ");
   }
-  if (is_list(s.type)) {
-    ConfigList elements;
-    if (!t.empty() && t.front() == '[') {
-      // A TOML array, as in a file: --set 'key=[1, 2]'.
-      const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
-        return origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" + why + "): allowed " + allowed_range(s);
-      });
-      const toml::array* a = tbl["value"].as_array();
-      if (!a) return fail();
-      return toml_list(s, *a, origin);
-    }
-    // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
-    KeySpec e = s;
-    e.type = element_type(s.type);
-    std::vector<std::string> parts;
-    if (!t.empty()) {
-      std::stringstream ss(t);
-      for (std::string part; std::getline(ss, part, ',');) parts.push_back(part);
-      if (t.back() == ',') parts.push_back("");
-    }
-    for (std::size_t i = 0; i < parts.size(); ++i) {
-      try {
-        elements.push_back(as_scalar(parse_text(e, parts[i], origin)));
-      } catch (const InputError&) {
-        throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
-                         std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
-                         allowed_range(s));
-      }
-    }
-    return elements;
+  throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a TOML array of tables: allowed " +
+                   allowed_range(s) + ", e.g. [{ label = \"P1\", set = { fem.order = 1 } }], empty: none");
+}
+
+// A list value: a TOML array, or comma-separated text with each element parsed as a scalar.
+ConfigValue parse_list_text(const KeySpec& s, const std::string& raw, const std::string& t, const std::string& origin) {
+  auto fail = [&]() -> ConfigValue {
+    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
+                     allowed_range(s));
+  };
+  ConfigList elements;
+  if (!t.empty() && t.front() == '[') {
+    // A TOML array, as in a file: --set 'key=[1, 2]'.
+    const toml::table tbl = parse_inline_toml(t, origin, [&](const std::string& why) {
+      return origin + ": " + s.key + " = '" + raw + "' is not a TOML array (" + why + "): allowed " + allowed_range(s);
+    });
+    const toml::array* a = tbl["value"].as_array();
+    if (!a) return fail();
+    return toml_list(s, *a, origin);
   }
+  // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
+  KeySpec e = s;
+  e.type = element_type(s.type);
+  std::vector<std::string> parts;
+  if (!t.empty()) {
+    std::stringstream ss(t);
+    for (std::string part; std::getline(ss, part, ',');) parts.push_back(part);
+    if (t.back() == ',') parts.push_back("");
+  }
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    try {
+      elements.push_back(as_scalar(parse_text(e, parts[i], origin)));
+    } catch (const InputError&) {
+      throw InputError(origin + ": " + s.key + " element " + std::to_string(i + 1) + " of " +
+                       std::to_string(parts.size()) + " = '" + trim(parts[i]) + "' is not a valid value: allowed " +
+                       allowed_range(s));
+    }
+  }
+  return elements;
+}
+
+ConfigValue parse_text(const KeySpec& s, const std::string& raw, const std::string& origin) {
+  std::string t = trim(raw);
+  auto fail = [&]() -> ConfigValue {
+    throw InputError(origin + ": " + s.key + " = '" + raw + "' is not a valid value: allowed " +
+                     allowed_range(s));
+  };
+  if (s.type == KeySpec::Type::Settings || s.type == KeySpec::Type::TableList) return parse_tables_text(s, raw, t, origin);
+  if (is_list(s.type)) return parse_list_text(s, raw, t, origin);
   switch (s.type) {
     case KeySpec::Type::Real: {
       if (t.empty()) return fail();
@@ -1005,82 +1018,6 @@ KeySpec calibration_at_key() {
   return s;
 }
 }  // namespace
-
-std::vector<KeySpec> common_keys() {
-  const double big = 1000.0;  // mm: a sanity bound on every length
-  const double inf = std::numeric_limits<double>::infinity();
-  return {
-      real_key("magnet.radius_mm", defaults::kMagnetRadius_mm, 0, big, "mm", "magnet radius R", true),
-      real_key("magnet.height_mm", defaults::kMagnetHeight_mm, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
-      real_key("magnet.br_T", defaults::kMagnetBr_T, 0, 10, "T", "remanence Br = mu0*M0", true),
-      real_key("magnet.mu_r", defaults::kMagnetMuR, 1, 1e6, "", "recoil permeability of the magnet (FEM only)"),
-      real_key("magnet.magnetization_deg", 0.0, -360, 360, "deg",
-               "direction of M in the xy plane of the magnet frame"),
-      real_key("magnet.magnetization_elevation_deg", 0.0, -90, 90, "deg",
-               "elevation of M out of the xy plane: M = M0 (cos el cos az, cos el sin az, sin el)"),
-      real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, 0, big, "mm", "sensing plane height h above the top face",
-               true),
-      real_key("sensor.r0_mm", defaults::kProbeRadius_mm, 0, big, "mm", "nominal probe radius r0", true),
-      string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3) for principle bz; point for the others"),
-      int_key("sensor.steps", 3600, 16, 10000000, "samples M of theta over one turn"),
-      real_key("sensor.offset_cos_mT", 0.0, -1000, 1000, "mT", "offset added to the cos channel (signal chain)"),
-      real_key("sensor.offset_sin_mT", 0.0, -1000, 1000, "mT", "offset added to the sin channel (signal chain)"),
-      real_key("sensor.gain_mismatch", 0.0, -1, 10, "",
-               "gain mismatch g: sin channel scaled by 1 + g (signal chain)", true),
-      real_key("sensor.phase_error_deg", 0.0, -90, 90, "deg",
-               "phase error delta of the sin channel: u_s' = (1+g)(u_s cos delta + u_c sin delta) + os", true, true),
-      // Sensing principles, field window, sensing area (docs/physics.md "Sensor principles"; probe/sensor.hpp).
-      string_key("sensor.principle", "bz", {"bz", "inplane", "xmr", "amr"},
-                 "sensing principle: bz (Hall plates on r0), inplane (3-D Hall at one spot), xmr (saturated "
-                 "GMR/TMR), amr (anisotropic MR, twice the field angle); arrays: bz two|diff4|ring:N, others point"),
-      real_key("sensor.field_min_mT", 0.0, 0, 1e6, "mT",
-               "field window: least field magnitude the chip needs (bz: each probe's peak |reading|; in-plane "
-               "principles: hypot(b1, b2)); 0 = no lower limit"),
-      real_key("sensor.field_max_mT", inf, 0, inf, "mT",
-               "field window: largest field magnitude the chip allows; inf = no upper limit", true),
-      real_key("sensor.plate_mm", 0.0, 0, 10.0, "mm",
-               "side of the square sensing area centred on each probe or spot in the die plane (0 = a point)"),
-      int_key("sensor.plate_points", 4, 1, 32,
-              "n of the n x n Gauss-Legendre rule over the sensing area (sensor.plate_mm > 0)"),
-      real_key("sensor.offset_cos_rel", 0.0, -1, 1, "",
-               "xmr/amr: offset of the cos channel as a fraction of the unit amplitude (signal chain)"),
-      real_key("sensor.offset_sin_rel", 0.0, -1, 1, "",
-               "xmr/amr: offset of the sin channel as a fraction of the unit amplitude (signal chain)"),
-      // Environment: stray fields and temperature (docs/physics.md "Environment"; probe/environment.hpp).
-      real_list_key("stray.uniform_mT", {0, 0, 0}, -1e4, 1e4, "mT",
-                    "uniform stray field [Bx, By, Bz] in the fixed frame, added at every probe (1 kA/m = 1.257 mT)",
-                    false, 3),
-      real_key("stray.wire_current_A", 0.0, -1e6, 1e6, "A",
-               "current of an infinite straight conductor (0 = none): B = 0.2 mT mm/A I (u x r)/|r|^2"),
-      real_list_key("stray.wire_point_mm", {0, 0, 0}, -1e6, 1e6, "mm",
-                    "a point [x, y, z] of the conductor, fixed frame (magnet frame at rest)", false, 3),
-      real_list_key("stray.wire_direction", {0, 1, 0}, -1e6, 1e6, "",
-                    "direction [ux, uy, uz] of the conductor (and of its current); any non-zero length", false, 3),
-      real_key("environment.temperature_C", 20.0, -273.15, 1000, "C",
-               "temperature: Br(T) = Br (1 + magnet.br_tc_per_K (T - 20)), offset and air-gap drifts from 20 C"),
-      real_key("magnet.br_tc_per_K", -0.0012, -0.01, 0.01, "1/K",
-               "reversible temperature coefficient of Br (set by magnet.material unless changed from its default)"),
-      string_key("magnet.material", "none", {"none", "ndfeb_sintered", "smco", "ferrite_hard", "ndfeb_bonded"},
-                 "magnet material of the library (docs/physics.md): sets magnet.br_tc_per_K; none = the key's value"),
-      real_key("sensor.offset_cos_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
-               "drift of the cos channel offset with temperature (bz, inplane), from 20 C"),
-      real_key("sensor.offset_sin_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
-               "drift of the sin channel offset with temperature (bz, inplane), from 20 C"),
-      real_key("mount.dz_tc_um_per_K", 0.0, -1e3, 1e3, "um/K",
-               "air-gap drift with temperature (thermal growth of shaft and housing), from 20 C; + = farther"),
-      real_key("mount.sx_mm", 0.0, -big, big, "mm", "static eccentricity x (sensor off axis)"),
-      real_key("mount.sy_mm", 0.0, -big, big, "mm", "static eccentricity y"),
-      real_key("mount.dx_mm", 0.0, -big, big, "mm", "dynamic eccentricity x (magnet off axis)"),
-      real_key("mount.dy_mm", 0.0, -big, big, "mm", "dynamic eccentricity y"),
-      real_key("mount.dz_mm", 0.0, -big, big, "mm", "air-gap offset (+ = farther from the magnet)"),
-      real_key("mount.tilt_x_deg", 0.0, -45, 45, "deg", "sensor tilt a about x (first; Rs = Ry(b) Rx(a))"),
-      real_key("mount.tilt_y_deg", 0.0, -45, 45, "deg", "sensor tilt b about y (second, fixed axes)"),
-      real_key("mount.magnet_tilt_deg", 0.0, -45, 45, "deg",
-               "magnet tilt g on the shaft, about the centre of its bottom face"),
-      real_key("mount.magnet_tilt_azimuth_deg", 0.0, -360, 360, "deg",
-               "azimuth psi (rotor frame) towards which the tilted magnet's top leans"),
-  };
-}
 
 std::vector<KeySpec> calibration_keys() {
   return {

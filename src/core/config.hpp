@@ -129,8 +129,6 @@ class Config {
 // Text of a key's allowed range, e.g. "(0, 100] mm" or "one of two, diff4, ring:N".
 std::string allowed_range(const KeySpec& s);
 
-// Keys every executable shares: [magnet], [sensor], [mount] (docs/interfaces.md).
-std::vector<KeySpec> common_keys();
 // calibration.method and calibration.at: declared only by the executables that apply a calibration
 // (error_spectrum, calibrate); everywhere else they are unknown keys, never silently ignored.
 std::vector<KeySpec> calibration_keys();

@@ -35,7 +35,9 @@ class FpTrapPause {
   FpTrapPause& operator=(const FpTrapPause&) = delete;
 
  private:
-  int saved_;  // trapped exception set (FE_* bits) to restore
+  // Trapped exception set (FE_* bits) to restore. Read only where the trap is compiled in
+  // (fp_trap.cpp); the layout stays the same in every build, so the member stays too.
+  [[maybe_unused]] int saved_;
 };
 
 }  // namespace magenc

@@ -55,6 +55,9 @@ class AnalyticField final : public FieldSource {
   Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const override;
   const Magnet& magnet() const { return magnet_; }
   const Magnet* exact_magnet() const override { return &magnet_; }
+  // The cylinder is axisymmetric and B is linear in M: m = the remanence direction, B_k = the field
+  // of this magnet magnetized along x (azimuth 0), y (azimuth 90 deg), z (elevation 90 deg).
+  std::optional<AxisymmetricParts> axisymmetric_parts() const override;
 
   // True when p_mm lies inside the magnet or on its surface (r <= R, |z| <= L/2).
   bool inside_or_on_magnet(const Vec3& p_mm) const;

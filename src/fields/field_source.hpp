@@ -2,7 +2,9 @@
 // point in the magnet frame (mm). The probe-path layers only see this.
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace magenc {
@@ -32,6 +34,17 @@ class FieldSource {
   // The magnet when this source is its exact field (the body is known: paths may be checked against it,
   // the magnetization varied), else nullptr.
   virtual const Magnet* exact_magnet() const { return nullptr; }
+
+  // Rotational symmetry about the z axis. A source whose body is axisymmetric about z and whose B is
+  // linear in the magnetization M = M0 m (the exact cylinder) returns m (unit) and the fields B_k of
+  // the same body magnetized along axis k with |M| = M0, so that B(p) = sum_k m_k B_k(p) and, for
+  // every angle a, B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M). A grid, a table, a FEM solve or the linear
+  // model is one fixed sample of a field and has no such parts: nullopt (the default).
+  struct AxisymmetricParts {
+    Vec3 m = Vec3::UnitX();
+    std::array<std::shared_ptr<const FieldSource>, 3> along_axis;  // B_x, B_y, B_z
+  };
+  virtual std::optional<AxisymmetricParts> axisymmetric_parts() const { return std::nullopt; }
 };
 
 using FieldSourcePtr = std::shared_ptr<const FieldSource>;

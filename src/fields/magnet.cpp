@@ -48,4 +48,18 @@ double sensing_plane_z_mm(const Config& cfg) {
   return 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");
 }
 
+std::vector<KeySpec> Magnet::keys() {
+  const double big = defaults::kMaxLength_mm;
+  return {
+      real_key("magnet.radius_mm", defaults::kMagnetRadius_mm, 0, big, "mm", "magnet radius R", true),
+      real_key("magnet.height_mm", defaults::kMagnetHeight_mm, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
+      real_key("magnet.br_T", defaults::kMagnetBr_T, 0, 10, "T", "remanence Br = mu0*M0", true),
+      real_key("magnet.mu_r", defaults::kMagnetMuR, 1, 1e6, "", "recoil permeability of the magnet (FEM only)"),
+      real_key("magnet.magnetization_deg", 0.0, -360, 360, "deg",
+               "direction of M in the xy plane of the magnet frame"),
+      real_key("magnet.magnetization_elevation_deg", 0.0, -90, 90, "deg",
+               "elevation of M out of the xy plane: M = M0 (cos el cos az, cos el sin az, sin el)"),
+  };
+}
+
 }  // namespace magenc

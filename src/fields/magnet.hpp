@@ -2,6 +2,7 @@
 // (docs/physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
 #pragma once
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/config.hpp"
 #include "core/defaults.hpp"
@@ -25,6 +26,8 @@ struct Magnet {
   // Throws InputError for non-positive sizes / Br, mu_r < 1, |elevation| > 90, NaN.
   void validate() const;
   static Magnet from_config(const Config& cfg);
+  // The [magnet] keys from_config reads: geometry, remanence, mu_r, magnetization direction.
+  static std::vector<KeySpec> keys();
 };
 
 // Height of the sensing plane in the magnet frame: z_s = L/2 + h.

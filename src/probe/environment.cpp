@@ -176,4 +176,36 @@ std::vector<double> stray_readings_T(const StrayField& stray, const MountKinemat
   return out;
 }
 
+std::vector<KeySpec> StrayField::keys() {
+  return {
+      // Environment: stray fields and temperature (docs/physics.md "Environment"; probe/environment.hpp).
+      real_list_key("stray.uniform_mT", {0, 0, 0}, -1e4, 1e4, "mT",
+                    "uniform stray field [Bx, By, Bz] in the fixed frame, added at every probe (1 kA/m = 1.257 mT)",
+                    false, 3),
+      real_key("stray.wire_current_A", 0.0, -1e6, 1e6, "A",
+               "current of an infinite straight conductor (0 = none): B = 0.2 mT mm/A I (u x r)/|r|^2"),
+      real_list_key("stray.wire_point_mm", {0, 0, 0}, -1e6, 1e6, "mm",
+                    "a point [x, y, z] of the conductor, fixed frame (magnet frame at rest)", false, 3),
+      real_list_key("stray.wire_direction", {0, 1, 0}, -1e6, 1e6, "",
+                    "direction [ux, uy, uz] of the conductor (and of its current); any non-zero length", false, 3),
+  };
+}
+
+std::vector<KeySpec> Environment::keys() {
+  return {
+      real_key("environment.temperature_C", 20.0, -273.15, 1000, "C",
+               "temperature: Br(T) = Br (1 + magnet.br_tc_per_K (T - 20)), offset and air-gap drifts from 20 C"),
+      real_key("magnet.br_tc_per_K", -0.0012, -0.01, 0.01, "1/K",
+               "reversible temperature coefficient of Br (set by magnet.material unless changed from its default)"),
+      string_key("magnet.material", "none", {"none", "ndfeb_sintered", "smco", "ferrite_hard", "ndfeb_bonded"},
+                 "magnet material of the library (docs/physics.md): sets magnet.br_tc_per_K; none = the key's value"),
+      real_key("sensor.offset_cos_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the cos channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("sensor.offset_sin_tc_uT_per_K", 0.0, -1e4, 1e4, "uT/K",
+               "drift of the sin channel offset with temperature (bz, inplane), from 20 C"),
+      real_key("mount.dz_tc_um_per_K", 0.0, -1e3, 1e3, "um/K",
+               "air-gap drift with temperature (thermal growth of shaft and housing), from 20 C; + = farther"),
+  };
+}
+
 }  // namespace magenc

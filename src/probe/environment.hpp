@@ -38,6 +38,8 @@ struct StrayField {
 
   // Reads stray.uniform_mT, stray.wire_current_A, stray.wire_point_mm, stray.wire_direction.
   static StrayField from_config(const Config& cfg);
+  // The [stray] keys from_config reads.
+  static std::vector<KeySpec> keys();
   bool active() const { return uniform_mT.squaredNorm() > 0 || wire_current_A != 0; }
   // Finite vectors and current, a non-zero direction (InputError naming the key).
   void validate() const;
@@ -74,6 +76,9 @@ struct Environment {
 
   // Reads the keys above; magnet.material sets br_tc_per_K unless magnet.br_tc_per_K is changed.
   static Environment from_config(const Config& cfg);
+  // The temperature keys from_config reads (environment.temperature_C and the drifts of Br, the
+  // channel offsets and the air gap); the stray field's are StrayField::keys().
+  static std::vector<KeySpec> keys();
   // Finite values, temperature in [-273.15, 1000] C, Br(T) > 0, the stray field valid; the offset
   // drifts only on principles with offsets in mT (InputError naming the key).
   void validate_for(SensorPrinciple p) const;

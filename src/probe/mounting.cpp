@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/defaults.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 
@@ -124,6 +125,23 @@ Eigen::Vector3d probe_position_mm(const Mount& m, double px_mm, double py_mm, do
 Eigen::Vector3d probe_normal(const Mount& m, double theta_rad) {
   const MountKinematics k(m, 0.0, 0.0);  // directions do not depend on the plane or the pivot
   return k.direction_to_magnet(k.n_fixed, theta_rad);
+}
+
+std::vector<KeySpec> Mount::keys() {
+  const double big = defaults::kMaxLength_mm;
+  return {
+      real_key("mount.sx_mm", 0.0, -big, big, "mm", "static eccentricity x (sensor off axis)"),
+      real_key("mount.sy_mm", 0.0, -big, big, "mm", "static eccentricity y"),
+      real_key("mount.dx_mm", 0.0, -big, big, "mm", "dynamic eccentricity x (magnet off axis)"),
+      real_key("mount.dy_mm", 0.0, -big, big, "mm", "dynamic eccentricity y"),
+      real_key("mount.dz_mm", 0.0, -big, big, "mm", "air-gap offset (+ = farther from the magnet)"),
+      real_key("mount.tilt_x_deg", 0.0, -45, 45, "deg", "sensor tilt a about x (first; Rs = Ry(b) Rx(a))"),
+      real_key("mount.tilt_y_deg", 0.0, -45, 45, "deg", "sensor tilt b about y (second, fixed axes)"),
+      real_key("mount.magnet_tilt_deg", 0.0, -45, 45, "deg",
+               "magnet tilt g on the shaft, about the centre of its bottom face"),
+      real_key("mount.magnet_tilt_azimuth_deg", 0.0, -360, 360, "deg",
+               "azimuth psi (rotor frame) towards which the tilted magnet's top leans"),
+  };
 }
 
 }  // namespace magenc

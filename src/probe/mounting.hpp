@@ -35,6 +35,8 @@ struct Mount {
 
   // Reads mount.sx_mm .. dz_mm, tilt_x_deg, tilt_y_deg, magnet_tilt_deg, magnet_tilt_azimuth_deg.
   static Mount from_config(const Config& cfg);
+  // The [mount] keys from_config reads (the air gap's temperature drift is Environment::keys()).
+  static std::vector<KeySpec> keys();
   // Finite values; |tilts| <= kMaxTilt_deg (InputError naming the key otherwise).
   void validate() const;
   // Largest in-plane distance a probe at radius r0 can reach from the magnet

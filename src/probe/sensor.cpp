@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "core/defaults.hpp"
 #include "core/errors.hpp"
 
 namespace magenc {
@@ -140,6 +141,41 @@ void check_principle_keys(const Config& cfg) {
                                  : "0 (bz/inplane offsets are in mT: sensor.offset_cos_mT, sensor.offset_sin_mT)");
   const FieldWindow window{cfg.real("sensor.field_min_mT"), cfg.real("sensor.field_max_mT")};
   window.validate();
+}
+
+std::vector<KeySpec> sensor_keys() {
+  const double big = defaults::kMaxLength_mm;
+  const double inf = std::numeric_limits<double>::infinity();
+  return {
+      real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, 0, big, "mm", "sensing plane height h above the top face",
+               true),
+      real_key("sensor.r0_mm", defaults::kProbeRadius_mm, 0, big, "mm", "nominal probe radius r0", true),
+      string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3) for principle bz; point for the others"),
+      int_key("sensor.steps", 3600, 16, 10000000, "samples M of theta over one turn"),
+      real_key("sensor.offset_cos_mT", 0.0, -1000, 1000, "mT", "offset added to the cos channel (signal chain)"),
+      real_key("sensor.offset_sin_mT", 0.0, -1000, 1000, "mT", "offset added to the sin channel (signal chain)"),
+      real_key("sensor.gain_mismatch", 0.0, -1, 10, "",
+               "gain mismatch g: sin channel scaled by 1 + g (signal chain)", true),
+      real_key("sensor.phase_error_deg", 0.0, -90, 90, "deg",
+               "phase error delta of the sin channel: u_s' = (1+g)(u_s cos delta + u_c sin delta) + os", true, true),
+      // Sensing principles, field window, sensing area (docs/physics.md "Sensor principles"; probe/sensor.hpp).
+      string_key("sensor.principle", "bz", {"bz", "inplane", "xmr", "amr"},
+                 "sensing principle: bz (Hall plates on r0), inplane (3-D Hall at one spot), xmr (saturated "
+                 "GMR/TMR), amr (anisotropic MR, twice the field angle); arrays: bz two|diff4|ring:N, others point"),
+      real_key("sensor.field_min_mT", 0.0, 0, 1e6, "mT",
+               "field window: least field magnitude the chip needs (bz: each probe's peak |reading|; in-plane "
+               "principles: hypot(b1, b2)); 0 = no lower limit"),
+      real_key("sensor.field_max_mT", inf, 0, inf, "mT",
+               "field window: largest field magnitude the chip allows; inf = no upper limit", true),
+      real_key("sensor.plate_mm", 0.0, 0, 10.0, "mm",
+               "side of the square sensing area centred on each probe or spot in the die plane (0 = a point)"),
+      int_key("sensor.plate_points", 4, 1, 32,
+              "n of the n x n Gauss-Legendre rule over the sensing area (sensor.plate_mm > 0)"),
+      real_key("sensor.offset_cos_rel", 0.0, -1, 1, "",
+               "xmr/amr: offset of the cos channel as a fraction of the unit amplitude (signal chain)"),
+      real_key("sensor.offset_sin_rel", 0.0, -1, 1, "",
+               "xmr/amr: offset of the sin channel as a fraction of the unit amplitude (signal chain)"),
+  };
 }
 
 }  // namespace magenc

@@ -74,4 +74,9 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
 // "set": the array's default two stands for point under an in-plane principle.)
 void check_principle_keys(const Config& cfg);
 
+// The [sensor] keys: sensing plane and probe radius, probe array and samples per turn (probe_array,
+// angle_error), the signal chain (signal_chain.hpp), the principle, field window and sensing area (above).
+// The temperature drifts of the offsets are Environment::keys() (probe/environment.hpp).
+std::vector<KeySpec> sensor_keys();
+
 }  // namespace magenc

@@ -10,12 +10,9 @@ namespace {
 
 std::string g6(double v) { return fmt_sig(v, 6); }
 
-}  // namespace
-
-void write_calibration_report(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const Config& cfg,
-                              StudyOutput& out) {
+// residual.csv: every sensor x scenario x method; residual_spectra.csv: mean c_n at the drift box.
+void write_tables(const CalibrationStudyResult& r, StudyOutput& out) {
   const auto nm = static_cast<Eigen::Index>(r.methods.size());
-  // 1. residual.csv: every sensor x scenario x method.
   std::ostringstream csv;
   csv << "sensor,scenario,method,p50_pp_deg,p99_pp_deg,uncalibrated_p50_pp_deg,uncalibrated_p99_pp_deg\n";
   for (const auto& s : r.sensors)
@@ -25,7 +22,6 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
             << g6(s.p50(static_cast<Eigen::Index>(k), m)) << "," << g6(s.p99(static_cast<Eigen::Index>(k), m)) << ","
             << g6(s.uncal_p50[static_cast<Eigen::Index>(k)]) << "," << g6(s.uncal_p99[static_cast<Eigen::Index>(k)]) << "\n";
   out.write_text("residual.csv", csv.str());
-  // 2. residual_spectra.csv: mean c_n at the drift box.
   std::ostringstream sp;
   sp << "sensor,method,c1_deg,c2_deg,c3_deg,c4_deg,c5_deg,c6_deg,c7_deg,c8_deg\n";
   for (const auto& s : r.sensors) {
@@ -40,18 +36,23 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
   }
   out.write_text("residual_spectra.csv", sp.str());
 
-  // 3. Plots: p99 vs drift scale per method (a line per sensor); mean residual spectra per sensor.
+}
+
+// p99_vs_drift.png: p99 vs drift scale, a panel per method, a line per sensor.
+void write_drift_plot(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, StudyOutput& out) {
+  const auto nm = static_cast<Eigen::Index>(r.methods.size());
   PlotSpec scan;
-  scan.title = "p99 of the residual pp after the factory correction vs drift box scale";
+  scan.title = "p99 of the residual pp after the factory correction vs drift box scale (1 = the configured box)";
   scan.columns = static_cast<int>(std::min<Eigen::Index>(nm, 3));
   for (Eigen::Index m = 0; m < nm; ++m) {
     PlotPanel p;
     p.title = plot_literal(r.methods[static_cast<std::size_t>(m)].name());
-    p.xlabel = "drift box scale (1 = the configured drift box)";
+    p.xlabel = "drift box scale";
     p.ylabel = "p99 residual pp [deg]";
     p.logy = true;
     p.logx = true;
-    p.commands = {"set key bottom right", "set xtics (0.25, 0.5, 1, 2)", "set xrange [0.2:2.5]"};
+    // The key under the panel: inside it covered curves (ogp's are flat, across the whole width).
+    p.commands = {"set key below horizontal nobox noopaque", "set xtics (0.25, 0.5, 1, 2)", "set xrange [0.2:2.5]"};
     for (const auto& s : r.sensors) {
       PlotSeries ser;
       ser.title = plot_literal(s.label);
@@ -67,6 +68,11 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
   scan.height_px = 500;
   write_plot(out.dir(), "p99_vs_drift", scan);
 
+}
+
+// residual_spectra.png: mean residual spectra, a panel per sensor.
+void write_spectra_plot(const CalibrationStudyResult& r, StudyOutput& out) {
+  const auto nm = static_cast<Eigen::Index>(r.methods.size());
   PlotSpec spec;
   spec.title = "mean harmonic amplitudes at the drift box: uncalibrated and after each correction";
   spec.columns = 2;
@@ -100,7 +106,11 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
   spec.height_px = 350 * static_cast<int>((r.sensors.size() + 1) / 2);
   write_plot(out.dir(), "residual_spectra", spec);
 
-  // 4. summary.md.
+}
+
+// summary.md: the residual at the drift box beside the uncalibrated p99, and the budget per drift key.
+void write_summary(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const Config& cfg, StudyOutput& out) {
+  const auto nm = static_cast<Eigen::Index>(r.methods.size());
   std::ostringstream md;
   md << "# calibration: what is left of the factory correction after a drift\n\n"
      << "Field " << r.field << "; " << opt.samples << " factory states (seed " << opt.seed << ") in the tolerance box "
@@ -150,6 +160,16 @@ void write_calibration_report(const CalibrationStudyResult& r, const Calibration
      << md_image("mean residual spectra", "residual_spectra.png") << "\n\n"
      << "Tables: residual.csv (every scenario), residual_spectra.csv. Method: docs/physics.md \"Calibration\".\n";
   out.write_text("summary.md", md.str());
+}
+
+}  // namespace
+
+void write_calibration_report(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const Config& cfg,
+                              StudyOutput& out) {
+  write_tables(r, out);
+  write_drift_plot(r, opt, out);
+  write_spectra_plot(r, out);
+  write_summary(r, opt, cfg, out);
 }
 
 }  // namespace magenc

@@ -354,14 +354,15 @@ std::string coverage_csv(const DiagnosisStudyResult& res) {
 
 std::string anomalies_csv(const DiagnosisStudyResult& res) {
   std::ostringstream acsv;
-  acsv << "anomaly,array,target,candidate,residual_rms_deg,values,not_identifiable\n";
+  acsv << "anomaly,array,target,candidate,residual_rms_deg,values,not_identifiable,equal_minima\n";
   for (const auto& [a, ex] : res.anomalies)
     for (const auto& f : ex.fits) {
-      std::string vals, unid;
+      std::string vals, unid, alts;
       for (const auto& [n, vs] : f.values) vals += (vals.empty() ? "" : " ") + n + "=" + val_sigma(vs.first, vs.second);
       for (const auto& n : f.not_identifiable) unid += (unid.empty() ? "" : " ") + n;
+      for (const auto& alt : f.alternatives) alts += (alts.empty() ? "" : "; ") + alt;
       acsv << "\"" << ex.title << "\"," << a << ",\"" << ex.target_label << "\",\"" << f.label << "\","
-           << f.residual_rms_deg << ",\"" << vals << "\",\"" << unid << "\"\n";
+           << f.residual_rms_deg << ",\"" << vals << "\",\"" << unid << "\",\"" << alts << "\"\n";
     }
   return acsv.str();
 }
@@ -425,12 +426,16 @@ std::string diagnosis_study_summary(const DiagnosisStudyResult& res) {
       md << " deg.\n\n";
       std::vector<std::vector<std::string>> t;
       for (const auto& f : ex.fits) {
-        std::string vals, unid;
+        std::string vals, unid, alts;
         for (const auto& [n, vs] : f.values) vals += (vals.empty() ? "" : "; ") + n + " " + val_sigma(vs.first, vs.second);
         for (const auto& n : f.not_identifiable) unid += (unid.empty() ? "" : ", ") + n;
-        t.push_back({f.label, fmt_auto(f.residual_rms_deg, 4), vals, unid.empty() ? "-" : unid});
+        for (const auto& alt : f.alternatives) alts += (alts.empty() ? "" : "; ") + alt;
+        t.push_back({f.label, fmt_auto(f.residual_rms_deg, 4), vals, unid.empty() ? "-" : unid, alts.empty() ? "-" : alts});
       }
-      md << md_table({"candidate", "residual RMS [deg]", "fitted values (1 sigma)", "not identifiable"}, t) << "\n";
+      md << md_table({"candidate", "residual RMS [deg]", "fitted values (1 sigma)", "not identifiable",
+                      "equally good minima elsewhere"},
+                     t)
+         << "\n";
     }
   }
   md << "## Plots\n\n" << md_image("example round-trip fit", "example_fit.png") << "\n"

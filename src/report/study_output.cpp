@@ -14,7 +14,9 @@
 
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "fields/field_factory.hpp"
 #include "magenc_version.hpp"
+#include "probe/common_keys.hpp"
 
 namespace fs = std::filesystem;
 
@@ -44,6 +46,14 @@ void StudyOutput::write_run_info(const Config& cfg, const std::string& command_l
   j["threads"] = omp_get_max_threads();
   j["config"] = nlohmann::json::parse(cfg.to_json());
   write_text("run.json", j.dump(2) + "\n");
+}
+
+StudyCase StudyCase::from_config(const Config& cfg) {
+  StudyCase c;
+  c.base = probe_setup_from_config(cfg, "two");
+  c.mount = Mount::from_config(cfg);
+  c.field = make_field_source(cfg.str("study.field"), cfg);
+  return c;
 }
 
 int run_study(const std::string& study, const std::string& description,

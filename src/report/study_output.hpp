@@ -5,6 +5,7 @@
 //                 config.toml (the values used) and run.json (version, git
 //                 revision, date, command line, wall time), then commits. A
 //                 failure anywhere leaves no output directory behind.
+//   StudyCase     the base setup, mount and field most studies start from.
 //   md_*()        small builders for summary.md (numbers: core/format.hpp and
 //                 fmt_deg below); dominant_harmonics()/harmonics_text() for
 //                 the harmonic lists of summaries.
@@ -42,6 +43,16 @@ class StudyOutput {
  private:
   std::string study_;
   std::unique_ptr<AtomicDir> dir_;
+};
+
+// The case a study of one mounting starts from: the base probe setup ([sensor] keys, array two), the
+// mount ([mount] keys) and the field source named by study.field, read in that order, so the first bad
+// key is the one reported (InputError).
+struct StudyCase {
+  ProbeSetup base;
+  Mount mount;
+  FieldSourcePtr field;
+  static StudyCase from_config(const Config& cfg);
 };
 
 // The body of a study: reads cfg, writes into out. Exceptions propagate.

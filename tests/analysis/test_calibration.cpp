@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
+#include "probe/common_keys.hpp"
 #include "support/probe_setup.hpp"
 
 using namespace magenc;

@@ -11,6 +11,7 @@
 
 #include "analysis/temperature_sweep.hpp"
 #include "fields/analytic_field.hpp"
+#include "probe/common_keys.hpp"
 #include "support/probe_setup.hpp"
 
 using namespace magenc;

@@ -11,6 +11,7 @@
 #include "analysis/sweep.hpp"
 #include "analysis/diagnosis_study.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "report/study_output.hpp"

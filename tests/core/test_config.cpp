@@ -4,6 +4,7 @@
 
 #include "core/config.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 
 using namespace magenc;
 

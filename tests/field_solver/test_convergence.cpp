@@ -9,6 +9,7 @@
 
 #include "convergence.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 
 using namespace magenc;
 

@@ -7,6 +7,7 @@
 #include "core/config.hpp"
 #include "core/errors.hpp"
 #include "fem_variant.hpp"
+#include "probe/common_keys.hpp"
 
 using namespace magenc;
 

@@ -9,6 +9,7 @@
 #include "analysis/fem_comparison.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 
 using namespace magenc;

@@ -22,6 +22,7 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "support/spectrum_compare.hpp"
 
 using namespace magenc;

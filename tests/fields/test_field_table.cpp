@@ -29,6 +29,7 @@
 #include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "support/spreadsheet_text.hpp"
 #include "support/spectrum_compare.hpp"
 #include "support/study_test_util.hpp"

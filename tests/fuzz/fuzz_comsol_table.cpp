@@ -8,6 +8,7 @@
 #include "core/errors.hpp"
 #include "fields/field_table.hpp"
 #include "fuzz_common.hpp"
+#include "probe/common_keys.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const magenc::Config cfg(magenc::common_keys());

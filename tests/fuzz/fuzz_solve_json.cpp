@@ -3,6 +3,7 @@
 // the summaries' description and mu_r).
 #include "core/errors.hpp"
 #include "fuzz_common.hpp"
+#include "probe/common_keys.hpp"
 #include "solved_field.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

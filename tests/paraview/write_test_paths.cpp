@@ -15,6 +15,7 @@
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
 #include "io/probe_paths_vtk.hpp"
+#include "probe/common_keys.hpp"
 
 namespace {
 

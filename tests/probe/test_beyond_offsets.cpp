@@ -11,6 +11,7 @@
 #include "fields/analytic_field.hpp"
 #include "fields/grid_field.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "support/probe_setup.hpp"
 
 using namespace magenc;

@@ -22,6 +22,7 @@
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/common_keys.hpp"
 #include "probe/environment.hpp"
 #include "support/probe_setup.hpp"
 

@@ -14,6 +14,7 @@
 #include "core/errors.hpp"
 #include "fields/field_factory.hpp"
 #include "analysis/provenance.hpp"
+#include "probe/common_keys.hpp"
 #include "support/spectrum_compare.hpp"
 #include "support/study_test_util.hpp"
 

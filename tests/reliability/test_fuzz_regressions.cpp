@@ -21,6 +21,7 @@
 #include "core/errors.hpp"
 #include "fields/field_table.hpp"
 #include "fields/grid_field.hpp"
+#include "probe/common_keys.hpp"
 #include "reliability/run_process.hpp"
 #include "solved_field.hpp"
 

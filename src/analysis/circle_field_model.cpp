@@ -1,0 +1,233 @@
+#include "analysis/circle_field_model.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "core/errors.hpp"
+#include "core/units.hpp"
+
+namespace magenc {
+
+namespace {
+constexpr int kStencil = 5;  // points per axis of the fit stencil
+}  // namespace
+
+CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
+                                   double reach_xy_mm, double reach_z_mm, int order, bool full_vector,
+                                   Construction how)
+    : nodes_(nodes), r0_mm_(r0_mm), plane_z_mm_(plane_z_mm), reach_xy_mm_(std::max(reach_xy_mm, 0.01)),
+      reach_z_mm_(std::max(reach_z_mm, 0.01)) {
+  if (nodes < 16) throw InputError("radius.fast_steps = " + std::to_string(nodes) + " is out of range: allowed >= 16");
+  if (order < 2 || order > 4)
+    throw InputError("radius.surrogate_order = " + std::to_string(order) + " is out of range: allowed [2, 4]");
+  if (full_vector && !field.gives_full_vector())
+    throw InputError("field " + field.name() + " gives only Bz on a plane: tilts in the tolerance box "
+                     "(radius.tol_tilt_x_deg, tol_tilt_y_deg, tol_magnet_tilt_deg) need the full field vector: "
+                     "allowed 0 for this field");
+  const std::optional<FieldSource::AxisymmetricParts> parts = field.axisymmetric_parts();
+  if (how == Construction::automatic) how = parts ? Construction::symmetry : Construction::axis_aligned;
+  if (how == Construction::symmetry && !parts)
+    throw InputError("field " + field.name() + " declares no rotational symmetry: CircleFieldModel::Construction::symmetry "
+                     "needs the exact field of an axisymmetric magnet");
+  construction_ = how;
+  order_ = order;
+  // 1. Monomials of total degree <= order in the scaled displacement u = e/reach.
+  for (int a = 0; a <= order; ++a)
+    for (int b = 0; a + b <= order; ++b)
+      for (int c = 0; a + b + c <= order; ++c) exps_.push_back({a, b, c});
+  const int T = terms();
+  const int C = full_vector ? 3 : 1;  // fitted components: Bz (and Bx, By)
+
+  // 2. Stencil in scaled units: 5 x 5 x 5 points over [-1, 1]^3 (the centre
+  //    is a stencil point, so the exact node value comes for free).
+  std::vector<Eigen::Vector3d> stencil;
+  int centre = -1;
+  for (int i = 0; i < kStencil; ++i)
+    for (int j = 0; j < kStencil; ++j)
+      for (int k = 0; k < kStencil; ++k) {
+        const double h = 2.0 / (kStencil - 1);
+        if (i == 2 && j == 2 && k == 2) centre = static_cast<int>(stencil.size());
+        stencil.emplace_back(-1 + h * i, -1 + h * j, -1 + h * k);
+      }
+  const int P = static_cast<int>(stencil.size());
+
+  // 3. Least-squares operator for the non-constant terms: the constant is the
+  //    exact node value (so an ideal mount reproduces the field exactly) and
+  //    coef[1..T-1] = pinv(V) * (samples - centre), V = P x (T-1) monomials.
+  Eigen::MatrixXd V(P, T - 1);
+  for (int p = 0; p < P; ++p) {
+    std::vector<double> u(T);
+    monomials(stencil[p].x() * reach_xy_mm_, stencil[p].y() * reach_xy_mm_, stencil[p].z() * reach_z_mm_,
+              u.data());
+    for (int t = 1; t < T; ++t) V(p, t - 1) = u[t];
+  }
+  const Eigen::MatrixXd pinv = V.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // (T-1) x P
+
+  // Node angles; stencil points of node j: its position plus the stencil, along the frame's
+  // axes (axis_aligned) or turned with the node (rotated, symmetry: node 0's stencil rotated by phi_j).
+  std::vector<double> cphi(static_cast<std::size_t>(nodes_)), sphi(static_cast<std::size_t>(nodes_));
+  for (int j = 0; j < nodes_; ++j) {
+    const double phi = 2.0 * kPi * j / nodes_;
+    cphi[std::size_t(j)] = std::cos(phi);
+    sphi[std::size_t(j)] = std::sin(phi);
+  }
+  const bool turned = how != Construction::axis_aligned;
+  auto stencil_point = [&](int j, int p) {
+    const double c = turned ? cphi[std::size_t(j)] : 1.0, s = turned ? sphi[std::size_t(j)] : 0.0;
+    const double ex = stencil[std::size_t(p)].x() * reach_xy_mm_, ey = stencil[std::size_t(p)].y() * reach_xy_mm_;
+    return Eigen::Vector3d(r0_mm * cphi[std::size_t(j)] + c * ex - s * ey, r0_mm * sphi[std::size_t(j)] + s * ex + c * ey,
+                           plane_z_mm + stencil[std::size_t(p)].z() * reach_z_mm_);
+  };
+  // Field samples of one source at the given points: C rows (Bz first, then Bx, By) x points.
+  auto sample = [&](const FieldSource& src, const Eigen::Matrix3Xd& pts) {
+    Eigen::MatrixXd out(C, pts.cols());
+    if (full_vector) {
+      const Eigen::Matrix3Xd B = src.B_T(pts);
+      out.row(0) = B.row(2);
+      out.row(1) = B.row(0);
+      out.row(2) = B.row(1);
+    } else {
+      out.row(0) = src.Bz_T(pts).transpose();
+    }
+    if (!out.allFinite()) throw ComputeError("field " + field.name() + " returned a non-finite B near r0 = " + num(r0_mm) + " mm");
+    field_evaluations_ += static_cast<long>(pts.cols());
+    return out;
+  };
+  // Constrained fit of one component's samples (P x nodes, column = node): T x nodes coefficients in
+  // the stencil's own coordinates; `resid` receives the largest |fit - sample|.
+  auto fit = [&](const Eigen::MatrixXd& samples, Eigen::MatrixXd& resid_abs) {
+    const Eigen::RowVectorXd centre_v = samples.row(centre);
+    const Eigen::MatrixXd rel = samples - Eigen::VectorXd::Ones(P) * centre_v;
+    Eigen::MatrixXd coef(T, samples.cols());
+    coef.row(0) = centre_v;
+    coef.bottomRows(T - 1) = pinv * rel;
+    resid_abs = V * coef.bottomRows(T - 1) - rel;
+    return coef;
+  };
+
+  // 4. Local fits G[c] (T x nodes, in the stencil's coordinates) of every component c.
+  std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(C));
+  fit_residual_T_ = 0;
+  if (how != Construction::symmetry) {
+    Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(P) * nodes_);
+    for (int j = 0; j < nodes_; ++j)
+      for (int p = 0; p < P; ++p) pts.col(static_cast<Eigen::Index>(j) * P + p) = stencil_point(j, p);
+    const Eigen::MatrixXd S = sample(field, pts);
+    for (int c = 0; c < C; ++c) {
+      const Eigen::RowVectorXd row = S.row(c);
+      const Eigen::Map<const Eigen::MatrixXd> samples(row.data(), P, nodes_);
+      Eigen::MatrixXd resid;
+      G[std::size_t(c)] = fit(samples, resid);
+      fit_residual_T_ = std::max(fit_residual_T_, resid.cwiseAbs().maxCoeff());
+    }
+  } else {
+    // B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B = sum_k m_k B_k: node 0's stencil, sampled once per
+    // magnetization axis k the field needs, gives every node: with c = Rz(-phi_j) m,
+    //   B(node j + Rz(phi_j) e) = Rz(phi_j) sum_k c_k B_k(node 0 + e).
+    const Vec3 m = parts->m;
+    const bool inplane = m.x() != 0.0 || m.y() != 0.0, axial = m.z() != 0.0;
+    Eigen::Matrix3Xd pts(3, P);
+    for (int p = 0; p < P; ++p) pts.col(p) = stencil_point(0, p);
+    // Fits F[k] (T x C) and residuals R[k] (P x C) of B_k at node 0; components Bz, Bx, By.
+    std::array<Eigen::MatrixXd, 3> F, R;
+    for (int k = 0; k < 3; ++k) {
+      F[std::size_t(k)] = Eigen::MatrixXd::Zero(T, C);
+      R[std::size_t(k)] = Eigen::MatrixXd::Zero(P, C);
+      if (k < 2 ? !inplane : !axial) continue;
+      const Eigen::MatrixXd S = sample(*parts->along_axis[std::size_t(k)], pts);
+      for (int c = 0; c < C; ++c) {
+        const Eigen::VectorXd col = S.row(c).transpose();
+        Eigen::MatrixXd resid;
+        F[std::size_t(k)].col(c) = fit(col, resid);
+        R[std::size_t(k)].col(c) = resid;
+      }
+    }
+    for (int c = 0; c < C; ++c) G[std::size_t(c)].resize(T, nodes_);
+    for (int j = 0; j < nodes_; ++j) {
+      const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
+      const double w[3] = {cj * m.x() + sj * m.y(), -sj * m.x() + cj * m.y(), m.z()};  // Rz(-phi_j) m
+      Eigen::MatrixXd Fj = Eigen::MatrixXd::Zero(T, C), Rj = Eigen::MatrixXd::Zero(P, C);
+      for (int k = 0; k < 3; ++k) {
+        if (w[k] == 0.0) continue;
+        Fj += w[k] * F[std::size_t(k)];
+        Rj += w[k] * R[std::size_t(k)];
+      }
+      if (full_vector) {  // rotate the in-plane components (columns Bx = 1, By = 2) by phi_j
+        const Eigen::VectorXd fx = Fj.col(1), rx = Rj.col(1);
+        Fj.col(1) = cj * fx - sj * Fj.col(2);
+        Fj.col(2) = sj * fx + cj * Fj.col(2);
+        Rj.col(1) = cj * rx - sj * Rj.col(2);
+        Rj.col(2) = sj * rx + cj * Rj.col(2);
+      }
+      for (int c = 0; c < C; ++c) G[std::size_t(c)].col(j) = Fj.col(c);
+      fit_residual_T_ = std::max(fit_residual_T_, Rj.cwiseAbs().maxCoeff());
+    }
+  }
+
+  // 5. Coefficients in the frame's displacement: a turned stencil's fit G_j(s) is a polynomial of
+  //    s = Rz(-phi_j) u, so P_j(u) = G_j(Rz(-phi_j) u), again of degree <= order. Its coefficients
+  //    are the unconstrained least-squares fit of G_j(Rz(-phi_j) u_p) on the stencil (exact: the
+  //    polynomial lies in the fitted space); the constant term stays the exact node value.
+  std::vector<Eigen::MatrixXd*> out = {&coef_, &coef_x_, &coef_y_};
+  for (int c = 0; c < C; ++c) *out[std::size_t(c)] = G[std::size_t(c)];
+  if (turned) {
+    Eigen::MatrixXd Vfull(P, T);
+    std::vector<double> u(static_cast<std::size_t>(T));
+    for (int p = 0; p < P; ++p) {
+      monomials(stencil[std::size_t(p)].x() * reach_xy_mm_, stencil[std::size_t(p)].y() * reach_xy_mm_,
+                stencil[std::size_t(p)].z() * reach_z_mm_, u.data());
+      for (int t = 0; t < T; ++t) Vfull(p, t) = u[std::size_t(t)];
+    }
+    const Eigen::MatrixXd pinv_full = Vfull.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // T x P
+    Eigen::MatrixXd Vrot(P, T);
+    for (int j = 0; j < nodes_; ++j) {
+      const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
+      for (int p = 0; p < P; ++p) {
+        const double ux = stencil[std::size_t(p)].x(), uy = stencil[std::size_t(p)].y();
+        monomials((cj * ux + sj * uy) * reach_xy_mm_, (-sj * ux + cj * uy) * reach_xy_mm_,
+                  stencil[std::size_t(p)].z() * reach_z_mm_, u.data());
+        for (int t = 0; t < T; ++t) Vrot(p, t) = u[std::size_t(t)];
+      }
+      const Eigen::MatrixXd W = pinv_full * Vrot;  // T x T: G_j coefficients -> P_j coefficients
+      for (int c = 0; c < C; ++c) {
+        Eigen::MatrixXd& coef = *out[std::size_t(c)];
+        const double constant = coef(0, j);
+        coef.col(j) = W * G[std::size_t(c)].col(j);
+        coef(0, j) = constant;
+      }
+    }
+  }
+
+  // 6. Exact node values and the first angular harmonic.
+  center_T_ = coef_.row(0).transpose();
+  double re = 0, im = 0;
+  for (int j = 0; j < nodes_; ++j) {
+    re += center_T_[j] * cphi[std::size_t(j)];
+    im += center_T_[j] * sphi[std::size_t(j)];
+  }
+  amplitude_T_ = 2.0 / nodes_ * std::hypot(re, im);
+}
+
+void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const {
+  double px[5] = {1, 0, 0, 0, 0}, py[5] = {1, 0, 0, 0, 0}, pz[5] = {1, 0, 0, 0, 0};
+  const double ux = ex_mm / reach_xy_mm_, uy = ey_mm / reach_xy_mm_, uz = ez_mm / reach_z_mm_;
+  for (int i = 1; i < 5; ++i) {
+    px[i] = px[i - 1] * ux;
+    py[i] = py[i - 1] * uy;
+    pz[i] = pz[i - 1] * uz;
+  }
+  // The order of exps_ (a, then b, then c), without its table: (px[a] py[b]) pz[c].
+  int t = 0;
+  for (int a = 0; a <= order_; ++a)
+    for (int b = 0; a + b <= order_; ++b) {
+      const double pab = px[a] * py[b];
+      for (int c = 0; a + b + c <= order_; ++c) u[t++] = pab * pz[c];
+    }
+}
+
+}  // namespace magenc

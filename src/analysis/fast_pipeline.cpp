@@ -1,0 +1,213 @@
+#include "analysis/fast_pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/errors.hpp"
+#include "core/units.hpp"
+#include "probe/environment.hpp"
+#include "probe/sensor.hpp"
+#include "probe/spectrum.hpp"
+
+namespace magenc {
+
+FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm,
+                           const CircleFieldModel* axial, double elevation_deg)
+    : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm), axial_(axial), elevation_deg_(elevation_deg) {
+  const int N = model.nodes();
+  if (axial_ && (axial_->nodes() != N || axial_->terms() != model.terms() || axial_->r0_mm() != model.r0_mm() ||
+                 axial_->plane_z_mm() != model.plane_z_mm() || axial_->reach_xy_mm() != model.reach_xy_mm() ||
+                 axial_->reach_z_mm() != model.reach_z_mm() || axial_->full_vector() != model.full_vector()))
+    throw InputError("FastPipeline: the axial-magnetization model must share the field model's nodes, stencil and order");
+  for (const auto& a : arrays_) {
+    std::vector<int> slots;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const double pos = a.angle_deg[k] * N / 360.0;
+      const double r = std::round(pos);
+      if (std::abs(pos - r) > 1e-9)
+        throw InputError("radius.fast_steps = " + std::to_string(N) + " does not place a theta sample on probe angle " +
+                         num(a.angle_deg[k]) + " deg of array " + a.name +
+                         ": allowed a multiple of the array's angular step (e.g. 360 for two, diff4, ring:8)");
+      const int idx = ((static_cast<int>(r) % N) + N) % N;
+      auto it = std::find(angle_index_.begin(), angle_index_.end(), idx);
+      if (it == angle_index_.end()) {
+        angle_index_.push_back(idx);
+        slots.push_back(static_cast<int>(angle_index_.size()) - 1);
+      } else {
+        slots.push_back(static_cast<int>(it - angle_index_.begin()));
+      }
+    }
+    slot_.push_back(std::move(slots));
+  }
+  cos_theta_.resize(N);
+  sin_theta_.resize(N);
+  for (int m = 0; m < N; ++m) {
+    cos_theta_[m] = std::cos(2.0 * kPi * m / N);
+    sin_theta_[m] = std::sin(2.0 * kPi * m / N);
+  }
+}
+
+// eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
+// angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
+void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
+                             std::vector<Eigen::VectorXd>& eps_deg) const {
+  const double theta_deg = 360.0 * m / model_.nodes();
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    const ProbeArray& arr = arrays_[a];
+    double C = 0, S = 0;
+    for (std::size_t k = 0; k < arr.size(); ++k) {
+      const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
+      C += arr.w_cos[k] * Bk;
+      S += arr.w_sin[k] * Bk;
+    }
+    chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
+    eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+  }
+}
+
+void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
+                              const EnvReadings* env) const {
+  if (!model_.full_vector())
+    throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
+  const int N = model_.nodes();
+  const int T = model_.terms();
+  const double r0 = model_.r0_mm(), zs = model_.plane_z_mm();
+  const MountKinematics K(mt, zs, magnet_height_mm_);
+  eps_deg.resize(arrays_.size());
+  for (auto& e : eps_deg) e.resize(N);
+  // Fixed-frame position of each distinct probe (angle index i -> b = 2 pi i / N).
+  std::vector<Eigen::Vector3d> fixed(angle_index_.size());
+  for (std::size_t i = 0; i < angle_index_.size(); ++i)
+    fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
+  std::vector<double> u(T), Bn(angle_index_.size());
+  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
+  double B[3], Ba[3];
+  const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
+  const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
+  for (int m = 0; m < N; ++m) {
+    // cos, sin of theta_m from the table (the same values std::cos(2 pi m/N) gives: no trig per probe).
+    const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
+    const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, ct, st);
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      // Displacement from node j (nominal position of this probe at theta, magnet frame).
+      const Eigen::Vector3d q = K.point_to_magnet(fixed[i], ct, st);
+      model_.monomials(q.x() - r0 * cos_theta_[std::size_t(j)], q.y() - r0 * sin_theta_[std::size_t(j)], q.z() - zs, u.data());
+      model_.B_T(j, u.data(), B);
+      if (axial_) {
+        // cos(al) * diametric + sin(al) * axial (B is linear in M).
+        axial_->B_T(j, u.data(), Ba);
+        for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
+      }
+      Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+      if (env) Bn[i] = env->br_scale * Bn[i] + env->stray_T[i];
+      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(Bn[i]));
+    }
+    angles_at(m, Bn, chain, eps_deg);
+  }
+}
+
+void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
+  eps_mount(mt, SignalChain::Applied{}, elevation_deg_, eps_deg);
+}
+
+bool FastPipeline::env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const {
+  if (c.env.neutral()) return false;
+  c.env.validate_for(SensorPrinciple::Bz);
+  out.br_scale = c.env.br_scale();
+  const MountKinematics K(mt, model_.plane_z_mm(), magnet_height_mm_);
+  std::vector<Eigen::Vector2d> xy;
+  for (int idx : angle_index_)
+    xy.emplace_back(model_.r0_mm() * cos_theta_[std::size_t(idx)], model_.r0_mm() * sin_theta_[std::size_t(idx)]);
+  out.stray_T = stray_readings_T(c.env.stray, K, xy, SensingArea{}, false);
+  return true;
+}
+
+void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, eps_deg, nullptr, has_env ? &env : nullptr);
+}
+
+void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                             std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
+                             const EnvReadings* env) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env);
+  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
+  const int N = model_.nodes();
+  const int T = model_.terms();
+  eps_deg.resize(arrays_.size());
+  for (auto& e : eps_deg) e.resize(N);
+  std::vector<double> u(T), B(angle_index_.size());
+  const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
+  const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
+  for (int m = 0; m < N; ++m) {
+    const double c = cos_theta_[m], s = sin_theta_[m];
+    // Displacement of every probe from its nominal node: Rot(-theta) s - d, dz.
+    const double ex = c * mt.sx_mm + s * mt.sy_mm - mt.dx_mm;
+    const double ey = -s * mt.sx_mm + c * mt.sy_mm - mt.dy_mm;
+    model_.monomials(ex, ey, mt.dz_mm, u.data());
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
+      if (env) B[i] = env->br_scale * B[i] + env->stray_T[i];
+      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
+    }
+    angles_at(m, B, chain, eps_deg);
+  }
+}
+
+namespace {
+void peak_to_peak(const std::vector<Eigen::VectorXd>& e, double* pp_deg) {
+  for (std::size_t a = 0; a < e.size(); ++a) pp_deg[a] = e[a].maxCoeff() - e[a].minCoeff();
+}
+}  // namespace
+
+void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+  std::vector<Eigen::VectorXd> e;
+  eps(m, e);
+  peak_to_peak(e, pp_deg);
+}
+
+void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
+  std::vector<Eigen::VectorXd> e;
+  eps(c, e);
+  peak_to_peak(e, pp_deg);
+}
+
+void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  std::vector<Eigen::VectorXd> e;
+  std::vector<double> peak_T;
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
+  peak_to_peak(e, pp_deg);
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    for (int slot : slot_[a]) {
+      lo = std::min(lo, peak_T[static_cast<std::size_t>(slot)]);
+      hi = std::max(hi, peak_T[static_cast<std::size_t>(slot)]);
+    }
+    fmin_mT[a] = lo * 1e3;
+    fmax_mT[a] = hi * 1e3;
+  }
+}
+
+}  // namespace magenc

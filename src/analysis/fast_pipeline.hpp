@@ -1,0 +1,83 @@
+// FastPipeline: the angle error of several probe arrays at once, read from a CircleFieldModel
+// (the surrogate of the radius scan, analysis/radius_scan.hpp: why and how).
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/defaults.hpp"
+#include "analysis/circle_field_model.hpp"
+#include "analysis/tolerance.hpp"
+#include "probe/mounting.hpp"
+#include "probe/probe_array.hpp"
+#include "probe/signal_chain.hpp"
+
+namespace magenc {
+
+// The fast pipeline on a CircleFieldModel for several arrays at once.
+class FastPipeline {
+ public:
+  // Throws InputError when a probe angle is not a multiple of 360/N degrees
+  // (then choose radius.fast_steps as a multiple of the array's N).
+  // magnet_height_mm: L, the pivot height of a magnet tilt (tilted mounts only).
+  // Magnetization elevation: without `axial`, `model` is the field itself and
+  // every case's elevation deviation must be 0 (InputError otherwise). With
+  // `axial`, `model` is the field of the diametric magnetization alone
+  // (elevation 0) and `axial` that of the axial magnetization alone (|M| = M0
+  // along z; same nodes, stencil and order): the field of a case is
+  // cos(al) model + sin(al) axial, al = elevation_deg + the case's deviation
+  // (exact: B is linear in M).
+  FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
+               const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
+  std::size_t arrays() const { return arrays_.size(); }
+  int steps() const { return model_.nodes(); }
+  // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
+  // (ideal signal chain, the nominal elevation).
+  // A tilted mount (sensor or magnet tilt) needs a full_vector model
+  // (InputError otherwise): each probe's position and normal then come from
+  // MountKinematics and it reads n.B of the model at its own displacement.
+  void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg) const;
+  // The same for a whole tolerance case: the case's signal chain is applied to
+  // the channels before atan2 (SignalChain::Applied, as in angle_error.hpp), and
+  // its elevation deviation needs the axial model. An ideal chain and a zero
+  // deviation give exactly eps(c.mount). The case's environment (a temperature, a homogeneous stray
+  // field: ToleranceBox) scales the readings by Br(T)/Br, adds n.B_stray to each probe's reading and
+  // drifts the offsets and the air gap, as angle_error() does; a neutral one changes nothing.
+  void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const;
+  // Peak-to-peak of eps of every array (pp_deg has arrays() values).
+  void pp(const Mount& m, double* pp_deg) const;
+  void pp(const ToleranceCase& c, double* pp_deg) const;
+  // pp and the field-window magnitude of every array (docs/physics.md "Sensor principles", bz): the
+  // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
+  void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
+
+ private:
+  const CircleFieldModel& model_;
+  std::vector<ProbeArray> arrays_;
+  std::vector<int> angle_index_;                // distinct probe angles as node indices
+  std::vector<std::vector<int>> slot_;          // slot_[a][k]: index into angle_index_
+  std::vector<double> cos_theta_, sin_theta_;   // theta grid
+  double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
+  const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
+  double elevation_deg_ = 0;                    // nominal elevation (with axial_)
+  // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
+  struct EnvReadings {
+    double br_scale = 1;
+    std::vector<double> stray_T;
+  };
+  // The case's environment at its mount (nullopt-like: empty when neutral).
+  bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
+  // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
+  // env (optional): the environment's part of the readings (probe/environment.hpp).
+  void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
+                 std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
+                 const EnvReadings* env = nullptr) const;
+  void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
+                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
+                  const EnvReadings* env = nullptr) const;
+  void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
+                 std::vector<Eigen::VectorXd>& eps_deg) const;
+};
+
+}  // namespace magenc
