@@ -16,6 +16,7 @@
 #include "analysis/design_study.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 #include "report/design_report.hpp"
 #include "report/study_output.hpp"
 
