@@ -110,15 +110,15 @@ for c in "${cases[@]}"; do
     tv "$md/t_solve.txt" "${pin[@]}" "$bin/solve_field" --config meshes/coarse.toml --set fem.order=2 --set fem.potential=total \
         --set fem.nonlinear_method=newton --set fem.threads=1 --set magnet.mu_r=$mu_magnet --set mesh.segments=64 \
         --set mesh.symmetry_order=8 --set mesh.h_air_mm=12 --set mesh.h_magnet_mm=$h --set mesh.h_zone_mm=$h \
-        --set output.mesh_vtu=true --set "$part" --out "$md" > "$md/solve.log" 2>&1 \
+        --set output.mesh_vtu=true --set "$part" --out "$md/field" > "$md/solve.log" 2>&1 \
       || { echo "bench_getdp_cup.sh: solve_field failed (see $md/solve.log)" >&2; exit 1; }
-    tv "$md/t_at.txt" "${pin[@]}" "$bin/field_at" --field "fem:$md" --points "$work/points.csv" --out "$md/bz.csv" \
+    tv "$md/t_at.txt" "${pin[@]}" "$bin/field_at" --field "fem:$md/field" --points "$work/points.csv" --out "$md/bz.csv" \
         > "$md/field_at.log" 2>&1 || { echo "bench_getdp_cup.sh: field_at failed (see $md/field_at.log)" >&2; exit 1; }
     magenc_xyb "$md/bz.csv" > "$md/xyb.csv"
     mags+=("$h")
   done
   md0=$work/magenc_${c}_h${mags[0]}
-  mu_steel=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['parts'][0]['mu_r'])" "$md0/solve.json")
+  mu_steel=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['parts'][0]['mu_r'])" "$md0/field/solve.json")
 
   gd=$work/getdp_${c}_h$getdp_h
   mkdir -p "$gd"
@@ -155,7 +155,7 @@ for c in "${cases[@]}"; do
 import json, sys
 j = json.load(open(sys.argv[1]))
 r = j.get('nonlinear_residuals') or []
-print(j.get('dofs', '?'), j.get('nonlinear_iterations', '-'), ('%.1e' % r[-1]) if r else '-')" "$md/solve.json")
+print(j.get('dofs', '?'), j.get('nonlinear_iterations') or '-', ('%.1e' % r[-1]) if r else '-')" "$md/field/solve.json")
     read -r rms mx _ mpk n < <(diff_pct "$gd/xyb.csv" "$md/xyb.csv")
     printf '%-8s | %-6s | %-9s | %-30s | %8s | %8s | %-12s | %s\n' magenc "$h" "$mdofs" "$miter, $mres" "$mw" "$mc" "$mpk" "$rms / $mx ($n points)"
     summary+=("$c|$h|$rms|$mx")
