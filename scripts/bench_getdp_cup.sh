@@ -49,7 +49,7 @@ while [[ $# -gt 0 ]]; do
     --bin) bin=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
     --reuse-getdp) reuse=1; shift ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     *) echo "bench_getdp_cup.sh: unknown argument $1 (allowed --case, --getdp-h, --magenc-h, --half, --step, --bin, --work, --reuse-getdp)" >&2; exit 2 ;;
   esac
 done
