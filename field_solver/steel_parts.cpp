@@ -4,6 +4,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 #include "analysis/offset_sweeps.hpp"
 #include "analysis/sweep.hpp"
@@ -89,6 +90,105 @@ std::filesystem::path find_file(const std::string& name, const std::vector<std::
 
 }  // namespace
 
+namespace {
+
+// The five mounts of the study: ideal and each offset alone.
+std::vector<std::pair<std::string, Mount>> study_mounts(double off) {
+  std::vector<std::pair<std::string, Mount>> mounts(5);
+  mounts[0].first = "ideal";
+  mounts[1].first = "sx";
+  mounts[1].second.sx_mm = off;
+  mounts[2].first = "sy";
+  mounts[2].second.sy_mm = off;
+  mounts[3].first = "dx";
+  mounts[3].second.dx_mm = off;
+  mounts[4].first = "dy";
+  mounts[4].second.dy_mm = off;
+  return mounts;
+}
+
+struct Job {
+  std::string variant, model;
+  std::vector<PartSpec> parts;
+};
+
+// The magnet alone, then each part linear and (steel, when asked) nonlinear; geometry checked.
+std::vector<Job> study_jobs(const Config& cfg, const SteelPartsResult& r, const std::shared_ptr<const BhCurve>& bh,
+                            const FemSettings& base) {
+  std::vector<Job> jobs{{"magnet alone", "-", {}}};
+  for (const char* v : {"steel cup", "brass cup", "steel shaft", "end shield"}) {
+    const bool brass = std::string(v) == "brass cup";
+    PartSpec p = steel_parts_part(v, cfg, brass ? "brass" : r.linear_material);
+    p.mu_r = part_material_mu_r(p.material, std::string("steel_parts ") + v);
+    jobs.push_back({v, "linear", {p}});
+    if (bh && !brass) {
+      PartSpec q = p;
+      q.material = "bh:" + r.bh_file;
+      q.bh = bh;
+      q.mu_r = bh->mu_r(0.0);
+      jobs.push_back({v, "nonlinear", {q}});
+    }
+  }
+  for (const Job& j : jobs) {  // geometry errors before any solve
+    DomainSpec d = base.domain;
+    d.parts = j.parts;
+    d.validate();
+  }
+  return jobs;
+}
+
+// One solve: its statistics, the part's largest |B| and smallest mu_r, the Bz profile along x.
+SteelPartsSolve solve_job(const Job& j, double plane_z_mm, MagnetostaticSolver& solver) {
+  solver.run();
+  const SolveStats& st = solver.stats();
+  SteelPartsSolve s;
+  s.variant = j.variant;
+  s.model = j.model;
+  if (!j.parts.empty()) {
+    s.parts = describe(j.parts.front());
+    s.material = j.parts.front().material;
+  }
+  s.potential = to_string(solver.options().potential);
+  s.dofs = st.dofs;
+  s.elements = st.elements;
+  s.nonlinear_iterations = st.nonlinear_iterations;
+  s.newton_steps = st.newton_steps;
+  s.nonlinear_residuals = st.nonlinear_residuals;
+  s.linear_iterations = st.iterations;
+  s.t_solve_s = st.t_total_s;
+  if (!j.parts.empty()) {
+    const Eigen::Matrix3Xd& B = solver.B_cell();
+    const FeSolution& sol = solver.solution();
+    s.part_mu_r_min = std::numeric_limits<double>::infinity();
+    for (int t = 0; t < solver.mesh().num_tets(); ++t)
+      if (solver.mesh().region[t] == kRegionPartFirst) {
+        s.part_B_max_T = std::max(s.part_B_max_T, B.col(t).norm());
+        s.part_mu_r_min = std::min(s.part_mu_r_min, sol.mu_r[t]);
+      }
+  }
+  Eigen::Matrix3Xd P(3, 81);
+  for (int i = 0; i < 81; ++i) P.col(i) = Eigen::Vector3d(-4.0 + 0.1 * i, 0.0, plane_z_mm);
+  const Eigen::Matrix3Xd Bp = solver.evaluator().B_T(P);
+  for (int i = 0; i < 81; ++i) {
+    s.profile_x_mm.push_back(P(0, i));
+    s.profile_Bz_mT.push_back(1e3 * Bp(2, i));
+  }
+  return s;
+}
+
+void log_solve(const SteelPartsSolve& s) {
+  std::ostringstream line;
+  line << "steel_parts: " << s.variant << " (" << s.model << "): " << s.dofs << " dofs, " << s.potential
+       << " potential, " << fmt(s.t_solve_s, 2) << " s";
+  if (s.nonlinear_iterations) {
+    line << ", " << s.nonlinear_iterations << " nonlinear iterations (" << s.newton_steps << " Newton):";
+    for (double x : s.nonlinear_residuals) line << ' ' << fmt_sig(x, 2);
+  }
+  std::cerr << line.str() << "\n";
+}
+
+}  // namespace
+
 SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::filesystem::path>& search_dirs) {
   // 1. Inputs, all checked before the first solve.
   if (!cfg.tables("parts").empty())
@@ -102,9 +202,8 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
     throw InputError("steel_parts.linear_material = " + r.linear_material +
                      " is out of range: allowed mu_r:VALUE or a named material (the B-H curve is steel_parts.bh_file)");
   r.linear_mu_r = part_material_mu_r(r.linear_material, "steel_parts.linear_material");
-  const bool nonlinear = cfg.flag("steel_parts.nonlinear");
   std::shared_ptr<const BhCurve> bh;
-  if (nonlinear) {
+  if (cfg.flag("steel_parts.nonlinear")) {
     const std::filesystem::path f = find_file(cfg.str("steel_parts.bh_file"), search_dirs);
     bh = std::make_shared<const BhCurve>(read_bh_csv(f));
     r.bh_file = cfg.str("steel_parts.bh_file");
@@ -117,95 +216,22 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
   r.magnet_radius_mm = cfg.real("magnet.radius_mm");
   r.magnet_height_mm = cfg.real("magnet.height_mm");
   r.br_T = cfg.real("magnet.br_T");
-  const double off = r.offset_mm;
-  std::vector<std::pair<std::string, Mount>> mounts(5);
-  mounts[0].first = "ideal";
-  mounts[1].first = "sx";
-  mounts[1].second.sx_mm = off;
-  mounts[2].first = "sy";
-  mounts[2].second.sy_mm = off;
-  mounts[3].first = "dx";
-  mounts[3].second.dx_mm = off;
-  mounts[4].first = "dy";
-  mounts[4].second.dy_mm = off;
-
-  struct Job {
-    std::string variant, model;
-    std::vector<PartSpec> parts;
-  };
-  std::vector<Job> jobs{{"magnet alone", "-", {}}};
-  for (const char* v : {"steel cup", "brass cup", "steel shaft", "end shield"}) {
-    const bool brass = std::string(v) == "brass cup";
-    PartSpec p = steel_parts_part(v, cfg, brass ? "brass" : r.linear_material);
-    p.mu_r = part_material_mu_r(p.material, std::string("steel_parts ") + v);
-    jobs.push_back({v, "linear", {p}});
-    if (nonlinear && !brass) {
-      PartSpec q = p;
-      q.material = "bh:" + r.bh_file;
-      q.bh = bh;
-      q.mu_r = bh->mu_r(0.0);
-      jobs.push_back({v, "nonlinear", {q}});
-    }
-  }
-  for (const Job& j : jobs) {  // geometry errors before any solve
-    DomainSpec d = base.domain;
-    d.parts = j.parts;
-    d.validate();
-  }
+  const auto mounts = study_mounts(r.offset_mm);
+  const std::vector<Job> jobs = study_jobs(cfg, r, bh, base);
 
   // 2. Solves and spectra.
   for (const Job& j : jobs) {
     DomainSpec d = base.domain;
     d.parts = j.parts;
     MagnetostaticSolver solver(d, base.solver);
-    solver.run();
-    const SolveStats& st = solver.stats();
-    SteelPartsSolve s;
-    s.variant = j.variant;
-    s.model = j.model;
-    if (!j.parts.empty()) {
-      s.parts = describe(j.parts.front());
-      s.material = j.parts.front().material;
-    }
-    s.potential = to_string(solver.options().potential);
-    s.dofs = st.dofs;
-    s.elements = st.elements;
-    s.nonlinear_iterations = st.nonlinear_iterations;
-    s.newton_steps = st.newton_steps;
-    s.nonlinear_residuals = st.nonlinear_residuals;
-    s.linear_iterations = st.iterations;
-    s.t_solve_s = st.t_total_s;
-    if (!j.parts.empty()) {
-      const Eigen::Matrix3Xd& B = solver.B_cell();
-      const FeSolution& sol = solver.solution();
-      s.part_mu_r_min = std::numeric_limits<double>::infinity();
-      for (int t = 0; t < solver.mesh().num_tets(); ++t)
-        if (solver.mesh().region[t] == kRegionPartFirst) {
-          s.part_B_max_T = std::max(s.part_B_max_T, B.col(t).norm());
-          s.part_mu_r_min = std::min(s.part_mu_r_min, sol.mu_r[t]);
-        }
-    }
+    SteelPartsSolve s = solve_job(j, r.plane_z_mm, solver);
     const FemField field(solver.solution());
-    Eigen::Matrix3Xd P(3, 81);
-    for (int i = 0; i < 81; ++i) P.col(i) = Eigen::Vector3d(-4.0 + 0.1 * i, 0.0, r.plane_z_mm);
-    const Eigen::Matrix3Xd Bp = solver.evaluator().B_T(P);
-    for (int i = 0; i < 81; ++i) {
-      s.profile_x_mm.push_back(P(0, i));
-      s.profile_Bz_mT.push_back(1e3 * Bp(2, i));
-    }
     for (std::size_t a = 0; a < r.arrays.size(); ++a)
       for (const auto& [label, m] : mounts) {
         const AngleErrorResult e = angle_error(field, setups[a], m);
         r.cases.push_back({j.variant, j.model, r.arrays[a], label, m, e.spectrum, e.field_min_mT, e.field_max_mT, e.in_window});
       }
-    std::string hist;
-    for (double x : s.nonlinear_residuals) hist += (hist.empty() ? "" : " ") + fmt_sig(x, 2);
-    std::cerr << "steel_parts: " << j.variant << " (" << j.model << "): " << s.dofs << " dofs, " << s.potential
-              << " potential, " << fmt(s.t_solve_s, 2) << " s"
-              << (s.nonlinear_iterations ? ", " + std::to_string(s.nonlinear_iterations) + " nonlinear iterations (" +
-                                                std::to_string(s.newton_steps) + " Newton): " + hist
-                                          : std::string())
-              << "\n";
+    log_solve(s);
     r.solves.push_back(std::move(s));
   }
   return r;

@@ -384,7 +384,7 @@ RadiusRow radius_row(const FieldSource& field, const RadiusScanOptions& opt, con
         ++row.corners_out_of_window;
         continue;
       }
-      if (!any || corner_pp(i, ia) > row.worst_pp_deg) {
+      if (!any || clearly_larger(corner_pp(i, ia), row.worst_pp_deg)) {
         row.worst_pp_deg = corner_pp(i, ia);
         row.worst_corner = corner_text(corners[static_cast<std::size_t>(i)]);
       }

@@ -275,12 +275,16 @@ SampleStats sample_stats(const Eigen::Ref<const Eigen::VectorXd>& values) {
   return s;
 }
 
+bool clearly_larger(double candidate, double current) {
+  return candidate > current + kWorstCaseTieRelative * std::abs(current);
+}
+
 WorstCase worst_case(const Eigen::MatrixXd& values, int col) {
   if (values.rows() == 0) throw InputError("worst case of no cases");
   WorstCase w;
   w.value = values(0, col);
   for (Eigen::Index i = 1; i < values.rows(); ++i)
-    if (values(i, col) > w.value) {
+    if (clearly_larger(values(i, col), w.value)) {
       w.value = values(i, col);
       w.row = static_cast<std::size_t>(i);
     }

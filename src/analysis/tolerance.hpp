@@ -158,10 +158,16 @@ struct SampleStats {
 SampleStats sample_stats(const Eigen::Ref<const Eigen::VectorXd>& values);
 
 // Largest value of column `col` of `values` (rows = cases) and its row.
+// Values within kWorstCaseTieRelative (relative) of each other are ties and the
+// first row wins: mirror-image corners differ only by round-off, and the corner
+// reported must not depend on it.
+constexpr double kWorstCaseTieRelative = 1e-9;
 struct WorstCase {
-  double value = 0;    // the largest value
+  double value = 0;    // the largest value (of the first row among ties)
   std::size_t row = 0; // row (case index) where it occurs (first one on ties)
 };
+// True when `candidate` exceeds `current` by more than the tie tolerance.
+bool clearly_larger(double candidate, double current);
 WorstCase worst_case(const Eigen::MatrixXd& values, int col);
 
 // Compact sign text of a corner, e.g. "sx+ sy- dx+ dy+ dz-" (0 half-widths show "0");

@@ -223,7 +223,14 @@ void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSp
   dat << std::setprecision(10);
   dat << "# " << name << ".dat: data of " << name << ".png; columns: column index, row index (0 = bottom), colour value"
       << (spec.log_colour ? " (clipped below at " + (std::ostringstream() << spec.log_floor).str() + ")" : std::string())
-      << ", cell text\n";
+      << ", cell text, text colour (white on the dark end of the palette)\n";
+  const double cb_lo = spec.log_colour ? spec.log_floor : std::min(vmin, 0.0);
+  const double cb_hi = spec.log_colour ? std::max(vmax, 10 * spec.log_floor) : (vmax > cb_lo ? vmax : 1.0);
+  // Position of a value along the colour bar, 0..1; above 0.6 the palette is dark red.
+  auto dark = [&](double v) {
+    const double f = spec.log_colour ? std::log(v / cb_lo) / std::log(cb_hi / cb_lo) : (v - cb_lo) / (cb_hi - cb_lo);
+    return std::isfinite(v) && f > 0.6;
+  };
   for (std::size_t r = 0; r < nr; ++r) {
     for (std::size_t c = 0; c < nc; ++c) {
       double v = spec.values[r][c];
@@ -232,7 +239,7 @@ void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSp
       for (char& ch : text)
         if (ch == '"') ch = '\'';
       dat << c << ' ' << (nr - 1 - r) << ' ' << (std::isfinite(v) ? (std::ostringstream() << std::setprecision(10) << v).str() : "NaN")
-          << " \"" << text << "\"\n";
+          << " \"" << text << "\" " << (dark(v) ? "16777215" : "0") << "\n";
     }
     dat << "\n";
   }
@@ -254,12 +261,8 @@ void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSp
   for (std::size_t r = 0; r < nr; ++r) gp << (r ? ", " : "") << quoted(spec.row_labels[r]) << " " << nr - 1 - r;
   gp << ") scale 0\n";
   gp << "set cblabel " << quoted(spec.cblabel) << "\n";
-  if (spec.log_colour) {
-    gp << "set logscale cb\nset format cb '10^{%L}'\n";
-    gp << "set cbrange [" << spec.log_floor << ":" << std::max(vmax, 10 * spec.log_floor) << "]\n";
-  } else {
-    gp << "set cbrange [" << std::min(vmin, 0.0) << ":" << (vmax > std::min(vmin, 0.0) ? vmax : 1.0) << "]\n";
-  }
+  if (spec.log_colour) gp << "set logscale cb\nset format cb '10^{%L}'\n";
+  gp << "set cbrange [" << cb_lo << ":" << cb_hi << "]\n";
   gp << "set palette defined (0 '#fffff0', 1 '#fdd49e', 2 '#fc8d59', 3 '#d7301f', 4 '#7f0000')\n";
   gp << "unset key\n";
   for (int sep : spec.row_separators)
@@ -267,7 +270,7 @@ void write_heatmap(const fs::path& dir, const std::string& name, const HeatmapSp
       gp << "set arrow from -0.5," << nr - sep - 0.5 << " to " << nc - 0.5 << "," << nr - sep - 0.5
          << " nohead front lw 2 lc rgb '#000000'\n";
   gp << "plot " << quoted(datfile) << " using 1:2:3 with image, \\\n     " << quoted(datfile)
-     << " using 1:2:4 with labels font 'sans," << spec.cell_font_size << "' tc rgb '#000000'\n";
+     << " using 1:2:4:5 with labels font 'sans," << spec.cell_font_size << "' tc rgb variable\n";
   gp << "set output\n";
   run_gnuplot(dir, name, dat.str(), gp.str());
 }

@@ -81,6 +81,21 @@ TEST_CASE("percentiles follow the type-7 definition", "[analysis][closed-form]")
   CHECK_THROWS_AS(percentile(v, 101), InputError);
 }
 
+TEST_CASE("worst case: round-off ties go to the first row, real differences win", "[analysis]") {
+  Eigen::MatrixXd v(3, 1);
+  v << 1.0, 1.0 + 1e-13, 0.5; // rows 0 and 1 tie within round-off
+  WorstCase w = worst_case(v, 0);
+  CHECK(w.row == 0);
+  CHECK(w.value == 1.0);
+  v(1, 0) = 1.0 + 1e-6; // a real difference
+  w = worst_case(v, 0);
+  CHECK(w.row == 1);
+  CHECK(w.value == 1.0 + 1e-6);
+  CHECK(clearly_larger(2.0, 1.0));
+  CHECK_FALSE(clearly_larger(1.0 + 1e-12, 1.0));
+  CHECK_FALSE(clearly_larger(-1.0, -1.0 + 1e-13));
+}
+
 TEST_CASE("worst case over the corners: a case with a known answer", "[analysis][closed-form]") {
   // f = |sx + 2 sy - 3 dx + 0.5 dy + dz| is largest where every term has the
   // sign of its coefficient (or all opposite): value = sum |c_i| h_i.

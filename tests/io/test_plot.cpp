@@ -108,6 +108,10 @@ TEST_CASE("write_heatmap writes a labelled log-colour heat map and refuses incon
   CHECK(text.find("0 1 0.5 \"0.5\"") != std::string::npos);  // first row on top (y = 1)
   CHECK(text.find("1 1 0.0001 \"0\"") != std::string::npos);  // zero clipped to the log floor
   CHECK(text.find("0 0 NaN") != std::string::npos);          // a blank cell
+  // Cell text is white on the dark end of the palette, black elsewhere.
+  CHECK(text.find("1 0 2 \"2\" 16777215") != std::string::npos);
+  CHECK(text.find("2 1 0.0001 \"1e-6\" 0\n") != std::string::npos);
+  CHECK(text.find("0 0 NaN \"\" 0\n") != std::string::npos);
   HeatmapSpec bad = h;
   bad.values[1].pop_back();
   CHECK_THROWS_AS(write_heatmap(dir, "bad", bad), InputError);
