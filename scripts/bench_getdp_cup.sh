@@ -23,8 +23,15 @@
 #
 # Usage: scripts/bench_getdp_cup.sh [--case linear|bh|both] [--getdp-h MM] [--magenc-h MM,MM]
 #                                  [--half MM] [--step MM] [--bin DIR] [--work DIR] [--reuse-getdp]
+#                                  [--no-getdp] [--scale-air]
+#   --scale-air: magenc's air mesh size follows h (h_air = 15 h instead of 12 mm), so a refinement
+#   refines every region (with h_air fixed the air between the magnet and the plane stays coarse
+#   and the changes stall at ~0.2 % RMS).
 #   --reuse-getdp: keep a finished GetDP solve of the same case and h in --work (its bz.txt, logs
 #   and times) and run only magenc against it.
+#   --no-getdp: magenc alone (no getdp or gmsh needed). With three or more --magenc-h values
+#   (either mode) a refinement table follows: the change between successive meshes and the
+#   observed order p = ln(d_i / d_i+1) / ln(h_i / h_i+1) of those changes (d: RMS change).
 #   defaults: --case both --getdp-h 0.25 --magenc-h 0.5,0.3 --half 4 --step 0.2
 #             --bin build/bin --work output/bench_getdp_cup
 # Needs getdp, gmsh (scripts/install_deps.sh --with-getdp), python3, and solve_field, field_at.
@@ -39,6 +46,8 @@ step=0.2
 bin=build/bin
 work=output/bench_getdp_cup
 reuse=0
+nogetdp=0
+scale_air=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --case) case_=$2; shift 2 ;;
@@ -49,8 +58,10 @@ while [[ $# -gt 0 ]]; do
     --bin) bin=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
     --reuse-getdp) reuse=1; shift ;;
+    --no-getdp) nogetdp=1; shift ;;
+    --scale-air) scale_air=1; shift ;;
     -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
-    *) echo "bench_getdp_cup.sh: unknown argument $1 (allowed --case, --getdp-h, --magenc-h, --half, --step, --bin, --work, --reuse-getdp)" >&2; exit 2 ;;
+    *) echo "bench_getdp_cup.sh: unknown argument $1 (allowed --case, --getdp-h, --magenc-h, --half, --step, --bin, --work, --reuse-getdp, --no-getdp, --scale-air)" >&2; exit 2 ;;
   esac
 done
 case $case_ in
@@ -62,7 +73,8 @@ for v in "$getdp_h" "$half" "$step" ${magenc_h//,/ }; do
   [[ $v =~ $positive ]] && awk -v v="$v" 'BEGIN{exit !(v > 0)}' || {
     echo "bench_getdp_cup.sh: $v (--getdp-h, --magenc-h, --half, --step) must be a positive number (mm)" >&2; exit 2; }
 done
-for t in getdp gmsh python3; do
+tools=(python3); [[ $nogetdp == 1 ]] || tools+=(getdp gmsh)
+for t in "${tools[@]}"; do
   command -v $t >/dev/null || { echo "bench_getdp_cup.sh: $t not found (scripts/install_deps.sh --with-getdp)" >&2; exit 2; }
 done
 bin=$(cd "$bin" 2>/dev/null && pwd) || { echo "bench_getdp_cup.sh: --bin directory not found" >&2; exit 2; }
@@ -106,10 +118,11 @@ for c in "${cases[@]}"; do
   for h in ${magenc_h//,/ }; do
     md=$work/magenc_${c}_h$h
     mkdir -p "$md"
-    echo "magenc: h = $h mm ..." >&2
+    h_air=12; [[ $scale_air == 1 ]] && h_air=$(awk -v h="$h" 'BEGIN {printf "%.4g", 15 * h}')
+    echo "magenc: h = $h mm (h_air $h_air mm) ..." >&2
     tv "$md/t_solve.txt" "${pin[@]}" "$bin/solve_field" --config meshes/coarse.toml --set fem.order=2 --set fem.potential=total \
         --set fem.nonlinear_method=newton --set fem.threads=1 --set magnet.mu_r=$mu_magnet --set mesh.segments=64 \
-        --set mesh.symmetry_order=8 --set mesh.h_air_mm=12 --set mesh.h_magnet_mm=$h --set mesh.h_zone_mm=$h \
+        --set mesh.symmetry_order=8 --set mesh.h_air_mm=$h_air --set mesh.h_magnet_mm=$h --set mesh.h_zone_mm=$h \
         --set output.mesh_vtu=true --set "$part" --out "$md/field" > "$md/solve.log" 2>&1 \
       || { echo "bench_getdp_cup.sh: solve_field failed (see $md/solve.log)" >&2; exit 1; }
     tv "$md/t_at.txt" "${pin[@]}" "$bin/field_at" --field "fem:$md/field" --points "$work/points.csv" --out "$md/bz.csv" \
@@ -120,6 +133,7 @@ for c in "${cases[@]}"; do
   md0=$work/magenc_${c}_h${mags[0]}
   mu_steel=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['parts'][0]['mu_r'])" "$md0/field/solve.json")
 
+  if [[ $nogetdp == 0 ]]; then
   gd=$work/getdp_${c}_h$getdp_h
   mkdir -p "$gd"
   if [[ $reuse == 1 && -s $gd/bz.txt && -s $gd/t_getdp.txt && -s $gd/t_gmsh.txt ]]; then
@@ -160,6 +174,19 @@ print(j.get('dofs', '?'), j.get('nonlinear_iterations') or '-', ('%.1e' % r[-1])
     printf '%-8s | %-6s | %-9s | %-30s | %8s | %8s | %-12s | %s\n' magenc "$h" "$mdofs" "$miter, $mres" "$mw" "$mc" "$mpk" "$rms / $mx ($n points)"
     summary+=("$c|$h|$rms|$mx")
   done
+  fi
+  if (( ${#mags[@]} >= 3 )); then
+    echo "Refinement, $c: RMS / max change between successive meshes in % of the finer one's peak, observed order p"
+    prev=
+    for ((i = 0; i + 1 < ${#mags[@]}; ++i)); do
+      ha=${mags[i]}; hb=${mags[i + 1]}
+      read -r rms mx _ _ _ < <(diff_pct "$work/magenc_${c}_h$hb/xyb.csv" "$work/magenc_${c}_h$ha/xyb.csv")
+      p=-
+      [[ -n $prev ]] && p=$(awk -v d1="$prev" -v d2="$rms" -v h1="$hp" -v h2="$ha" 'BEGIN {printf "%.2f", log(d1 / d2) / log(h1 / h2)}')
+      printf '  h %s -> %s mm: %s / %s %%, p %s\n' "$ha" "$hb" "$rms" "$mx" "$p"
+      prev=$rms; hp=$ha
+    done
+  fi
   if (( ${#mags[@]} >= 2 )); then
     read -r rms mx _ _ n < <(diff_pct "$work/magenc_${c}_h${mags[-1]}/xyb.csv" "$work/magenc_${c}_h${mags[0]}/xyb.csv")
     echo "magenc's own change h ${mags[0]} -> ${mags[-1]} mm: RMS $rms % / max $mx % of the finer solve's peak"
