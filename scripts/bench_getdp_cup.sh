@@ -186,6 +186,11 @@ print(j.get('dofs', '?'), j.get('nonlinear_iterations') or '-', ('%.1e' % r[-1])
       printf '  h %s -> %s mm: %s / %s %%, p %s\n' "$ha" "$hb" "$rms" "$mx" "$p"
       prev=$rms; hp=$ha
     done
+    echo "Against the finest mesh (h ${mags[-1]} mm): RMS / max % of its peak, peak |Bz| mT"
+    for h in "${mags[@]::${#mags[@]}-1}"; do
+      read -r rms mx _ pk _ < <(diff_pct "$work/magenc_${c}_h${mags[-1]}/xyb.csv" "$work/magenc_${c}_h$h/xyb.csv")
+      printf '  h %s mm: %s / %s %%, peak %s\n' "$h" "$rms" "$mx" "$pk"
+    done
   fi
   if (( ${#mags[@]} >= 2 )); then
     read -r rms mx _ _ n < <(diff_pct "$work/magenc_${c}_h${mags[-1]}/xyb.csv" "$work/magenc_${c}_h${mags[0]}/xyb.csv")
