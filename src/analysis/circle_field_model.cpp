@@ -17,6 +17,54 @@ namespace {
 constexpr int kStencil = 5;  // points per axis of the fit stencil
 }  // namespace
 
+// The constrained least-squares fit on the stencil: the constant is the exact node value (the
+// stencil's centre point) and coef[1..T-1] = pinv(V) * (samples - centre), V = P x (T-1) monomials.
+struct CircleFieldModel::StencilFit {
+  Eigen::MatrixXd V, pinv;  // P x (T-1) and (T-1) x P
+  int centre = -1;
+  // samples: P x n (column = one node or one source); T x n coefficients; resid_abs: fit - sample.
+  Eigen::MatrixXd operator()(const Eigen::MatrixXd& samples, Eigen::MatrixXd& resid_abs) const {
+    const Eigen::Index P = samples.rows(), T = V.cols() + 1;
+    const Eigen::RowVectorXd centre_v = samples.row(centre);
+    const Eigen::MatrixXd rel = samples - Eigen::VectorXd::Ones(P) * centre_v;
+    Eigen::MatrixXd coef(T, samples.cols());
+    coef.row(0) = centre_v;
+    coef.bottomRows(T - 1) = pinv * rel;
+    resid_abs = V * coef.bottomRows(T - 1) - rel;
+    return coef;
+  }
+};
+
+Eigen::MatrixXd CircleFieldModel::stencil_monomials(const std::vector<Eigen::Vector3d>& stencil, double c,
+                                                    double s) const {
+  const int T = terms();
+  Eigen::MatrixXd V(static_cast<Eigen::Index>(stencil.size()), T);
+  std::vector<double> u(static_cast<std::size_t>(T));
+  for (std::size_t p = 0; p < stencil.size(); ++p) {
+    const double ux = stencil[p].x(), uy = stencil[p].y();
+    monomials((c * ux + s * uy) * reach_xy_mm_, (-s * ux + c * uy) * reach_xy_mm_, stencil[p].z() * reach_z_mm_, u.data());
+    for (int t = 0; t < T; ++t) V(static_cast<Eigen::Index>(p), t) = u[std::size_t(t)];
+  }
+  return V;
+}
+
+Eigen::MatrixXd CircleFieldModel::sample(const FieldSource& src, const Eigen::Matrix3Xd& pts, bool full_vector,
+                                         const std::string& field_name) {
+  Eigen::MatrixXd out(full_vector ? 3 : 1, pts.cols());  // rows Bz, then Bx, By
+  if (full_vector) {
+    const Eigen::Matrix3Xd B = src.B_T(pts);
+    out.row(0) = B.row(2);
+    out.row(1) = B.row(0);
+    out.row(2) = B.row(1);
+  } else {
+    out.row(0) = src.Bz_T(pts).transpose();
+  }
+  if (!out.allFinite())
+    throw ComputeError("field " + field_name + " returned a non-finite B near r0 = " + num(r0_mm_) + " mm");
+  field_evaluations_ += static_cast<long>(pts.cols());
+  return out;
+}
+
 CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
                                    double reach_xy_mm, double reach_z_mm, int order, bool full_vector,
                                    Construction how)
@@ -46,27 +94,19 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
   // 2. Stencil in scaled units: 5 x 5 x 5 points over [-1, 1]^3 (the centre
   //    is a stencil point, so the exact node value comes for free).
   std::vector<Eigen::Vector3d> stencil;
-  int centre = -1;
+  StencilFit fit;
   for (int i = 0; i < kStencil; ++i)
     for (int j = 0; j < kStencil; ++j)
       for (int k = 0; k < kStencil; ++k) {
         const double h = 2.0 / (kStencil - 1);
-        if (i == 2 && j == 2 && k == 2) centre = static_cast<int>(stencil.size());
+        if (i == 2 && j == 2 && k == 2) fit.centre = static_cast<int>(stencil.size());
         stencil.emplace_back(-1 + h * i, -1 + h * j, -1 + h * k);
       }
   const int P = static_cast<int>(stencil.size());
 
-  // 3. Least-squares operator for the non-constant terms: the constant is the
-  //    exact node value (so an ideal mount reproduces the field exactly) and
-  //    coef[1..T-1] = pinv(V) * (samples - centre), V = P x (T-1) monomials.
-  Eigen::MatrixXd V(P, T - 1);
-  for (int p = 0; p < P; ++p) {
-    std::vector<double> u(T);
-    monomials(stencil[p].x() * reach_xy_mm_, stencil[p].y() * reach_xy_mm_, stencil[p].z() * reach_z_mm_,
-              u.data());
-    for (int t = 1; t < T; ++t) V(p, t - 1) = u[t];
-  }
-  const Eigen::MatrixXd pinv = V.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // (T-1) x P
+  // 3. Least-squares operator for the non-constant terms (StencilFit).
+  fit.V = stencil_monomials(stencil, 1.0, 0.0).rightCols(T - 1);
+  fit.pinv = fit.V.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // (T-1) x P
 
   // Node angles; stencil points of node j: its position plus the stencil, along the frame's
   // axes (axis_aligned) or turned with the node (rotated, symmetry: node 0's stencil rotated by phi_j).
@@ -83,32 +123,6 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
     return Eigen::Vector3d(r0_mm * cphi[std::size_t(j)] + c * ex - s * ey, r0_mm * sphi[std::size_t(j)] + s * ex + c * ey,
                            plane_z_mm + stencil[std::size_t(p)].z() * reach_z_mm_);
   };
-  // Field samples of one source at the given points: C rows (Bz first, then Bx, By) x points.
-  auto sample = [&](const FieldSource& src, const Eigen::Matrix3Xd& pts) {
-    Eigen::MatrixXd out(C, pts.cols());
-    if (full_vector) {
-      const Eigen::Matrix3Xd B = src.B_T(pts);
-      out.row(0) = B.row(2);
-      out.row(1) = B.row(0);
-      out.row(2) = B.row(1);
-    } else {
-      out.row(0) = src.Bz_T(pts).transpose();
-    }
-    if (!out.allFinite()) throw ComputeError("field " + field.name() + " returned a non-finite B near r0 = " + num(r0_mm) + " mm");
-    field_evaluations_ += static_cast<long>(pts.cols());
-    return out;
-  };
-  // Constrained fit of one component's samples (P x nodes, column = node): T x nodes coefficients in
-  // the stencil's own coordinates; `resid` receives the largest |fit - sample|.
-  auto fit = [&](const Eigen::MatrixXd& samples, Eigen::MatrixXd& resid_abs) {
-    const Eigen::RowVectorXd centre_v = samples.row(centre);
-    const Eigen::MatrixXd rel = samples - Eigen::VectorXd::Ones(P) * centre_v;
-    Eigen::MatrixXd coef(T, samples.cols());
-    coef.row(0) = centre_v;
-    coef.bottomRows(T - 1) = pinv * rel;
-    resid_abs = V * coef.bottomRows(T - 1) - rel;
-    return coef;
-  };
 
   // 4. Local fits G[c] (T x nodes, in the stencil's coordinates) of every component c.
   std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(C));
@@ -117,7 +131,7 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
     Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(P) * nodes_);
     for (int j = 0; j < nodes_; ++j)
       for (int p = 0; p < P; ++p) pts.col(static_cast<Eigen::Index>(j) * P + p) = stencil_point(j, p);
-    const Eigen::MatrixXd S = sample(field, pts);
+    const Eigen::MatrixXd S = sample(field, pts, full_vector, field.name());
     for (int c = 0; c < C; ++c) {
       const Eigen::RowVectorXd row = S.row(c);
       const Eigen::Map<const Eigen::MatrixXd> samples(row.data(), P, nodes_);
@@ -126,84 +140,15 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
       fit_residual_T_ = std::max(fit_residual_T_, resid.cwiseAbs().maxCoeff());
     }
   } else {
-    // B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B = sum_k m_k B_k: node 0's stencil, sampled once per
-    // magnetization axis k the field needs, gives every node: with c = Rz(-phi_j) m,
-    //   B(node j + Rz(phi_j) e) = Rz(phi_j) sum_k c_k B_k(node 0 + e).
-    const Vec3 m = parts->m;
-    const bool inplane = m.x() != 0.0 || m.y() != 0.0, axial = m.z() != 0.0;
     Eigen::Matrix3Xd pts(3, P);
     for (int p = 0; p < P; ++p) pts.col(p) = stencil_point(0, p);
-    // Fits F[k] (T x C) and residuals R[k] (P x C) of B_k at node 0; components Bz, Bx, By.
-    std::array<Eigen::MatrixXd, 3> F, R;
-    for (int k = 0; k < 3; ++k) {
-      F[std::size_t(k)] = Eigen::MatrixXd::Zero(T, C);
-      R[std::size_t(k)] = Eigen::MatrixXd::Zero(P, C);
-      if (k < 2 ? !inplane : !axial) continue;
-      const Eigen::MatrixXd S = sample(*parts->along_axis[std::size_t(k)], pts);
-      for (int c = 0; c < C; ++c) {
-        const Eigen::VectorXd col = S.row(c).transpose();
-        Eigen::MatrixXd resid;
-        F[std::size_t(k)].col(c) = fit(col, resid);
-        R[std::size_t(k)].col(c) = resid;
-      }
-    }
-    for (int c = 0; c < C; ++c) G[std::size_t(c)].resize(T, nodes_);
-    for (int j = 0; j < nodes_; ++j) {
-      const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
-      const double w[3] = {cj * m.x() + sj * m.y(), -sj * m.x() + cj * m.y(), m.z()};  // Rz(-phi_j) m
-      Eigen::MatrixXd Fj = Eigen::MatrixXd::Zero(T, C), Rj = Eigen::MatrixXd::Zero(P, C);
-      for (int k = 0; k < 3; ++k) {
-        if (w[k] == 0.0) continue;
-        Fj += w[k] * F[std::size_t(k)];
-        Rj += w[k] * R[std::size_t(k)];
-      }
-      if (full_vector) {  // rotate the in-plane components (columns Bx = 1, By = 2) by phi_j
-        const Eigen::VectorXd fx = Fj.col(1), rx = Rj.col(1);
-        Fj.col(1) = cj * fx - sj * Fj.col(2);
-        Fj.col(2) = sj * fx + cj * Fj.col(2);
-        Rj.col(1) = cj * rx - sj * Rj.col(2);
-        Rj.col(2) = sj * rx + cj * Rj.col(2);
-      }
-      for (int c = 0; c < C; ++c) G[std::size_t(c)].col(j) = Fj.col(c);
-      fit_residual_T_ = std::max(fit_residual_T_, Rj.cwiseAbs().maxCoeff());
-    }
+    G = symmetry_fits(*parts, pts, fit, full_vector, field.name(), cphi, sphi);
   }
 
-  // 5. Coefficients in the frame's displacement: a turned stencil's fit G_j(s) is a polynomial of
-  //    s = Rz(-phi_j) u, so P_j(u) = G_j(Rz(-phi_j) u), again of degree <= order. Its coefficients
-  //    are the unconstrained least-squares fit of G_j(Rz(-phi_j) u_p) on the stencil (exact: the
-  //    polynomial lies in the fitted space); the constant term stays the exact node value.
+  // 5. Coefficients in the frame's displacement (turned stencils), 6. exact node values.
   std::vector<Eigen::MatrixXd*> out = {&coef_, &coef_x_, &coef_y_};
   for (int c = 0; c < C; ++c) *out[std::size_t(c)] = G[std::size_t(c)];
-  if (turned) {
-    Eigen::MatrixXd Vfull(P, T);
-    std::vector<double> u(static_cast<std::size_t>(T));
-    for (int p = 0; p < P; ++p) {
-      monomials(stencil[std::size_t(p)].x() * reach_xy_mm_, stencil[std::size_t(p)].y() * reach_xy_mm_,
-                stencil[std::size_t(p)].z() * reach_z_mm_, u.data());
-      for (int t = 0; t < T; ++t) Vfull(p, t) = u[std::size_t(t)];
-    }
-    const Eigen::MatrixXd pinv_full = Vfull.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // T x P
-    Eigen::MatrixXd Vrot(P, T);
-    for (int j = 0; j < nodes_; ++j) {
-      const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
-      for (int p = 0; p < P; ++p) {
-        const double ux = stencil[std::size_t(p)].x(), uy = stencil[std::size_t(p)].y();
-        monomials((cj * ux + sj * uy) * reach_xy_mm_, (-sj * ux + cj * uy) * reach_xy_mm_,
-                  stencil[std::size_t(p)].z() * reach_z_mm_, u.data());
-        for (int t = 0; t < T; ++t) Vrot(p, t) = u[std::size_t(t)];
-      }
-      const Eigen::MatrixXd W = pinv_full * Vrot;  // T x T: G_j coefficients -> P_j coefficients
-      for (int c = 0; c < C; ++c) {
-        Eigen::MatrixXd& coef = *out[std::size_t(c)];
-        const double constant = coef(0, j);
-        coef.col(j) = W * G[std::size_t(c)].col(j);
-        coef(0, j) = constant;
-      }
-    }
-  }
-
-  // 6. Exact node values and the first angular harmonic.
+  if (turned) to_frame_coefficients(stencil, G, cphi, sphi);
   center_T_ = coef_.row(0).transpose();
   double re = 0, im = 0;
   for (int j = 0; j < nodes_; ++j) {
@@ -211,6 +156,78 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
     im += center_T_[j] * sphi[std::size_t(j)];
   }
   amplitude_T_ = 2.0 / nodes_ * std::hypot(re, im);
+}
+
+// B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B = sum_k m_k B_k: node 0's stencil, sampled once per
+// magnetization axis k the field needs, gives every node: with c = Rz(-phi_j) m,
+//   B(node j + Rz(phi_j) e) = Rz(phi_j) sum_k c_k B_k(node 0 + e).
+std::vector<Eigen::MatrixXd> CircleFieldModel::symmetry_fits(const FieldSource::AxisymmetricParts& parts,
+                                                             const Eigen::Matrix3Xd& pts0, const StencilFit& fit,
+                                                             bool full_vector, const std::string& field_name,
+                                                             const std::vector<double>& cphi,
+                                                             const std::vector<double>& sphi) {
+  const int T = terms(), C = full_vector ? 3 : 1;
+  const Eigen::Index P = pts0.cols();
+  const Vec3 m = parts.m;
+  const bool inplane = m.x() != 0.0 || m.y() != 0.0, axial = m.z() != 0.0;
+  // Fits F[k] (T x C) and residuals R[k] (P x C) of B_k at node 0; components Bz, Bx, By.
+  std::array<Eigen::MatrixXd, 3> F, R;
+  for (int k = 0; k < 3; ++k) {
+    F[std::size_t(k)] = Eigen::MatrixXd::Zero(T, C);
+    R[std::size_t(k)] = Eigen::MatrixXd::Zero(P, C);
+    if (k < 2 ? !inplane : !axial) continue;
+    const Eigen::MatrixXd S = sample(*parts.along_axis[std::size_t(k)], pts0, full_vector, field_name);
+    for (int c = 0; c < C; ++c) {
+      const Eigen::VectorXd col = S.row(c).transpose();
+      Eigen::MatrixXd resid;
+      F[std::size_t(k)].col(c) = fit(col, resid);
+      R[std::size_t(k)].col(c) = resid;
+    }
+  }
+  std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(C));
+  for (int c = 0; c < C; ++c) G[std::size_t(c)].resize(T, nodes_);
+  for (int j = 0; j < nodes_; ++j) {
+    const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
+    const double w[3] = {cj * m.x() + sj * m.y(), -sj * m.x() + cj * m.y(), m.z()};  // Rz(-phi_j) m
+    Eigen::MatrixXd Fj = Eigen::MatrixXd::Zero(T, C), Rj = Eigen::MatrixXd::Zero(P, C);
+    for (int k = 0; k < 3; ++k) {
+      if (w[k] == 0.0) continue;
+      Fj += w[k] * F[std::size_t(k)];
+      Rj += w[k] * R[std::size_t(k)];
+    }
+    if (full_vector) {  // rotate the in-plane components (columns Bx = 1, By = 2) by phi_j
+      const Eigen::VectorXd fx = Fj.col(1), rx = Rj.col(1);
+      Fj.col(1) = cj * fx - sj * Fj.col(2);
+      Fj.col(2) = sj * fx + cj * Fj.col(2);
+      Rj.col(1) = cj * rx - sj * Rj.col(2);
+      Rj.col(2) = sj * rx + cj * Rj.col(2);
+    }
+    for (int c = 0; c < C; ++c) G[std::size_t(c)].col(j) = Fj.col(c);
+    fit_residual_T_ = std::max(fit_residual_T_, Rj.cwiseAbs().maxCoeff());
+  }
+  return G;
+}
+
+// A turned stencil's fit G_j(s) is a polynomial of s = Rz(-phi_j) u, so P_j(u) = G_j(Rz(-phi_j) u),
+// again of degree <= order. Its coefficients are the unconstrained least-squares fit of
+// G_j(Rz(-phi_j) u_p) on the stencil (exact: the polynomial lies in the fitted space); the constant
+// term stays the exact node value.
+void CircleFieldModel::to_frame_coefficients(const std::vector<Eigen::Vector3d>& stencil,
+                                             const std::vector<Eigen::MatrixXd>& G, const std::vector<double>& cphi,
+                                             const std::vector<double>& sphi) {
+  const Eigen::Index P = static_cast<Eigen::Index>(stencil.size());
+  const Eigen::MatrixXd Vfull = stencil_monomials(stencil, 1.0, 0.0);
+  const Eigen::MatrixXd pinv_full = Vfull.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // T x P
+  std::vector<Eigen::MatrixXd*> out = {&coef_, &coef_x_, &coef_y_};
+  for (int j = 0; j < nodes_; ++j) {
+    const Eigen::MatrixXd W = pinv_full * stencil_monomials(stencil, cphi[std::size_t(j)], sphi[std::size_t(j)]);  // T x T
+    for (std::size_t c = 0; c < G.size(); ++c) {
+      Eigen::MatrixXd& coef = *out[c];
+      const double constant = coef(0, j);
+      coef.col(j) = W * G[c].col(j);
+      coef(0, j) = constant;
+    }
+  }
 }
 
 void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const {

@@ -2,6 +2,7 @@
 // plane z = const (the surrogate of the radius scan, analysis/radius_scan.hpp: why and how).
 #pragma once
 #include <array>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -70,6 +71,21 @@ class CircleFieldModel {
   double fit_residual_T() const { return fit_residual_T_; }
 
  private:
+  struct StencilFit;  // the constrained least-squares fit on the stencil (circle_field_model.cpp)
+  // Monomials of every stencil point (rows) after turning it by (c, s) = (cos, sin) of -phi: P x terms.
+  Eigen::MatrixXd stencil_monomials(const std::vector<Eigen::Vector3d>& stencil, double c, double s) const;
+  // Field samples at pts: rows Bz (then Bx, By with full_vector) x points; counts the evaluations.
+  Eigen::MatrixXd sample(const FieldSource& src, const Eigen::Matrix3Xd& pts, bool full_vector,
+                         const std::string& field_name);
+  // The symmetry construction's fits of every node from node 0's stencil points pts0.
+  std::vector<Eigen::MatrixXd> symmetry_fits(const FieldSource::AxisymmetricParts& parts, const Eigen::Matrix3Xd& pts0,
+                                             const StencilFit& fit, bool full_vector,
+                                             const std::string& field_name, const std::vector<double>& cphi,
+                                             const std::vector<double>& sphi);
+  // Turned stencils' fits G (stencil coordinates) -> coef_, coef_x_, coef_y_ (frame coordinates).
+  void to_frame_coefficients(const std::vector<Eigen::Vector3d>& stencil, const std::vector<Eigen::MatrixXd>& G,
+                             const std::vector<double>& cphi, const std::vector<double>& sphi);
+
   int nodes_ = 0;
   int order_ = 4;
   double r0_mm_ = 0, plane_z_mm_ = 0, reach_xy_mm_ = 0, reach_z_mm_ = 0;
