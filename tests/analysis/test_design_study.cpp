@@ -12,6 +12,7 @@
 #include "analysis/radius_scan.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 

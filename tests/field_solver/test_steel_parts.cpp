@@ -9,6 +9,7 @@
 #include "core/cli.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
+#include "probe/common_keys.hpp"
 #include "steel_parts.hpp"
 
 using namespace magenc;
