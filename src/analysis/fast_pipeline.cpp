@@ -52,8 +52,9 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
 // eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
 // angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
 void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                             std::vector<Eigen::VectorXd>& eps_deg) const {
+                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const {
   const double theta_deg = 360.0 * m / model_.nodes();
+  const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     const ProbeArray& arr = arrays_[a];
     double C = 0, S = 0;
@@ -63,21 +64,35 @@ void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalCh
       S += arr.w_sin[k] * Bk;
     }
     chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-    eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    if (track) {
+      // (C, S) turned back by theta: tan(eps) = y / x.
+      const double x = C * ct + S * st, y = S * ct - C * st;
+      if (!(x > 0)) {
+        track->wrapped = true;
+        return;
+      }
+      const double t = y / x;
+      track->t_lo[a] = std::min(track->t_lo[a], t);
+      track->t_hi[a] = std::max(track->t_hi[a], t);
+    } else {
+      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    }
   }
 }
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                               std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                              const EnvReadings* env) const {
+                              const EnvReadings* env, PpTrack* track) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
   const int T = model_.terms();
   const double r0 = model_.r0_mm(), zs = model_.plane_z_mm();
   const MountKinematics K(mt, zs, magnet_height_mm_);
-  eps_deg.resize(arrays_.size());
-  for (auto& e : eps_deg) e.resize(N);
+  if (!track) {
+    eps_deg.resize(arrays_.size());
+    for (auto& e : eps_deg) e.resize(N);
+  }
   // Fixed-frame position of each distinct probe (angle index i -> b = 2 pi i / N).
   std::vector<Eigen::Vector3d> fixed(angle_index_.size());
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
@@ -107,7 +122,8 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       if (env) Bn[i] = env->br_scale * Bn[i] + env->stray_T[i];
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(Bn[i]));
     }
-    angles_at(m, Bn, chain, eps_deg);
+    angles_at(m, Bn, chain, eps_deg, track);
+    if (track && track->wrapped) return;
   }
 }
 
@@ -141,13 +157,15 @@ void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                             const EnvReadings* env) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env);
+                             const EnvReadings* env, PpTrack* track) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track);
   if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
   const int N = model_.nodes();
   const int T = model_.terms();
-  eps_deg.resize(arrays_.size());
-  for (auto& e : eps_deg) e.resize(N);
+  if (!track) {
+    eps_deg.resize(arrays_.size());
+    for (auto& e : eps_deg) e.resize(N);
+  }
   std::vector<double> u(T), B(angle_index_.size());
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
@@ -164,7 +182,8 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       if (env) B[i] = env->br_scale * B[i] + env->stray_T[i];
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
     }
-    angles_at(m, B, chain, eps_deg);
+    angles_at(m, B, chain, eps_deg, track);
+    if (track && track->wrapped) return;
   }
 }
 
@@ -174,13 +193,39 @@ void peak_to_peak(const std::vector<Eigen::VectorXd>& e, double* pp_deg) {
 }
 }  // namespace
 
-void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+void FastPipeline::pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                            const EnvReadings* env, double* pp_deg, std::vector<double>* peak_T) const {
+  PpTrack track;
+  track.t_lo.assign(arrays_.size(), std::numeric_limits<double>::infinity());
+  track.t_hi.assign(arrays_.size(), -std::numeric_limits<double>::infinity());
   std::vector<Eigen::VectorXd> e;
-  eps(m, e);
+  eps_mount(mt, chain, elevation_deg, e, peak_T, env, &track);
+  if (!track.wrapped) {
+    for (std::size_t a = 0; a < arrays_.size(); ++a)
+      pp_deg[a] = rad_to_deg(std::atan(track.t_hi[a])) - rad_to_deg(std::atan(track.t_lo[a]));
+    return;
+  }
+  eps_mount(mt, chain, elevation_deg, e, peak_T, env);
   peak_to_peak(e, pp_deg);
 }
 
+void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+  pp_mount(m, SignalChain::Applied{}, elevation_deg_, nullptr, pp_deg);
+}
+
 void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg);
+}
+
+void FastPipeline::pp_atan2(const ToleranceCase& c, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(c, e);
   peak_to_peak(e, pp_deg);
@@ -195,10 +240,12 @@ void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin
   chain.validate();
   EnvReadings env;
   const bool has_env = env_readings(c, mt, env);
-  std::vector<Eigen::VectorXd> e;
   std::vector<double> peak_T;
-  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
-  peak_to_peak(e, pp_deg);
+  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg, &peak_T);
+  field_window(peak_T, fmin_mT, fmax_mT);
+}
+
+void FastPipeline::field_window(const std::vector<double>& peak_T, double* fmin_mT, double* fmax_mT) const {
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
     for (int slot : slot_[a]) {
@@ -208,6 +255,21 @@ void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin
     fmin_mT[a] = lo * 1e3;
     fmax_mT[a] = hi * 1e3;
   }
+}
+
+void FastPipeline::eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_mT,
+                             double* fmax_mT) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  std::vector<double> peak_T;
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
+  field_window(peak_T, fmin_mT, fmax_mT);
 }
 
 }  // namespace magenc

@@ -48,9 +48,13 @@ class FastPipeline {
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
   void pp(const ToleranceCase& c, double* pp_deg) const;
+  // pp as the max - min of eps (one atan2 per theta and array): the reference of pp's faster route.
+  void pp_atan2(const ToleranceCase& c, double* pp_deg) const;
   // pp and the field-window magnitude of every array (docs/physics.md "Sensor principles", bz): the
   // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
   void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
+  // eps(c) and the field window of pp_field in one pass (the same numbers as the two calls).
+  void eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_mT, double* fmax_mT) const;
 
  private:
   const CircleFieldModel& model_;
@@ -70,14 +74,27 @@ class FastPipeline {
   bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
   // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
   // env (optional): the environment's part of the readings (probe/environment.hpp).
+  // Peak-to-peak without an atan2 per theta: while C cos th + S sin th > 0 (|eps| < 90 deg) eps is
+  // atan(t), t = (S cos th - C sin th) / (C cos th + S sin th), monotone in t, so pp = atan(t_max) -
+  // atan(t_min); `wrapped` when the denominator is <= 0 anywhere (then the caller takes atan2).
+  struct PpTrack {
+    std::vector<double> t_lo, t_hi;
+    bool wrapped = false;
+  };
+  // track (optional): pp only; eps_deg is then left unset.
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                 const EnvReadings* env = nullptr) const;
+                 const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                   std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                  const EnvReadings* env = nullptr) const;
+                  const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
   void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                 std::vector<Eigen::VectorXd>& eps_deg) const;
+                 std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
+  // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.
+  void pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg, const EnvReadings* env,
+                double* pp_deg, std::vector<double>* peak_T = nullptr) const;
+  // fmin_mT, fmax_mT of every array from the distinct probes' peak |reading| (T).
+  void field_window(const std::vector<double>& peak_T, double* fmin_mT, double* fmax_mT) const;
 };
 
 }  // namespace magenc
