@@ -594,3 +594,15 @@ TEST_CASE("FastPipeline::pp without atan2 equals the max - min of eps to round-o
   fast.pp_atan2(tc, pa);
   for (int a = 0; a < 3; ++a) CHECK(std::abs(pm[a] - pa[a]) <= 1e-12);
 }
+
+TEST_CASE("radius.surrogate_build = symmetry needs the exact field", "[analysis][bad-input]") {
+  RadiusScanOptions opt;
+  opt.arrays = {ProbeArray::parse("two")};
+  opt.r0_mm = {2.0};
+  opt.samples = 10;
+  opt.validate_radii = 0;
+  opt.surrogate_build = CircleFieldModel::Construction::symmetry;
+  RadiusScanResult r;
+  CHECK_THROWS_WITH(run_radius_scan(LinearField(), "linear", opt, r),
+                    Catch::Contains("radius.surrogate_build") && Catch::Contains("allowed axis_aligned"));
+}
