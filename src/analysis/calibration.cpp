@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <vector>
 
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "core/errors.hpp"
@@ -227,6 +230,61 @@ Eigen::VectorXd residual_of_pairs(const Correction& c, const Eigen::VectorXd& th
   for (Eigen::Index i = 0; i < r.size(); ++i)
     r[i] = wrap_deg(t * eps_deg[i] - c.e_deg(t * (theta_deg[i] + eps_deg[i]))) / t;
   return r;
+}
+
+namespace {
+// Row (1, cos t, sin t, ..., cos N t, sin N t) of the harmonic fit at t (rad): one sincos, then angle addition.
+void harmonic_row(double t, int order, double* row) {
+  const double c1 = std::cos(t), s1 = std::sin(t);
+  row[0] = 1.0;
+  double c = 1.0, s = 0.0;
+  for (int n = 1; n <= order; ++n) {
+    const double cn = c * c1 - s * s1;
+    s = s * c1 + c * s1;
+    c = cn;
+    row[2 * n - 1] = c;
+    row[2 * n] = s;
+  }
+}
+}  // namespace
+
+double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
+                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns) {
+  const Eigen::Index n = theta_deg.size();
+  const int P = 2 * method.order + 1;
+  if (method.kind != CalibrationKind::Harmonics || n < 4 * P || eps_cal_deg.size() != n || eps_run_deg.size() != n) {
+    const Correction c = correct_pairs(method, theta_deg + eps_cal_deg, eps_cal_deg, turns);
+    const Eigen::VectorXd r = residual_of_pairs(c, theta_deg, eps_run_deg);
+    return r.maxCoeff() - r.minCoeff();
+  }
+  const double t = turns;
+  // The fit of e = t eps_cal on psi = t (theta + eps_cal): rows of A one by one into A^T A and A^T e.
+  Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(P, P);
+  Eigen::VectorXd Ate = Eigen::VectorXd::Zero(P);
+  Eigen::MatrixXd A(n, P);
+  Eigen::VectorXd e(n);
+  std::vector<double> row(static_cast<std::size_t>(P));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i])), method.order, row.data());
+    for (int k = 0; k < P; ++k) A(i, k) = row[static_cast<std::size_t>(k)];
+    e[i] = t * eps_cal_deg[i];
+  }
+  AtA.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
+  Ate.noalias() = A.transpose() * e;
+  const Eigen::LLT<Eigen::MatrixXd> llt(AtA.selfadjointView<Eigen::Lower>());
+  Eigen::VectorXd h = llt.info() == Eigen::Success ? Eigen::VectorXd(llt.solve(Ate))
+                                                   : Eigen::VectorXd(A.colPivHouseholderQr().solve(e));
+  // The residual of the run: wrap(t eps_run - e_psi(t (theta + eps_run))) / t.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_run_deg[i])), method.order, row.data());
+    double v = 0;
+    for (int k = 0; k < P; ++k) v += h[k] * row[static_cast<std::size_t>(k)];
+    const double r = wrap_deg(t * eps_run_deg[i] - v) / t;
+    lo = std::min(lo, r);
+    hi = std::max(hi, r);
+  }
+  return hi - lo;
 }
 
 Eigen::VectorXd residual_deg(const Correction& c, const AngleErrorResult& run) {

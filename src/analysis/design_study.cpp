@@ -270,10 +270,11 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   const bool cal = !o.req.calibration.none();
   // Per sample: uncalibrated pp, calibrated pp, field min, field max (factory state, 20 C).
   auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
-    double fmin = 0, fmax = 0, pp_f = 0;
-    fast.pp_field(fc, &pp_f, &fmin, &fmax);
-    ToleranceCase rc = fc;
+    double fmin = 0, fmax = 0;
+    std::vector<Eigen::VectorXd> ef, er;  // eps at the factory state (computed once) and at the run state
+    fast.eps_field(fc, ef, &fmin, &fmax);
     if (has_run) {
+      ToleranceCase rc = fc;
       const ToleranceCase dc = run_box.case_sample(drift_seed, i);
       rc.mount.sx_mm += dc.mount.sx_mm;
       rc.mount.sy_mm += dc.mount.sy_mm;
@@ -281,21 +282,12 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
       rc.mount.dy_mm += dc.mount.dy_mm;
       rc.mount.dz_mm += dc.mount.dz_mm;
       rc.env = dc.env;
-    }
-    std::vector<Eigen::VectorXd> er;
-    if (has_run) {
       fast.eps(rc, er);
-      out[0] = er[0].maxCoeff() - er[0].minCoeff();
-    } else {
-      out[0] = pp_f;
     }
+    const Eigen::VectorXd& run = has_run ? er[0] : ef[0];
+    out[0] = run.maxCoeff() - run.minCoeff();
     if (cal) {
-      std::vector<Eigen::VectorXd> ef;
-      fast.eps(fc, ef);
-      if (!has_run) er = ef;
-      const Correction c = correct_pairs(o.req.calibration, theta + ef[0], ef[0]);
-      const Eigen::VectorXd res = residual_of_pairs(c, theta, er[0]);
-      out[1] = res.maxCoeff() - res.minCoeff();
+      out[1] = calibrated_pp_deg(o.req.calibration, theta, ef[0], run);
     } else {
       out[1] = out[0];
     }

@@ -47,13 +47,62 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
     cos_theta_[m] = std::cos(2.0 * kPi * m / N);
     sin_theta_[m] = std::sin(2.0 * kPi * m / N);
   }
+  using C = CircleFieldModel::Construction;
+  if (model.construction() == C::symmetry && (!axial_ || axial_->construction() == C::symmetry)) {
+    for (int M = 40; M < N; ++M)
+      if (N % M == 0) {
+        coarse_ = M;
+        break;
+      }
+  }
+  if (coarse_ > 0) {
+    // Trigonometric interpolation on M equispaced nodes (M even: half weight on the Nyquist term):
+    // f(x) = sum_k f_k L(x - x_k), exact for every trigonometric polynomial of degree < M/2.
+    const int M = coarse_;
+    interp_.resize(N, M);
+    for (int m = 0; m < N; ++m)
+      for (int k = 0; k < M; ++k) {
+        const double d = 2.0 * kPi * (static_cast<double>(m) / N - static_cast<double>(k) / M);
+        double v = 1.0;
+        for (int n = 1; 2 * n < M; ++n) v += 2.0 * std::cos(n * d);
+        if (M % 2 == 0) v += std::cos(M / 2 * d);
+        interp_(m, k) = v / M;
+      }
+  }
+}
+
+void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
+                          std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track) const {
+  const int N = model_.nodes();
+  const std::size_t P = angle_index_.size();
+  Eigen::MatrixXd full;
+  const Eigen::MatrixXd* Rn = &R;
+  if (R.rows() != N) {
+    full.noalias() = interp_ * R;
+    Rn = &full;
+  }
+  if (peak_T) peak_T->assign(P, 0.0);
+  if (!track) {
+    eps_deg.resize(arrays_.size());
+    for (auto& e : eps_deg) e.resize(N);
+  }
+  std::vector<double> B(P);
+  for (int m = 0; m < N; ++m) {
+    for (std::size_t i = 0; i < P; ++i) {
+      B[i] = (*Rn)(m, static_cast<Eigen::Index>(i));
+      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
+    }
+    angles_at(m, B, chain, eps_deg, track);
+    if (track && track->wrapped) return;
+  }
 }
 
 // eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
 // angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
 void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                             std::vector<Eigen::VectorXd>& eps_deg) const {
+                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const {
   const double theta_deg = 360.0 * m / model_.nodes();
+  const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     const ProbeArray& arr = arrays_[a];
     double C = 0, S = 0;
@@ -63,31 +112,43 @@ void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalCh
       S += arr.w_sin[k] * Bk;
     }
     chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-    eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    if (track) {
+      // (C, S) turned back by theta: tan(eps) = y / x.
+      const double x = C * ct + S * st, y = S * ct - C * st;
+      if (!(x > 0)) {
+        track->wrapped = true;
+        return;
+      }
+      const double t = y / x;
+      track->t_lo[a] = std::min(track->t_lo[a], t);
+      track->t_hi[a] = std::max(track->t_hi[a], t);
+    } else {
+      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    }
   }
 }
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                               std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                              const EnvReadings* env) const {
+                              const EnvReadings* env, PpTrack* track) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
   const int T = model_.terms();
   const double r0 = model_.r0_mm(), zs = model_.plane_z_mm();
   const MountKinematics K(mt, zs, magnet_height_mm_);
-  eps_deg.resize(arrays_.size());
-  for (auto& e : eps_deg) e.resize(N);
   // Fixed-frame position of each distinct probe (angle index i -> b = 2 pi i / N).
   std::vector<Eigen::Vector3d> fixed(angle_index_.size());
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
     fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
-  std::vector<double> u(T), Bn(angle_index_.size());
-  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
+  std::vector<double> u(T);
   double B[3], Ba[3];
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
-  for (int m = 0; m < N; ++m) {
+  const int step = coarse_ > 0 ? N / coarse_ : 1;
+  Eigen::MatrixXd R(N / step, static_cast<Eigen::Index>(angle_index_.size()));
+  for (int r = 0; r < R.rows(); ++r) {
+    const int m = r * step;
     // cos, sin of theta_m from the table (the same values std::cos(2 pi m/N) gives: no trig per probe).
     const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
     const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, ct, st);
@@ -103,12 +164,12 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
         axial_->B_T(j, u.data(), Ba);
         for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
       }
-      Bn[i] = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
-      if (env) Bn[i] = env->br_scale * Bn[i] + env->stray_T[i];
-      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(Bn[i]));
+      double Bn = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+      if (env) Bn = env->br_scale * Bn + env->stray_T[i];
+      R(r, static_cast<Eigen::Index>(i)) = Bn;
     }
-    angles_at(m, Bn, chain, eps_deg);
   }
+  finish(R, chain, eps_deg, peak_T, track);
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
@@ -141,17 +202,17 @@ void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                             const EnvReadings* env) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env);
-  if (peak_T) peak_T->assign(angle_index_.size(), 0.0);
+                             const EnvReadings* env, PpTrack* track) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track);
   const int N = model_.nodes();
   const int T = model_.terms();
-  eps_deg.resize(arrays_.size());
-  for (auto& e : eps_deg) e.resize(N);
-  std::vector<double> u(T), B(angle_index_.size());
+  std::vector<double> u(T);
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
-  for (int m = 0; m < N; ++m) {
+  const int step = coarse_ > 0 ? N / coarse_ : 1;
+  Eigen::MatrixXd R(N / step, static_cast<Eigen::Index>(angle_index_.size()));
+  for (int r = 0; r < R.rows(); ++r) {
+    const int m = r * step;
     const double c = cos_theta_[m], s = sin_theta_[m];
     // Displacement of every probe from its nominal node: Rot(-theta) s - d, dz.
     const double ex = c * mt.sx_mm + s * mt.sy_mm - mt.dx_mm;
@@ -160,12 +221,12 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
     for (std::size_t i = 0; i < angle_index_.size(); ++i) {
       int j = angle_index_[i] - m;
       if (j < 0) j += N;
-      B[i] = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
-      if (env) B[i] = env->br_scale * B[i] + env->stray_T[i];
-      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
+      double b = axial_ ? ce * model_.bz_T(j, u.data()) + se * axial_->bz_T(j, u.data()) : model_.bz_T(j, u.data());
+      if (env) b = env->br_scale * b + env->stray_T[i];
+      R(r, static_cast<Eigen::Index>(i)) = b;
     }
-    angles_at(m, B, chain, eps_deg);
   }
+  finish(R, chain, eps_deg, peak_T, track);
 }
 
 namespace {
@@ -174,13 +235,39 @@ void peak_to_peak(const std::vector<Eigen::VectorXd>& e, double* pp_deg) {
 }
 }  // namespace
 
-void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+void FastPipeline::pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
+                            const EnvReadings* env, double* pp_deg, std::vector<double>* peak_T) const {
+  PpTrack track;
+  track.t_lo.assign(arrays_.size(), std::numeric_limits<double>::infinity());
+  track.t_hi.assign(arrays_.size(), -std::numeric_limits<double>::infinity());
   std::vector<Eigen::VectorXd> e;
-  eps(m, e);
+  eps_mount(mt, chain, elevation_deg, e, peak_T, env, &track);
+  if (!track.wrapped) {
+    for (std::size_t a = 0; a < arrays_.size(); ++a)
+      pp_deg[a] = rad_to_deg(std::atan(track.t_hi[a])) - rad_to_deg(std::atan(track.t_lo[a]));
+    return;
+  }
+  eps_mount(mt, chain, elevation_deg, e, peak_T, env);
   peak_to_peak(e, pp_deg);
 }
 
+void FastPipeline::pp(const Mount& m, double* pp_deg) const {
+  pp_mount(m, SignalChain::Applied{}, elevation_deg_, nullptr, pp_deg);
+}
+
 void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg);
+}
+
+void FastPipeline::pp_atan2(const ToleranceCase& c, double* pp_deg) const {
   std::vector<Eigen::VectorXd> e;
   eps(c, e);
   peak_to_peak(e, pp_deg);
@@ -195,10 +282,12 @@ void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin
   chain.validate();
   EnvReadings env;
   const bool has_env = env_readings(c, mt, env);
-  std::vector<Eigen::VectorXd> e;
   std::vector<double> peak_T;
-  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
-  peak_to_peak(e, pp_deg);
+  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg, &peak_T);
+  field_window(peak_T, fmin_mT, fmax_mT);
+}
+
+void FastPipeline::field_window(const std::vector<double>& peak_T, double* fmin_mT, double* fmax_mT) const {
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     double lo = std::numeric_limits<double>::infinity(), hi = 0;
     for (int slot : slot_[a]) {
@@ -208,6 +297,21 @@ void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin
     fmin_mT[a] = lo * 1e3;
     fmax_mT[a] = hi * 1e3;
   }
+}
+
+void FastPipeline::eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_mT,
+                             double* fmax_mT) const {
+  if (c.elevation_deg != 0 && !axial_)
+    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
+                     "(FastPipeline axial)");
+  const Mount mt = c.env.mount_at_temperature(c.mount);
+  const SignalChain chain = c.env.chain_at_temperature(c.chain);
+  chain.validate();
+  EnvReadings env;
+  const bool has_env = env_readings(c, mt, env);
+  std::vector<double> peak_T;
+  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
+  field_window(peak_T, fmin_mT, fmax_mT);
 }
 
 }  // namespace magenc

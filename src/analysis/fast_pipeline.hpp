@@ -30,6 +30,16 @@ class FastPipeline {
   // (exact: B is linear in M).
   FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
                const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
+  // Readings interpolated in theta: with symmetry-built models (model.construction() == symmetry, and
+  // the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
+  // (degree 4 in the displacement, whose coordinates are degree 1 in theta; the node coefficients
+  // degree <= 6 in the node angle; the normal degree 1; the environment adds constants). The readings
+  // are then evaluated at M = coarse_steps() nodes (the smallest divisor of N that is >= 40, so every
+  // degree <= 19 is resolved) and interpolated exactly (up to round-off) to the N nodes; otherwise
+  // (coarse_steps() == 0) every node is evaluated. The model's construction chooses, nothing else.
+  int coarse_steps() const { return coarse_; }
+  // Evaluate every node even for symmetry-built models (the reference the interpolation is tested against).
+  void evaluate_every_node() { coarse_ = 0; }
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
   // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
@@ -48,9 +58,13 @@ class FastPipeline {
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
   void pp(const ToleranceCase& c, double* pp_deg) const;
+  // pp as the max - min of eps (one atan2 per theta and array): the reference of pp's faster route.
+  void pp_atan2(const ToleranceCase& c, double* pp_deg) const;
   // pp and the field-window magnitude of every array (docs/physics.md "Sensor principles", bz): the
   // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
   void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
+  // eps(c) and the field window of pp_field in one pass (the same numbers as the two calls).
+  void eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_mT, double* fmax_mT) const;
 
  private:
   const CircleFieldModel& model_;
@@ -61,6 +75,8 @@ class FastPipeline {
   double magnet_height_mm_ = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot)
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
+  int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
+  Eigen::MatrixXd interp_;                      // N x M trigonometric interpolation (coarse_ > 0)
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
     double br_scale = 1;
@@ -70,14 +86,31 @@ class FastPipeline {
   bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
   // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
   // env (optional): the environment's part of the readings (probe/environment.hpp).
+  // Peak-to-peak without an atan2 per theta: while C cos th + S sin th > 0 (|eps| < 90 deg) eps is
+  // atan(t), t = (S cos th - C sin th) / (C cos th + S sin th), monotone in t, so pp = atan(t_max) -
+  // atan(t_min); `wrapped` when the denominator is <= 0 anywhere (then the caller takes atan2).
+  struct PpTrack {
+    std::vector<double> t_lo, t_hi;
+    bool wrapped = false;
+  };
+  // track (optional): pp only; eps_deg is then left unset.
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                 const EnvReadings* env = nullptr) const;
+                 const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                   std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                  const EnvReadings* env = nullptr) const;
+                  const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
+  // From the readings R (rows: every node, or the M coarse nodes, then interpolated; columns: the
+  // distinct probes): peak_T, and eps or the PpTrack of every array.
+  void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
+              std::vector<double>* peak_T, PpTrack* track) const;
   void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                 std::vector<Eigen::VectorXd>& eps_deg) const;
+                 std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
+  // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.
+  void pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg, const EnvReadings* env,
+                double* pp_deg, std::vector<double>* peak_T = nullptr) const;
+  // fmin_mT, fmax_mT of every array from the distinct probes' peak |reading| (T).
+  void field_window(const std::vector<double>& peak_T, double* fmin_mT, double* fmax_mT) const;
 };
 
 }  // namespace magenc

@@ -68,6 +68,10 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
       int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
       int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
+      string_key("radius.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
+                 "how the surrogate's node models are built: axis_aligned (a direct fit per node) or symmetry (the "
+                 "exact field's rotational symmetry: 2-3 fits; readings at 40 theta, interpolated exactly; moves p99 "
+                 "at the fit-residual level; exact field only)"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
       real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
@@ -90,6 +94,8 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.direct_steps = static_cast<int>(cfg.integer("sensor.steps"));
   o.fast_steps = static_cast<int>(cfg.integer("radius.fast_steps"));
   o.surrogate_order = static_cast<int>(cfg.integer("radius.surrogate_order"));
+  o.surrogate_build = cfg.str("radius.surrogate_build") == "symmetry" ? CircleFieldModel::Construction::symmetry
+                                                                      : CircleFieldModel::Construction::axis_aligned;
   o.box.sx_mm = cfg.real("radius.tol_sx_mm");
   o.box.sy_mm = cfg.real("radius.tol_sy_mm");
   o.box.dx_mm = cfg.real("radius.tol_dx_mm");
@@ -292,9 +298,13 @@ struct RadiusModels {
   RadiusModels(const FieldSource& field, const RadiusScanOptions& opt, double r0, const std::vector<ProbeArray>& arrays) {
     const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
     const bool tilts = opt.box.has_tilts();
+    const CircleFieldModel::Construction how = opt.surrogate_build;
+    if (how == CircleFieldModel::Construction::symmetry && !field.axisymmetric_parts())
+      throw InputError("radius.surrogate_build = symmetry needs the exact field: field " + field.name() +
+                       " declares no rotational symmetry: allowed axis_aligned");
     if (!opt.box.has_elevation()) {
       model = std::make_unique<CircleFieldModel>(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
-                                                 opt.surrogate_order, tilts);
+                                                 opt.surrogate_order, tilts, how);
       fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm);
       amplitude_T = model->amplitude_T();
       fit_residual_T = model->fit_residual_T();
@@ -308,9 +318,9 @@ struct RadiusModels {
     diametric_field = std::make_unique<AnalyticField>(md);
     axial_field = std::make_unique<AnalyticField>(ma);
     model = std::make_unique<CircleFieldModel>(*diametric_field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
-                                               opt.surrogate_order, tilts);
+                                               opt.surrogate_order, tilts, how);
     axial = std::make_unique<CircleFieldModel>(*axial_field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
-                                               opt.surrogate_order, tilts);
+                                               opt.surrogate_order, tilts, how);
     fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm, axial.get(), opt.elevation_deg);
     // The axial part is symmetric about the axis: no first angular harmonic.
     amplitude_T = std::cos(deg_to_rad(opt.elevation_deg)) * model->amplitude_T();

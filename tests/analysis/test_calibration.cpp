@@ -340,3 +340,28 @@ TEST_CASE("calibration study: no drift leaves the factory residual, threads do n
     }
   }
 }
+
+TEST_CASE("calibrated_pp_deg equals correct_pairs + residual_of_pairs to round-off", "[analysis][cross-check]") {
+  // Error curves of the size of the Monte Carlo's (a few tenths of a degree, harmonics 1..3 and 5) at the
+  // calibration state and, changed, at the run state; one with a large error (psi far from uniform).
+  const int n = 360;
+  Eigen::VectorXd theta(n), ec(n), er(n);
+  for (double scale : {0.3, 4.0, 40.0}) {
+    for (int i = 0; i < n; ++i) {
+      theta[i] = 360.0 * i / n;
+      const double t = deg_to_rad(theta[i]);
+      ec[i] = scale * (0.4 * std::sin(t + 0.2) - 0.25 * std::cos(2 * t) + 0.1 * std::sin(3 * t) + 0.03 * std::cos(5 * t + 1));
+      er[i] = ec[i] + scale * (0.05 * std::cos(t) + 0.02 * std::sin(2 * t + 0.5) + 0.01 * std::cos(7 * t));
+    }
+    for (const char* m : {"harmonics:1", "harmonics:4", "harmonics:8", "harmonics:20", "harmonics:80", "lut:32", "none"}) {
+      const CalibrationMethod method = CalibrationMethod::parse(m, "test");
+      for (int turns : {1, 2}) {
+        const Correction c = correct_pairs(method, theta + ec, ec, turns);
+        const double ref = pp(residual_of_pairs(c, theta, er));
+        const double fast = calibrated_pp_deg(method, theta, ec, er, turns);
+        CAPTURE(scale, m, turns, ref, fast);
+        CHECK(std::abs(fast - ref) <= 1e-11 * std::max(1.0, scale));
+      }
+    }
+  }
+}

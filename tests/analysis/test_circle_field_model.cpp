@@ -132,3 +132,66 @@ TEST_CASE("fast pipeline: Monte Carlo results identical with 1 and 2 threads", "
   CHECK((one.array() == two.array()).all());
   CHECK(one.col(0).maxCoeff() > 0.1);  // a real error, not zeros
 }
+
+TEST_CASE("fast pipeline: readings interpolated in theta equal the direct ones on symmetry-built models",
+          "[analysis][cross-check]") {
+  // Every probe reading of a symmetry-built model is a trigonometric polynomial of degree <= 11 in
+  // theta: 40 of the 360 nodes determine it. Tilted, eccentric, tempered, stray-field, signal-chain and
+  // elevation cases (the axial model), untilted and tilted paths, against every node evaluated.
+  Magnet mag;
+  Magnet md = mag, ma = mag;
+  ma.magnetization_elevation_deg = 90;
+  const AnalyticField dia(md), ax(ma);
+  const double r0 = 2.1, L = mag.height_mm;
+  const CircleFieldModel model(dia, r0, kPlaneZ, 360, 0.5, 0.4, 4, true, Construction::symmetry);
+  const CircleFieldModel axial(ax, r0, kPlaneZ, 360, 0.5, 0.4, 4, true, Construction::symmetry);
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"), ProbeArray::parse("ring:8")};
+  const FastPipeline interp(model, arrays, L, &axial, 0.0);
+  FastPipeline direct(model, arrays, L, &axial, 0.0);
+  direct.evaluate_every_node();
+  REQUIRE(interp.coarse_steps() == 40);
+  REQUIRE(direct.coarse_steps() == 0);
+  // Direct fits (axis_aligned) keep every node.
+  const CircleFieldModel axis(dia, r0, kPlaneZ, 360, 0.5, 0.4, 4, true);
+  CHECK(FastPipeline(axis, arrays, L).coarse_steps() == 0);
+  ToleranceBox box;
+  box.tilt_x_deg = box.tilt_y_deg = 1.0;
+  box.magnet_tilt_deg = 1.0;
+  box.temperature_min_C = -40;
+  box.temperature_max_C = 125;
+  box.stray_mT = 2.0;
+  box.offset_cos_mT = box.offset_sin_mT = 1.0;
+  box.gain_mismatch = 0.02;
+  box.phase_error_deg = 1.0;
+  box.magnetization_elevation_deg = 3.0;
+  std::vector<ToleranceCase> cases = monte_carlo_cases(box, 12, 11);
+  ToleranceBox flat = box;
+  flat.tilt_x_deg = flat.tilt_y_deg = flat.magnet_tilt_deg = 0;
+  for (const auto& c : monte_carlo_cases(flat, 12, 12)) cases.push_back(c);
+  for (const auto& c : box.corners()) {
+    ToleranceCase tc;
+    tc.mount = c;
+    cases.push_back(tc);
+    if (cases.size() > 40) break;
+  }
+  int tilted = 0;
+  for (const auto& c : cases) {
+    tilted += c.mount.tilted();
+    std::vector<Eigen::VectorXd> ei, ed;
+    double fi_lo[3], fi_hi[3], fd_lo[3], fd_hi[3], pi[3], pd[3];
+    interp.eps_field(c, ei, fi_lo, fi_hi);
+    direct.eps_field(c, ed, fd_lo, fd_hi);
+    interp.pp(c, pi);
+    direct.pp(c, pd);
+    for (int a = 0; a < 3; ++a) {
+      const double de = (ei[a] - ed[a]).cwiseAbs().maxCoeff();
+      CAPTURE(a, c.mount.tilted(), de, fi_lo[a], fd_lo[a], fi_hi[a], fd_hi[a]);
+      // The peak readings to 1e-12 relative; eps (atan2 of the channels) to 1e-10 deg.
+      CHECK(std::abs(fi_lo[a] - fd_lo[a]) <= 1e-12 * fd_lo[a]);
+      CHECK(std::abs(fi_hi[a] - fd_hi[a]) <= 1e-12 * fd_hi[a]);
+      CHECK(de <= 1e-10);
+      CHECK(std::abs(pi[a] - pd[a]) <= 1e-10);
+    }
+  }
+  CHECK(tilted >= 12);
+}

@@ -520,3 +520,89 @@ TEST_CASE("surrogate with a temperature and a stray field: the direct pipeline",
     }
   }
 }
+
+TEST_CASE("FastPipeline::eps_field gives the numbers of eps and pp_field", "[analysis][cross-check]") {
+  const AnalyticField field(default_magnet());
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("ring:8")};
+  ToleranceBox box;
+  box.temperature_min_C = -40;
+  box.temperature_max_C = 125;
+  box.stray_mT = 0.5;
+  const CircleFieldModel model(field, 2.4, kPlaneZ, 360, box.max_inplane_mm(), box.dz_mm + 0.1, 4);
+  const FastPipeline fast(model, arrays);
+  for (const ToleranceCase& c : monte_carlo_cases(box, 6, 5)) {
+    std::vector<Eigen::VectorXd> e1, e2;
+    double fmin[2], fmax[2], pp[2], fmin2[2], fmax2[2];
+    fast.eps_field(c, e1, fmin, fmax);
+    fast.eps(c, e2);
+    fast.pp_field(c, pp, fmin2, fmax2);
+    for (std::size_t a = 0; a < arrays.size(); ++a) {
+      CHECK(e1[a] == e2[a]);
+      CHECK(std::abs(pp[a] - (e1[a].maxCoeff() - e1[a].minCoeff())) < 1e-12);
+      CHECK(fmin[a] == fmin2[a]);
+      CHECK(fmax[a] == fmax2[a]);
+      CHECK(fmin[a] > 0);
+    }
+  }
+}
+
+TEST_CASE("FastPipeline::pp without atan2 equals the max - min of eps to round-off", "[analysis][cross-check]") {
+  // Eccentric, tilted, tempered, stray-field and signal-chain cases, and wrapped ones (|eps| >= 90 deg:
+  // the pipeline falls back to atan2), all against pp_atan2 (max - min of eps).
+  const AnalyticField field(default_magnet());
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"), ProbeArray::parse("ring:8")};
+  ToleranceBox box;
+  box.tilt_x_deg = box.tilt_y_deg = 1.0;
+  box.magnet_tilt_deg = 1.0;
+  box.temperature_min_C = -40;
+  box.temperature_max_C = 125;
+  box.stray_mT = 2.0;
+  box.offset_cos_mT = box.offset_sin_mT = 2.0;
+  box.gain_mismatch = 0.05;
+  box.phase_error_deg = 2.0;
+  const double r0 = 2.4;
+  const CircleFieldModel model(field, r0, kPlaneZ, 360, 0.5, 0.4, 4, true);
+  const FastPipeline fast(model, arrays, 4.0);
+  std::vector<ToleranceCase> cases = monte_carlo_cases(box, 20, 3);
+  ToleranceBox flat = box;  // untilted samples (the other path)
+  flat.tilt_x_deg = flat.tilt_y_deg = flat.magnet_tilt_deg = 0;
+  for (const auto& c : monte_carlo_cases(flat, 20, 4)) cases.push_back(c);
+  // Wrapped: a cos-channel offset larger than the amplitude turns eps through +-180 deg.
+  ToleranceCase w;
+  w.chain.offset_cos_mT = 1e3 * 3 * model.amplitude_T();
+  cases.push_back(w);
+  w.mount.tilt_x_deg = 0.5;
+  cases.push_back(w);
+  int wrapped = 0;
+  for (const auto& c : cases) {
+    double p1[3], p2[3];
+    fast.pp(c, p1);
+    fast.pp_atan2(c, p2);
+    std::vector<Eigen::VectorXd> e;
+    fast.eps(c, e);
+    if (e[0].cwiseAbs().maxCoeff() >= 90) ++wrapped;
+    for (int a = 0; a < 3; ++a) {
+      CAPTURE(a, c.mount.tilt_x_deg, c.chain.offset_cos_mT, p1[a], p2[a]);
+      CHECK(std::abs(p1[a] - p2[a]) <= 1e-12 * std::max(1.0, p2[a]));
+    }
+  }
+  CHECK(wrapped >= 2);
+  double pm[3], pa[3];
+  fast.pp(Mount{0.1, -0.05, 0.05, 0.02, 0.1}, pm);
+  ToleranceCase tc;
+  tc.mount = Mount{0.1, -0.05, 0.05, 0.02, 0.1};
+  fast.pp_atan2(tc, pa);
+  for (int a = 0; a < 3; ++a) CHECK(std::abs(pm[a] - pa[a]) <= 1e-12);
+}
+
+TEST_CASE("radius.surrogate_build = symmetry needs the exact field", "[analysis][bad-input]") {
+  RadiusScanOptions opt;
+  opt.arrays = {ProbeArray::parse("two")};
+  opt.r0_mm = {2.0};
+  opt.samples = 10;
+  opt.validate_radii = 0;
+  opt.surrogate_build = CircleFieldModel::Construction::symmetry;
+  RadiusScanResult r;
+  CHECK_THROWS_WITH(run_radius_scan(LinearField(), "linear", opt, r),
+                    Catch::Contains("radius.surrogate_build") && Catch::Contains("allowed axis_aligned"));
+}
