@@ -267,6 +267,7 @@ void MagnetostaticSolver::solve() {
 // mesh with component c's parity (psi = 0 on x_c = 0 for c = 0, 1; natural elsewhere), then
 // psi is mirrored onto the whole mesh and mu_r evaluated there.
 void MagnetostaticSolver::solve_nonlinear() {
+  constexpr Eigen::Index kSerialKrylovDofs = 20000;
   auto& hist = stats_.nonlinear_residuals;
   hist.clear();
   stats_.newton_steps = 0;
@@ -351,11 +352,16 @@ void MagnetostaticSolver::solve_nonlinear() {
       // tighter than the step needs to reach the tolerance; never below fem.tolerance).
       const double eta = std::max(options_.tolerance,
                                   std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
+      // BiCGSTAB on one thread below kSerialKrylovDofs unknowns: its ~2 sparse products per
+      // iteration are too small to share (on 2 busy cores the threads' barriers cost more than they
+      // save: the cup's quadrant, 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md).
+      Eigen::setNbThreads(J.rows() < kSerialKrylovDofs ? 1 : options_.threads);
       Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
       bicg.setTolerance(eta);
       bicg.setMaxIterations(options_.max_iterations);
       bicg.compute(J);
       const Eigen::VectorXd d = bicg.solve(-R);
+      Eigen::setNbThreads(options_.threads);
       linear_iterations += bicg.iterations();
       if (bicg.info() == Eigen::Success && d.allFinite()) {
         // Backtracking: the first of alpha = 1, 1/2, ... 1/32 with r(psi + alpha d) < (1 - 1e-4 alpha) r.
