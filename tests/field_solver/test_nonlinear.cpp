@@ -115,7 +115,7 @@ TEST_CASE("nonlinear: the quadrant Newton solve equals the whole mirrored mesh's
   // One magnetization component: |H|, hence mu_r(|H|), has that component's mirror symmetry, so
   // Newton on the quadrant with its parity reaches the whole mesh's solution. Both to
   // |R| / |f| < 1e-9 (CG 1e-11): Bz on the sensing plane equal to that level with the total
-  // potential (measured 6.0e-11 and 9.8e-10 of the peak, x and y); the split potential's phi_s is
+  // potential (measured 6.0e-11, 9.8e-10 and 1.9e-10 of the peak, x, y and z); the split potential's phi_s is
   // integrated along other edge paths on the quadrant (as in the linear quadrant test of
   // test_parts.cpp, 2.0e-6 there): measured 1.2e-6.
   const std::string curve = saturating_curve();
@@ -128,6 +128,7 @@ TEST_CASE("nonlinear: the quadrant Newton solve equals the whole mirrored mesh's
   };
   for (const Case& c : {Case{"total, x", touching, "magnet.magnetization_deg=0", 1e-8},
                         Case{"total, y", touching, "magnet.magnetization_deg=90", 1e-8},
+                        Case{"total, z (axial)", touching, "magnet.magnetization_elevation_deg=90", 1e-8},
                         Case{"split (gap cup), x", gap_cup("bh:" + curve), "magnet.magnetization_deg=0", 1e-5}}) {
     SECTION(c.name) {
       const std::vector<std::string> common = {"fem.order=1", c.part, c.magnetization, "fem.nonlinear_tolerance=1e-9",
