@@ -130,8 +130,15 @@ void MagnetostaticSolver::run() {
 
 // 1. Mesh the regions (TetGen).
 void MagnetostaticSolver::make_mesh() {
-  // B-H parts: mu_r varies per cell with the solution, the quadrant's cells are not the mesh's: solve whole.
-  quadrant_solve_ = domain_.mesh.symmetric && options_.quadrant && !domain_.has_nonlinear_part();
+  // B-H parts: the problem is nonlinear, no superposition of magnetization components. With one
+  // component (x, y or z) |grad psi|, hence mu_r(|H|), has the mirror symmetry of that component's
+  // potential: Newton runs on the quadrant with its parity. Else the whole mesh is solved.
+  quadrant_solve_ = domain_.mesh.symmetric && options_.quadrant;
+  if (quadrant_solve_ && domain_.has_nonlinear_part() && nonlinear_component() < 0) {
+    quadrant_solve_ = false;
+    mesh_layout_ += ", whole mesh solved: B-H parts with a magnetization not along x, y or z (no superposition of "
+                    "the components' quadrant solves in a nonlinear problem)";
+  }
   if (domain_.mesh.symmetric) {
     quad_ = mesh_quadrant(domain_);
     mesh_ = mirror_quadrant_mesh(quad_);
@@ -141,6 +148,19 @@ void MagnetostaticSolver::make_mesh() {
   stats_.nodes = mesh_.num_nodes();
   stats_.elements = mesh_.num_tets();
   stats_.boundary_faces = mesh_.boundary_faces.cols();
+}
+
+// The one non-zero component (0 x, 1 y, 2 z) of the magnet's remanence, -1 if there are several
+// (components below 1e-12 of |Br| are zero, as in QuadrantSolve::assemble).
+int MagnetostaticSolver::nonlinear_component() const {
+  const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
+  int c = -1, n = 0;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(br_T[k]) >= 1e-12 * domain_.magnet.br_T) {
+      c = k;
+      ++n;
+    }
+  return n == 1 ? c : -1;
 }
 
 // 2. Dofs and per-cell materials.
@@ -243,38 +263,71 @@ void MagnetostaticSolver::solve() {
 // r = |f - K(mu(psi)) psi| / |f|, recorded after each iteration. Iteration 1 is the
 // fixed-point step from the curves' initial permeability; then Newton steps
 // (options_.newton) or fixed-point steps psi <- K(mu(psi))^-1 f.
+// Quadrant solve (one magnetization component c): the iteration runs on the quadrant's
+// mesh with component c's parity (psi = 0 on x_c = 0 for c = 0, 1; natural elsewhere), then
+// psi is mirrored onto the whole mesh and mu_r evaluated there.
 void MagnetostaticSolver::solve_nonlinear() {
+  constexpr Eigen::Index kSerialKrylovDofs = 20000;
   auto& hist = stats_.nonlinear_residuals;
   hist.clear();
   stats_.newton_steps = 0;
-  const std::vector<const BhCurve*> curves = cell_bh_curves(domain_, mesh_);
-  const Eigen::VectorXd mu_linear = mu_r_cell_;
-  const std::vector<int> fixed = options_.robin ? std::vector<int>{} : boundary_dofs(mesh_, *space_);
+  const int comp = quadrant_solve_ ? nonlinear_component() : -1;
+  const TetMesh& mesh = quadrant_solve_ ? quadrant_->mesh() : mesh_;
+  const FeSpace& space = quadrant_solve_ ? quadrant_->space() : *space_;
+  const std::vector<const BhCurve*> curves = cell_bh_curves(domain_, mesh);
+  const Eigen::VectorXd mu_linear = quadrant_solve_ ? cell_mu_r(domain_, mesh) : mu_r_cell_;
+  std::vector<int> fixed = options_.robin ? std::vector<int>{} : boundary_dofs(mesh, space);
+  if (quadrant_solve_) {
+    const std::vector<int> plane = quadrant_->odd_plane_dofs(comp);
+    fixed.insert(fixed.end(), plane.begin(), plane.end());
+  }
   auto stiffness = [&](const Eigen::VectorXd& mu) {
-    SparseMatrix K = assemble_stiffness(mesh_, *space_, mu, options_.robin, options_.threads);
+    SparseMatrix K = assemble_stiffness(mesh, space, mu, options_.robin, options_.threads);
     Eigen::VectorXd unused = Eigen::VectorXd::Zero(K.rows());
-    if (!options_.robin) apply_zero_dirichlet(K, unused, fixed);
+    if (!fixed.empty()) apply_zero_dirichlet(K, unused, fixed);
     return K;
   };
+  // K(mu initial), f
+  Eigen::VectorXd mu_cell = mu_linear, psi;
+  SparseMatrix K = stiffness(mu_cell);
+  Eigen::VectorXd f;
+  {
+    const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
+    Eigen::Vector3d br = br_T;
+    if (quadrant_solve_) {
+      br = Eigen::Vector3d::Zero();
+      br[comp] = br_T[comp];
+    }
+    PotentialLoad load = potential_load(mesh, space, mu_cell, br, quadrant_solve_ ? component_magnet(domain_.magnet, br) : domain_.magnet,
+                                        comp < 2 ? comp : -1);
+    f = std::move(load.f);
+    for (int d : fixed) f[d] = 0.0;  // as apply_zero_dirichlet does
+    interface_phi_s_ = load.interface_phi_s.size() > 0 && quadrant_solve_
+                           ? quadrant_->mirror(space_->dof_points(), load.interface_phi_s, comp)
+                           : std::move(load.interface_phi_s);
+  }
+  stats_.nonzeros = K.nonZeros();
+  Eigen::setNbThreads(options_.threads);
   long linear_iterations = 0;
   double linear_residual = 0;
-  auto fixed_point_step = [&] {  // psi <- K(mu)^-1 f with K_ = K(mu); K_ is released
-    solve();
-    linear_iterations += stats_.iterations;
-    linear_residual = std::max(linear_residual, stats_.residual);
+  stats_.solves = 0;
+  auto fixed_point_step = [&] {  // psi <- K(mu)^-1 f with K = K(mu)
+    const LinearSolveResult st = linear_solve(K, f, options_.linear(), psi);
+    linear_iterations += st.iterations;
+    linear_residual = std::max(linear_residual, st.residual);
+    ++stats_.solves;
   };
-  assemble_system();  // K(mu initial), f
-  const double f_norm = f_.norm();
+  const double f_norm = f.norm();
   fixed_point_step();
   Eigen::VectorXd R;
-  auto evaluate = [&](const Eigen::VectorXd& psi, Eigen::VectorXd& mu, SparseMatrix& K, Eigen::VectorXd& res) {
-    mu = secant_mu_r(mesh_, *space_, curves, mu_linear, psi, options_.threads);
+  auto evaluate = [&](const Eigen::VectorXd& p, Eigen::VectorXd& mu, SparseMatrix& Kp, Eigen::VectorXd& res) {
+    mu = secant_mu_r(mesh, space, curves, mu_linear, p, options_.threads);
     SparseMatrix k = stiffness(mu);
-    K.swap(k);
-    res = K * psi - f_;
+    Kp.swap(k);
+    res = Kp * p - f;
     return res.norm() / f_norm;
   };
-  double r = evaluate(psi_, mu_r_cell_, K_, R);
+  double r = evaluate(psi, mu_cell, K, R);
   Eigen::setNbThreads(options_.threads);
   for (int k = 1;; ++k) {
     hist.push_back(r);
@@ -290,8 +343,8 @@ void MagnetostaticSolver::solve_nonlinear() {
     }
     bool newton_done = false;
     if (options_.newton) {
-      SparseMatrix J = nonlinear_jacobian(mesh_, *space_, curves, K_, psi_);
-      if (!options_.robin) {
+      SparseMatrix J = nonlinear_jacobian(mesh, space, curves, K, psi);
+      if (!fixed.empty()) {
         Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
         apply_zero_dirichlet(J, unused, fixed);
       }
@@ -299,23 +352,28 @@ void MagnetostaticSolver::solve_nonlinear() {
       // tighter than the step needs to reach the tolerance; never below fem.tolerance).
       const double eta = std::max(options_.tolerance,
                                   std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
+      // BiCGSTAB on one thread below kSerialKrylovDofs unknowns: its ~2 sparse products per
+      // iteration are too small to share (on 2 busy cores the threads' barriers cost more than they
+      // save: the cup's quadrant, 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md).
+      Eigen::setNbThreads(J.rows() < kSerialKrylovDofs ? 1 : options_.threads);
       Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
       bicg.setTolerance(eta);
       bicg.setMaxIterations(options_.max_iterations);
       bicg.compute(J);
       const Eigen::VectorXd d = bicg.solve(-R);
+      Eigen::setNbThreads(options_.threads);
       linear_iterations += bicg.iterations();
       if (bicg.info() == Eigen::Success && d.allFinite()) {
         // Backtracking: the first of alpha = 1, 1/2, ... 1/32 with r(psi + alpha d) < (1 - 1e-4 alpha) r.
         Eigen::VectorXd mu_t, R_t;
         SparseMatrix K_t;
         for (double alpha = 1.0; alpha > 1.0 / 33; alpha *= 0.5) {
-          const Eigen::VectorXd psi_t = psi_ + alpha * d;
+          const Eigen::VectorXd psi_t = psi + alpha * d;
           const double r_t = evaluate(psi_t, mu_t, K_t, R_t);
           if (r_t < (1 - 1e-4 * alpha) * r) {
-            psi_ = psi_t;
-            mu_r_cell_.swap(mu_t);
-            K_.swap(K_t);
+            psi = psi_t;
+            mu_cell.swap(mu_t);
+            K.swap(K_t);
             R.swap(R_t);
             r = r_t;
             newton_done = true;
@@ -326,11 +384,22 @@ void MagnetostaticSolver::solve_nonlinear() {
       }
     }
     if (!newton_done) {
-      fixed_point_step();  // K_ holds K(mu(psi)): the secant step
-      r = evaluate(psi_, mu_r_cell_, K_, R);
+      fixed_point_step();  // K holds K(mu(psi)): the secant step
+      r = evaluate(psi, mu_cell, K, R);
     }
   }
+  SparseMatrix().swap(K);
   SparseMatrix().swap(K_);
+  if (quadrant_solve_) {
+    psi_ = quadrant_->mirror(space_->dof_points(), psi, comp);
+    quadrant_.reset();
+    // The whole mesh's cells are the quadrant's mirrored: mu_r from the mirrored psi.
+    mu_r_cell_ = secant_mu_r(mesh_, *space_, cell_bh_curves(domain_, mesh_), mu_r_cell_, psi_, options_.threads);
+  } else {
+    psi_.swap(psi);
+    mu_r_cell_.swap(mu_cell);
+  }
+  if (!psi_.allFinite()) throw ComputeError("solution psi contains NaN or Inf");
   stats_.iterations = linear_iterations;
   stats_.residual = linear_residual;
 }

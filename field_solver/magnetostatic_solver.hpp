@@ -113,6 +113,7 @@ class MagnetostaticSolver {
   void solve();
   void compute_cell_fields();
   void solve_nonlinear();
+  int nonlinear_component() const;
   PotentialLoad potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
                                const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const;
 

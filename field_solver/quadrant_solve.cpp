@@ -60,4 +60,21 @@ Eigen::VectorXd QuadrantSolve::solve_and_mirror(const Eigen::Matrix3Xd& fp, cons
   return psi;
 }
 
+std::vector<int> QuadrantSolve::odd_plane_dofs(int c) const {
+  std::vector<int> plane;
+  const Eigen::Matrix3Xd& qp = space_->dof_points();
+  if (c < 2)
+    for (Eigen::Index i = 0; i < qp.cols(); ++i)
+      if (qp(c, i) == 0.0) plane.push_back(static_cast<int>(i));
+  return plane;
+}
+
+Eigen::VectorXd QuadrantSolve::mirror(const Eigen::Matrix3Xd& fp, const Eigen::VectorXd& v, int c) const {
+  const std::vector<int> image = mirror_dof_map(fp, space_->dof_points());
+  Eigen::VectorXd w(fp.cols());
+  for (Eigen::Index i = 0; i < fp.cols(); ++i)
+    w[i] = (c < 2 && fp(c, i) < 0 ? -1.0 : 1.0) * v[image[static_cast<size_t>(i)]];
+  return w;
+}
+
 }  // namespace magenc::fem

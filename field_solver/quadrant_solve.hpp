@@ -42,6 +42,13 @@ class QuadrantSolve {
   const TetMesh& mesh() const { return quad_; }
   long num_dofs() const { return space_->num_dofs(); }
   long nonzeros() const { return K_.nonZeros(); }
+  const FeSpace& space() const { return *space_; }
+  // The quadrant's dofs on the plane x_c = 0 (c = 0: x, 1: y; none for c = 2): psi = 0 there
+  // for component c, whose potential is odd across that plane.
+  std::vector<int> odd_plane_dofs(int c) const;
+  // v (a quadrant dof vector of component c's parity) mirrored onto the whole mesh's dof points
+  // (3 x n, mm): the sign flips across the plane x_c = 0 for c = 0, 1.
+  Eigen::VectorXd mirror(const Eigen::Matrix3Xd& full_dof_points_mm, const Eigen::VectorXd& v, int c) const;
   // Stiffness on the quadrant (per-cell mu_r_cell of the quadrant's cells, Robin or psi = 0 on the
   // outer boundary) and one load per component of br_T above 1e-12 * br_scale_T.
   void assemble(const Eigen::VectorXd& mu_r_cell, const Eigen::Vector3d& br_T, double br_scale_T, bool robin,
