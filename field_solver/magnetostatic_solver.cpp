@@ -257,6 +257,66 @@ void MagnetostaticSolver::solve() {
   SparseMatrix().swap(K_);  // release memory before post-processing (K_ = SparseMatrix() would keep it)
 }
 
+// The nonlinear solve's load f (the magnet's; on the quadrant component comp's alone), zero at the
+// fixed dofs as apply_zero_dirichlet leaves it; sets interface_phi_s_ (mirrored on the quadrant).
+Eigen::VectorXd MagnetostaticSolver::nonlinear_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_cell,
+                                                    int comp, const std::vector<int>& fixed) {
+  const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
+  Eigen::Vector3d br = br_T;
+  if (quadrant_solve_) {
+    br = Eigen::Vector3d::Zero();
+    br[comp] = br_T[comp];
+  }
+  PotentialLoad load = potential_load(mesh, space, mu_cell, br, quadrant_solve_ ? component_magnet(domain_.magnet, br) : domain_.magnet,
+                                      comp < 2 ? comp : -1);
+  for (int d : fixed) load.f[d] = 0.0;
+  interface_phi_s_ = load.interface_phi_s.size() > 0 && quadrant_solve_
+                         ? quadrant_->mirror(space_->dof_points(), load.interface_phi_s, comp)
+                         : std::move(load.interface_phi_s);
+  return std::move(load.f);
+}
+
+void MagnetostaticSolver::throw_not_converged(const std::vector<double>& hist, double tolerance) {
+  std::string h;
+  for (size_t j = 0; j < hist.size(); ++j) h += (j ? ", " : "") + std::to_string(j + 1) + ": " + num(hist[j]);
+  throw ComputeError("nonlinear solve did not converge: residual " + num(hist.back()) + " > fem.nonlinear_tolerance = " +
+                     num(tolerance) + " after " + std::to_string(hist.size()) +
+                     " iterations (fem.nonlinear_max_iterations); residual history " + h);
+}
+
+// Inexact Newton direction: J d = -R solved to eta |R|, eta = min(0.1, max(r, 0.5 tol / r)) (no
+// tighter than the step needs to reach the tolerance; never below fem.tolerance). BiCGSTAB on one
+// thread below kSerialKrylovDofs unknowns: its ~2 sparse products per iteration are too small to
+// share (on 2 busy cores the threads' barriers cost more than they save: the cup's quadrant,
+// 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md). False when it fails.
+bool MagnetostaticSolver::newton_direction(const SparseMatrix& J, const Eigen::VectorXd& R, double r, Eigen::VectorXd& d,
+                                           long& linear_iterations) const {
+  constexpr Eigen::Index kSerialKrylovDofs = 20000;
+  const double eta = std::max(options_.tolerance, std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
+  Eigen::setNbThreads(J.rows() < kSerialKrylovDofs ? 1 : options_.threads);
+  Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
+  bicg.setTolerance(eta);
+  bicg.setMaxIterations(options_.max_iterations);
+  bicg.compute(J);
+  d = bicg.solve(-R);
+  Eigen::setNbThreads(options_.threads);
+  linear_iterations += bicg.iterations();
+  return bicg.info() == Eigen::Success && d.allFinite();
+}
+
+// The converged iterate into psi_ and mu_r_cell_: on the quadrant mirrored onto the whole mesh, whose
+// cells are the quadrant's mirrored, so mu_r from the mirrored psi.
+void MagnetostaticSolver::store_nonlinear_solution(Eigen::VectorXd& psi, Eigen::VectorXd& mu_cell, int comp) {
+  if (quadrant_solve_) {
+    psi_ = quadrant_->mirror(space_->dof_points(), psi, comp);
+    quadrant_.reset();
+    mu_r_cell_ = secant_mu_r(mesh_, *space_, cell_bh_curves(domain_, mesh_), mu_r_cell_, psi_, options_.threads);
+  } else {
+    psi_.swap(psi);
+    mu_r_cell_.swap(mu_cell);
+  }
+}
+
 // 3+4 with B-H parts (nonlinear.hpp). The load f (the magnet's, constant: the
 // nonlinear cells carry the total potential) is assembled once; every iterate psi
 // gets the stiffness K(mu(psi)) of its secant permeability and the residual
@@ -267,7 +327,6 @@ void MagnetostaticSolver::solve() {
 // mesh with component c's parity (psi = 0 on x_c = 0 for c = 0, 1; natural elsewhere), then
 // psi is mirrored onto the whole mesh and mu_r evaluated there.
 void MagnetostaticSolver::solve_nonlinear() {
-  constexpr Eigen::Index kSerialKrylovDofs = 20000;
   auto& hist = stats_.nonlinear_residuals;
   hist.clear();
   stats_.newton_steps = 0;
@@ -290,22 +349,7 @@ void MagnetostaticSolver::solve_nonlinear() {
   // K(mu initial), f
   Eigen::VectorXd mu_cell = mu_linear, psi;
   SparseMatrix K = stiffness(mu_cell);
-  Eigen::VectorXd f;
-  {
-    const Eigen::Vector3d br_T = domain_.magnet.remanence_T();
-    Eigen::Vector3d br = br_T;
-    if (quadrant_solve_) {
-      br = Eigen::Vector3d::Zero();
-      br[comp] = br_T[comp];
-    }
-    PotentialLoad load = potential_load(mesh, space, mu_cell, br, quadrant_solve_ ? component_magnet(domain_.magnet, br) : domain_.magnet,
-                                        comp < 2 ? comp : -1);
-    f = std::move(load.f);
-    for (int d : fixed) f[d] = 0.0;  // as apply_zero_dirichlet does
-    interface_phi_s_ = load.interface_phi_s.size() > 0 && quadrant_solve_
-                           ? quadrant_->mirror(space_->dof_points(), load.interface_phi_s, comp)
-                           : std::move(load.interface_phi_s);
-  }
+  const Eigen::VectorXd f = nonlinear_load(mesh, space, mu_cell, comp, fixed);
   stats_.nonzeros = K.nonZeros();
   Eigen::setNbThreads(options_.threads);
   long linear_iterations = 0;
@@ -334,13 +378,7 @@ void MagnetostaticSolver::solve_nonlinear() {
     stats_.nonlinear_iterations = k;
     if (!std::isfinite(r)) throw ComputeError("nonlinear solve: the residual is not finite after " + std::to_string(k) + " iterations");
     if (r < options_.nonlinear_tolerance) break;
-    if (k >= options_.nonlinear_max_iterations) {
-      std::string h;
-      for (size_t j = 0; j < hist.size(); ++j) h += (j ? ", " : "") + std::to_string(j + 1) + ": " + num(hist[j]);
-      throw ComputeError("nonlinear solve did not converge: residual " + num(r) + " > fem.nonlinear_tolerance = " +
-                         num(options_.nonlinear_tolerance) + " after " + std::to_string(k) +
-                         " iterations (fem.nonlinear_max_iterations); residual history " + h);
-    }
+    if (k >= options_.nonlinear_max_iterations) throw_not_converged(hist, options_.nonlinear_tolerance);
     bool newton_done = false;
     if (options_.newton) {
       SparseMatrix J = nonlinear_jacobian(mesh, space, curves, K, psi);
@@ -348,22 +386,8 @@ void MagnetostaticSolver::solve_nonlinear() {
         Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
         apply_zero_dirichlet(J, unused, fixed);
       }
-      // Inexact Newton: solve J d = -R to eta |R|, eta = min(0.1, max(r, 0.5 tol / r)) (no
-      // tighter than the step needs to reach the tolerance; never below fem.tolerance).
-      const double eta = std::max(options_.tolerance,
-                                  std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
-      // BiCGSTAB on one thread below kSerialKrylovDofs unknowns: its ~2 sparse products per
-      // iteration are too small to share (on 2 busy cores the threads' barriers cost more than they
-      // save: the cup's quadrant, 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md).
-      Eigen::setNbThreads(J.rows() < kSerialKrylovDofs ? 1 : options_.threads);
-      Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
-      bicg.setTolerance(eta);
-      bicg.setMaxIterations(options_.max_iterations);
-      bicg.compute(J);
-      const Eigen::VectorXd d = bicg.solve(-R);
-      Eigen::setNbThreads(options_.threads);
-      linear_iterations += bicg.iterations();
-      if (bicg.info() == Eigen::Success && d.allFinite()) {
+      Eigen::VectorXd d;
+      if (newton_direction(J, R, r, d, linear_iterations)) {
         // Backtracking: the first of alpha = 1, 1/2, ... 1/32 with r(psi + alpha d) < (1 - 1e-4 alpha) r.
         Eigen::VectorXd mu_t, R_t;
         SparseMatrix K_t;
@@ -390,15 +414,7 @@ void MagnetostaticSolver::solve_nonlinear() {
   }
   SparseMatrix().swap(K);
   SparseMatrix().swap(K_);
-  if (quadrant_solve_) {
-    psi_ = quadrant_->mirror(space_->dof_points(), psi, comp);
-    quadrant_.reset();
-    // The whole mesh's cells are the quadrant's mirrored: mu_r from the mirrored psi.
-    mu_r_cell_ = secant_mu_r(mesh_, *space_, cell_bh_curves(domain_, mesh_), mu_r_cell_, psi_, options_.threads);
-  } else {
-    psi_.swap(psi);
-    mu_r_cell_.swap(mu_cell);
-  }
+  store_nonlinear_solution(psi, mu_cell, comp);
   if (!psi_.allFinite()) throw ComputeError("solution psi contains NaN or Inf");
   stats_.iterations = linear_iterations;
   stats_.residual = linear_residual;

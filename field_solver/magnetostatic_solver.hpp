@@ -113,6 +113,12 @@ class MagnetostaticSolver {
   void solve();
   void compute_cell_fields();
   void solve_nonlinear();
+  Eigen::VectorXd nonlinear_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_cell, int comp,
+                                 const std::vector<int>& fixed);
+  [[noreturn]] static void throw_not_converged(const std::vector<double>& hist, double tolerance);
+  bool newton_direction(const SparseMatrix& J, const Eigen::VectorXd& R, double r, Eigen::VectorXd& d,
+                        long& linear_iterations) const;
+  void store_nonlinear_solution(Eigen::VectorXd& psi, Eigen::VectorXd& mu_cell, int comp);
   int nonlinear_component() const;
   PotentialLoad potential_load(const TetMesh& mesh, const FeSpace& space, const Eigen::VectorXd& mu_r,
                                const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const;

@@ -111,7 +111,7 @@ TEST_CASE("nonlinear: Newton converges in far fewer iterations than Picard, to t
   CHECK(max < 1e-5);
 }
 
-TEST_CASE("nonlinear: the quadrant Newton solve equals the whole mirrored mesh's", "[field_solver][physics][nonlinear]") {
+TEST_CASE("nonlinear: the quadrant Newton solve equals the whole mirrored mesh's", "[field_solver][physics]") {
   // One magnetization component: |H|, hence mu_r(|H|), has that component's mirror symmetry, so
   // Newton on the quadrant with its parity reaches the whole mesh's solution. Both to
   // |R| / |f| < 1e-9 (CG 1e-11): Bz on the sensing plane equal to that level with the total
@@ -151,7 +151,7 @@ TEST_CASE("nonlinear: the quadrant Newton solve equals the whole mirrored mesh's
   }
 }
 
-TEST_CASE("nonlinear: a magnetization off the mirror axes solves the whole mesh and says so", "[field_solver][nonlinear]") {
+TEST_CASE("nonlinear: a magnetization off the mirror axes solves the whole mesh and says so", "[field_solver][physics]") {
   const auto s = solved({"fem.order=1", gap_cup("bh:" + saturating_curve()), "magnet.magnetization_deg=30",
                          "fem.nonlinear_tolerance=1e-4"});
   CHECK(s->stats().solved_dofs == s->stats().dofs);
