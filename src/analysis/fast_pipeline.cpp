@@ -68,6 +68,15 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
         if (M % 2 == 0) v += std::cos(M / 2 * d);
         interp_(m, k) = v / M;
       }
+    // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
+    channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
+                                             static_cast<Eigen::Index>(2 * arrays_.size()));
+    for (std::size_t a = 0; a < arrays_.size(); ++a)
+      for (std::size_t k = 0; k < arrays_[a].size(); ++k) {
+        const auto i = static_cast<Eigen::Index>(slot_[a][k]);
+        channel_weights_(i, static_cast<Eigen::Index>(2 * a)) += arrays_[a].w_cos[k];
+        channel_weights_(i, static_cast<Eigen::Index>(2 * a + 1)) += arrays_[a].w_sin[k];
+      }
   }
 }
 
@@ -75,6 +84,29 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track) const {
   const int N = model_.nodes();
   const std::size_t P = angle_index_.size();
+  if (!track) {
+    eps_deg.resize(arrays_.size());
+    for (auto& e : eps_deg) e.resize(N);
+  }
+  const std::size_t A = arrays_.size();
+  std::vector<double> C(A), S(A);
+  if (R.rows() != N && !peak_T) {
+    // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
+    // interpolate 2 per array instead of every distinct probe.
+    Eigen::MatrixXd cs_coarse;
+    cs_coarse.noalias() = R * channel_weights_;
+    Eigen::MatrixXd cs;
+    cs.noalias() = interp_ * cs_coarse;
+    for (int m = 0; m < N; ++m) {
+      for (std::size_t a = 0; a < A; ++a) {
+        C[a] = cs(m, static_cast<Eigen::Index>(2 * a));
+        S[a] = cs(m, static_cast<Eigen::Index>(2 * a + 1));
+      }
+      angles_from_channels(m, C, S, chain, eps_deg, track);
+      if (track && track->wrapped) return;
+    }
+    return;
+  }
   Eigen::MatrixXd full;
   const Eigen::MatrixXd* Rn = &R;
   if (R.rows() != N) {
@@ -82,35 +114,37 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     Rn = &full;
   }
   if (peak_T) peak_T->assign(P, 0.0);
-  if (!track) {
-    eps_deg.resize(arrays_.size());
-    for (auto& e : eps_deg) e.resize(N);
-  }
   std::vector<double> B(P);
   for (int m = 0; m < N; ++m) {
     for (std::size_t i = 0; i < P; ++i) {
       B[i] = (*Rn)(m, static_cast<Eigen::Index>(i));
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
     }
-    angles_at(m, B, chain, eps_deg, track);
+    for (std::size_t a = 0; a < A; ++a) {
+      const ProbeArray& arr = arrays_[a];
+      double c = 0, s = 0;
+      for (std::size_t k = 0; k < arr.size(); ++k) {
+        const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
+        c += arr.w_cos[k] * Bk;
+        s += arr.w_sin[k] * Bk;
+      }
+      C[a] = c;
+      S[a] = s;
+    }
+    angles_from_channels(m, C, S, chain, eps_deg, track);
     if (track && track->wrapped) return;
   }
 }
 
-// eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
-// angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
-void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const {
+// eps_deg[a][m] of every array at theta_m = 360 m/N from its channels C[a], S[a]: the signal chain,
+// atan2 minus theta (or the PpTrack).
+void FastPipeline::angles_from_channels(int m, std::vector<double>& Cv, std::vector<double>& Sv,
+                                        const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
+                                        PpTrack* track) const {
   const double theta_deg = 360.0 * m / model_.nodes();
   const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
-    const ProbeArray& arr = arrays_[a];
-    double C = 0, S = 0;
-    for (std::size_t k = 0; k < arr.size(); ++k) {
-      const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
-      C += arr.w_cos[k] * Bk;
-      S += arr.w_sin[k] * Bk;
-    }
+    double C = Cv[a], S = Sv[a];
     chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
     if (track) {
       // (C, S) turned back by theta: tan(eps) = y / x.
