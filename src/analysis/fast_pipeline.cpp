@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <complex>
 #include <string>
+
+#include <unsupported/Eigen/FFT>
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
@@ -80,6 +83,28 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
   }
 }
 
+void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {
+  // The coarse samples' discrete Fourier coefficients (a real FFT of length M), zero-padded to N and a real
+  // inverse FFT of length N: the same trigonometric interpolation as interp_ (half weight on M/2's term).
+  const int N = model_.nodes(), M = coarse_;
+  thread_local Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  thread_local std::vector<double> x, y;
+  thread_local std::vector<std::complex<double>> X, Y;
+  full.resize(N, coarse.cols());
+  x.resize(static_cast<std::size_t>(M));
+  const double scale = static_cast<double>(N) / M;
+  for (Eigen::Index c = 0; c < coarse.cols(); ++c) {
+    for (int k = 0; k < M; ++k) x[std::size_t(k)] = coarse(k, c);
+    fft.fwd(X, x);
+    Y.assign(static_cast<std::size_t>(N / 2 + 1), std::complex<double>(0.0, 0.0));
+    for (int k = 0; 2 * k < M; ++k) Y[std::size_t(k)] = scale * X[std::size_t(k)];
+    if (M % 2 == 0) Y[std::size_t(M / 2)] = 0.5 * scale * std::real(X[std::size_t(M / 2)]);
+    fft.inv(y, Y);
+    for (int m = 0; m < N; ++m) full(m, c) = y[std::size_t(m)];
+  }
+}
+
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track) const {
   const int N = model_.nodes();
@@ -96,7 +121,7 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R * channel_weights_;
     Eigen::MatrixXd cs;
-    cs.noalias() = interp_ * cs_coarse;
+    interpolate(cs_coarse, cs);
     for (int m = 0; m < N; ++m) {
       for (std::size_t a = 0; a < A; ++a) {
         C[a] = cs(m, static_cast<Eigen::Index>(2 * a));
@@ -110,7 +135,7 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
   Eigen::MatrixXd full;
   const Eigen::MatrixXd* Rn = &R;
   if (R.rows() != N) {
-    full.noalias() = interp_ * R;
+    interpolate(R, full);
     Rn = &full;
   }
   if (peak_T) peak_T->assign(P, 0.0);

@@ -107,6 +107,8 @@ class FastPipeline {
               std::vector<double>* peak_T, PpTrack* track) const;
   // Without peak_T on the coarse nodes: the channels C, S (linear in the readings: channel_weights_) are
   // formed at the M nodes and only they are interpolated (2 columns per array instead of every probe).
+  // full (N x columns) from the M coarse rows: FFT of length M, zero padding, inverse FFT of length N.
+  void interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const;
   void angles_from_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
   // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.
