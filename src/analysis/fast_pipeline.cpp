@@ -59,18 +59,6 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
       }
   }
   if (coarse_ > 0) {
-    // Trigonometric interpolation on M equispaced nodes (M even: half weight on the Nyquist term):
-    // f(x) = sum_k f_k L(x - x_k), exact for every trigonometric polynomial of degree < M/2.
-    const int M = coarse_;
-    interp_.resize(N, M);
-    for (int m = 0; m < N; ++m)
-      for (int k = 0; k < M; ++k) {
-        const double d = 2.0 * kPi * (static_cast<double>(m) / N - static_cast<double>(k) / M);
-        double v = 1.0;
-        for (int n = 1; 2 * n < M; ++n) v += 2.0 * std::cos(n * d);
-        if (M % 2 == 0) v += std::cos(M / 2 * d);
-        interp_(m, k) = v / M;
-      }
     // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
     channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
                                              static_cast<Eigen::Index>(2 * arrays_.size()));
@@ -85,7 +73,8 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
 
 void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {
   // The coarse samples' discrete Fourier coefficients (a real FFT of length M), zero-padded to N and a real
-  // inverse FFT of length N: the same trigonometric interpolation as interp_ (half weight on M/2's term).
+  // inverse FFT of length N: trigonometric interpolation on the M equispaced nodes, exact for every
+  // trigonometric polynomial of degree < M/2 (half weight on the M/2 term, M even).
   const int N = model_.nodes(), M = coarse_;
   thread_local Eigen::FFT<double> fft;
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);

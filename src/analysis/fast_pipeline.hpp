@@ -76,7 +76,6 @@ class FastPipeline {
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
-  Eigen::MatrixXd interp_;                      // N x M trigonometric interpolation (coarse_ > 0)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array (coarse_ > 0)
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
