@@ -61,6 +61,10 @@ std::vector<KeySpec> DesignOptions::keys() {
                "seed's samples (common random numbers)"),
       int_key("design.fast_steps", d.fast_steps, 8, 100000, "theta samples per turn of the fast pipeline"),
       int_key("design.surrogate_order", d.surrogate_order, 2, 4, "polynomial degree of the local field models"),
+      string_key("design.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
+                 "how the local field models are built: axis_aligned (a direct fit per node) or symmetry (the exact "
+                 "field's rotational symmetry: 2-3 fits; readings at 40 theta, interpolated exactly; moves p99 at "
+                 "the fit-residual level), as radius.surrogate_build"),
   };
   ToleranceBox box;  // radius study's defaults
   for (auto& t : mount_box_keys(box, true, "mounting tolerance")) k.push_back(t);
@@ -103,6 +107,8 @@ DesignOptions DesignOptions::from_config(const Config& cfg) {
   o.seed_per_design = cfg.flag("design.seed_per_design");
   o.fast_steps = static_cast<int>(cfg.integer("design.fast_steps"));
   o.surrogate_order = static_cast<int>(cfg.integer("design.surrogate_order"));
+  o.surrogate_build = cfg.str("design.surrogate_build") == "symmetry" ? CircleFieldModel::Construction::symmetry
+                                                                      : CircleFieldModel::Construction::axis_aligned;
   o.validate();
   return o;
 }
@@ -252,7 +258,7 @@ struct DesignModel {
     ro.magnet_height_mm = d.magnet_height_mm;
     const auto [xy, z] = model_reach_mm(ro, d.r0_mm);
     model = std::make_unique<CircleFieldModel>(*field, d.r0_mm, d.plane_z_mm(), o.fast_steps, xy, z, o.surrogate_order,
-                                               box.has_tilts());
+                                               box.has_tilts(), o.surrogate_build);
   }
 };
 

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "analysis/calibration.hpp"
+#include "analysis/circle_field_model.hpp"
 #include "analysis/tolerance.hpp"
 #include "core/config.hpp"
 #include "probe/probe_array.hpp"
@@ -68,6 +69,9 @@ struct DesignOptions {
   bool seed_per_design = true;
   int fast_steps = 360;
   int surrogate_order = 4;
+  // How the local field models are built (design.surrogate_build; the exact field): axis_aligned or symmetry
+  // (readings at 40 theta, interpolated exactly: FastPipeline::coarse_steps).
+  CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::axis_aligned;
 
   static std::vector<KeySpec> keys();  // [design] keys and tol.*
   // InputError (one line naming the key) for a sensor that is not a Bz array, a material count that

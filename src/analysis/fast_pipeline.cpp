@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <complex>
 #include <string>
+
+#include <unsupported/Eigen/FFT>
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
@@ -56,18 +59,38 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
       }
   }
   if (coarse_ > 0) {
-    // Trigonometric interpolation on M equispaced nodes (M even: half weight on the Nyquist term):
-    // f(x) = sum_k f_k L(x - x_k), exact for every trigonometric polynomial of degree < M/2.
-    const int M = coarse_;
-    interp_.resize(N, M);
-    for (int m = 0; m < N; ++m)
-      for (int k = 0; k < M; ++k) {
-        const double d = 2.0 * kPi * (static_cast<double>(m) / N - static_cast<double>(k) / M);
-        double v = 1.0;
-        for (int n = 1; 2 * n < M; ++n) v += 2.0 * std::cos(n * d);
-        if (M % 2 == 0) v += std::cos(M / 2 * d);
-        interp_(m, k) = v / M;
+    // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
+    channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
+                                             static_cast<Eigen::Index>(2 * arrays_.size()));
+    for (std::size_t a = 0; a < arrays_.size(); ++a)
+      for (std::size_t k = 0; k < arrays_[a].size(); ++k) {
+        const auto i = static_cast<Eigen::Index>(slot_[a][k]);
+        channel_weights_(i, static_cast<Eigen::Index>(2 * a)) += arrays_[a].w_cos[k];
+        channel_weights_(i, static_cast<Eigen::Index>(2 * a + 1)) += arrays_[a].w_sin[k];
       }
+  }
+}
+
+void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {
+  // The coarse samples' discrete Fourier coefficients (a real FFT of length M), zero-padded to N and a real
+  // inverse FFT of length N: trigonometric interpolation on the M equispaced nodes, exact for every
+  // trigonometric polynomial of degree < M/2 (half weight on the M/2 term, M even).
+  const int N = model_.nodes(), M = coarse_;
+  thread_local Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  thread_local std::vector<double> x, y;
+  thread_local std::vector<std::complex<double>> X, Y;
+  full.resize(N, coarse.cols());
+  x.resize(static_cast<std::size_t>(M));
+  const double scale = static_cast<double>(N) / M;
+  for (Eigen::Index c = 0; c < coarse.cols(); ++c) {
+    for (int k = 0; k < M; ++k) x[std::size_t(k)] = coarse(k, c);
+    fft.fwd(X, x);
+    Y.assign(static_cast<std::size_t>(N / 2 + 1), std::complex<double>(0.0, 0.0));
+    for (int k = 0; 2 * k < M; ++k) Y[std::size_t(k)] = scale * X[std::size_t(k)];
+    if (M % 2 == 0) Y[std::size_t(M / 2)] = 0.5 * scale * std::real(X[std::size_t(M / 2)]);
+    fft.inv(y, Y);
+    for (int m = 0; m < N; ++m) full(m, c) = y[std::size_t(m)];
   }
 }
 
@@ -75,42 +98,67 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track) const {
   const int N = model_.nodes();
   const std::size_t P = angle_index_.size();
-  Eigen::MatrixXd full;
-  const Eigen::MatrixXd* Rn = &R;
-  if (R.rows() != N) {
-    full.noalias() = interp_ * R;
-    Rn = &full;
-  }
-  if (peak_T) peak_T->assign(P, 0.0);
   if (!track) {
     eps_deg.resize(arrays_.size());
     for (auto& e : eps_deg) e.resize(N);
   }
+  const std::size_t A = arrays_.size();
+  std::vector<double> C(A), S(A);
+  if (R.rows() != N && !peak_T) {
+    // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
+    // interpolate 2 per array instead of every distinct probe.
+    Eigen::MatrixXd cs_coarse;
+    cs_coarse.noalias() = R * channel_weights_;
+    Eigen::MatrixXd cs;
+    interpolate(cs_coarse, cs);
+    for (int m = 0; m < N; ++m) {
+      for (std::size_t a = 0; a < A; ++a) {
+        C[a] = cs(m, static_cast<Eigen::Index>(2 * a));
+        S[a] = cs(m, static_cast<Eigen::Index>(2 * a + 1));
+      }
+      angles_from_channels(m, C, S, chain, eps_deg, track);
+      if (track && track->wrapped) return;
+    }
+    return;
+  }
+  Eigen::MatrixXd full;
+  const Eigen::MatrixXd* Rn = &R;
+  if (R.rows() != N) {
+    interpolate(R, full);
+    Rn = &full;
+  }
+  if (peak_T) peak_T->assign(P, 0.0);
   std::vector<double> B(P);
   for (int m = 0; m < N; ++m) {
     for (std::size_t i = 0; i < P; ++i) {
       B[i] = (*Rn)(m, static_cast<Eigen::Index>(i));
       if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
     }
-    angles_at(m, B, chain, eps_deg, track);
+    for (std::size_t a = 0; a < A; ++a) {
+      const ProbeArray& arr = arrays_[a];
+      double c = 0, s = 0;
+      for (std::size_t k = 0; k < arr.size(); ++k) {
+        const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
+        c += arr.w_cos[k] * Bk;
+        s += arr.w_sin[k] * Bk;
+      }
+      C[a] = c;
+      S[a] = s;
+    }
+    angles_from_channels(m, C, S, chain, eps_deg, track);
     if (track && track->wrapped) return;
   }
 }
 
-// eps_deg[a][m] of every array at theta_m = 360 m/N from the field B[i] read at the distinct probe
-// angles (angle_index_): each array's weighted channels, the signal chain, atan2 minus theta.
-void FastPipeline::angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const {
+// eps_deg[a][m] of every array at theta_m = 360 m/N from its channels C[a], S[a]: the signal chain,
+// atan2 minus theta (or the PpTrack).
+void FastPipeline::angles_from_channels(int m, std::vector<double>& Cv, std::vector<double>& Sv,
+                                        const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
+                                        PpTrack* track) const {
   const double theta_deg = 360.0 * m / model_.nodes();
   const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
-    const ProbeArray& arr = arrays_[a];
-    double C = 0, S = 0;
-    for (std::size_t k = 0; k < arr.size(); ++k) {
-      const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
-      C += arr.w_cos[k] * Bk;
-      S += arr.w_sin[k] * Bk;
-    }
+    double C = Cv[a], S = Sv[a];
     chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
     if (track) {
       // (C, S) turned back by theta: tan(eps) = y / x.

@@ -76,7 +76,7 @@ class FastPipeline {
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
-  Eigen::MatrixXd interp_;                      // N x M trigonometric interpolation (coarse_ > 0)
+  Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array (coarse_ > 0)
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
     double br_scale = 1;
@@ -104,8 +104,12 @@ class FastPipeline {
   // distinct probes): peak_T, and eps or the PpTrack of every array.
   void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
               std::vector<double>* peak_T, PpTrack* track) const;
-  void angles_at(int m, const std::vector<double>& B, const SignalChain::Applied& chain,
-                 std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
+  // Without peak_T on the coarse nodes: the channels C, S (linear in the readings: channel_weights_) are
+  // formed at the M nodes and only they are interpolated (2 columns per array instead of every probe).
+  // full (N x columns) from the M coarse rows: FFT of length M, zero padding, inverse FFT of length N.
+  void interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const;
+  void angles_from_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
+                            std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
   // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.
   void pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg, const EnvReadings* env,
                 double* pp_deg, std::vector<double>* peak_T = nullptr) const;

@@ -183,8 +183,15 @@ TEST_CASE("fast pipeline: readings interpolated in theta equal the direct ones o
     direct.eps_field(c, ed, fd_lo, fd_hi);
     interp.pp(c, pi);
     direct.pp(c, pd);
+    // Without the field window (eps, pp): only the channels C, S of each array are interpolated.
+    std::vector<Eigen::VectorXd> ci, cd;
+    interp.eps(c, ci);
+    direct.eps(c, cd);
     for (int a = 0; a < 3; ++a) {
       const double de = (ei[a] - ed[a]).cwiseAbs().maxCoeff();
+      const double dc = (ci[a] - cd[a]).cwiseAbs().maxCoeff();
+      CAPTURE(dc);
+      CHECK(dc <= 1e-10);
       CAPTURE(a, c.mount.tilted(), de, fi_lo[a], fd_lo[a], fi_hi[a], fd_hi[a]);
       // The peak readings to 1e-12 relative; eps (atan2 of the channels) to 1e-10 deg.
       CHECK(std::abs(fi_lo[a] - fd_lo[a]) <= 1e-12 * fd_lo[a]);
