@@ -488,6 +488,24 @@ namespace {
 // set of bodies of revolution (shared faces where they touch), the zone as in
 // build_plc (with a core reaching the magnet, its bottom face split at every
 // body's ring), then each off-axis part on its own axis.
+// The refinement zone as a box around the sensing plane (no core reaching the magnet); a core
+// cylinder, when set, nested inside the box, and the box's seed between core and box side.
+void add_zone_box(Plc& plc, const DomainSpec& spec) {
+  const MeshSpec& m = spec.mesh;
+  const double w = spec.zone.half_width_mm;
+  add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
+  Eigen::Vector3d seed = seed_at(0.5 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
+  if (spec.zone.core()) {
+    add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
+                 spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
+    const double rc = spec.zone.core_radius_mm;
+    plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
+                           tet_volume_for_edge(m.h_core_mm)});
+    seed = seed_at(0.5 * (polygon_radius(rc, m.segments, m.equal_area) + w), seed.z());
+  }
+  plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
+}
+
 Plc build_plc_with_parts(const DomainSpec& spec) {
   const MeshSpec& m = spec.mesh;
   const double R = spec.magnet.radius_mm, top = 0.5 * spec.magnet.height_mm;
@@ -511,18 +529,7 @@ Plc build_plc_with_parts(const DomainSpec& spec) {
   if (core) {
     add_zone_with_core(plc, spec, -1, top, &core_ring);
   } else if (spec.zone.enabled) {
-    const double w = spec.zone.half_width_mm;
-    add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
-    Eigen::Vector3d seed = seed_at(0.5 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
-    if (spec.zone.core()) {
-      add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
-                   spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
-      const double rc = spec.zone.core_radius_mm;
-      plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
-                             tet_volume_for_edge(m.h_core_mm)});
-      seed = seed_at(0.5 * (polygon_radius(rc, m.segments, m.equal_area) + w), seed.z());
-    }
-    plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
+    add_zone_box(plc, spec);
   }
   for (size_t i = 0; i < spec.parts.size(); ++i) {
     const PartSpec& p = spec.parts[i];
@@ -612,18 +619,7 @@ Plc build_plc(const DomainSpec& spec) {
   if (spec.zone.core_to_magnet()) {
     add_zone_with_core(plc, spec, magnet_base + m.segments, top);
   } else if (spec.zone.enabled) {
-    const double w = spec.zone.half_width_mm;
-    add_box(plc, {-w, -w, spec.zone.z_min_mm}, {w, w, spec.zone.z_max_mm});
-    Eigen::Vector3d seed = seed_at(0.5 * w, 0.5 * (spec.zone.z_min_mm + spec.zone.z_max_mm));
-    if (spec.zone.core()) {  // core cylinder nested inside the box; box seed between core and box side
-      add_cylinder(plc, polygon_radius(spec.zone.core_radius_mm, m.segments, m.equal_area), m.segments,
-                   spec.zone.core_z_min_mm, spec.zone.core_z_max_mm);
-      const double rc = spec.zone.core_radius_mm;
-      plc.regions.push_back({seed_at(0.5 * rc, 0.5 * (spec.zone.core_z_min_mm + spec.zone.core_z_max_mm)), kRegionZone,
-                             tet_volume_for_edge(m.h_core_mm)});
-      seed = seed_at(0.5 * (polygon_radius(rc, m.segments, m.equal_area) + w), seed.z());
-    }
-    plc.regions.push_back({seed, kRegionZone, tet_volume_for_edge(m.h_zone_mm)});
+    add_zone_box(plc, spec);
   }
   // 4. Shaft below the magnet.
   if (spec.shaft.enabled) {

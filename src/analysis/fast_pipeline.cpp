@@ -236,16 +236,23 @@ bool FastPipeline::env_readings(const ToleranceCase& c, const Mount& mt, EnvRead
   return true;
 }
 
-void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
+FastPipeline::CaseState FastPipeline::case_state(const ToleranceCase& c) const {
   if (c.elevation_deg != 0 && !axial_)
     throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
                      "(FastPipeline axial)");
-  const Mount mt = c.env.mount_at_temperature(c.mount);
+  CaseState st;
+  st.mount = c.env.mount_at_temperature(c.mount);
   const SignalChain chain = c.env.chain_at_temperature(c.chain);
   chain.validate();
-  EnvReadings env;
-  const bool has_env = env_readings(c, mt, env);
-  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, eps_deg, nullptr, has_env ? &env : nullptr);
+  st.chain = chain.applied();
+  st.elevation_deg = elevation_deg_ + c.elevation_deg;
+  st.has_env = env_readings(c, st.mount, st.env);
+  return st;
+}
+
+void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
+  const CaseState st = case_state(c);
+  eps_mount(st.mount, st.chain, st.elevation_deg, eps_deg, nullptr, st.env_ptr());
 }
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
@@ -304,15 +311,8 @@ void FastPipeline::pp(const Mount& m, double* pp_deg) const {
 }
 
 void FastPipeline::pp(const ToleranceCase& c, double* pp_deg) const {
-  if (c.elevation_deg != 0 && !axial_)
-    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
-                     "(FastPipeline axial)");
-  const Mount mt = c.env.mount_at_temperature(c.mount);
-  const SignalChain chain = c.env.chain_at_temperature(c.chain);
-  chain.validate();
-  EnvReadings env;
-  const bool has_env = env_readings(c, mt, env);
-  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg);
+  const CaseState st = case_state(c);
+  pp_mount(st.mount, st.chain, st.elevation_deg, st.env_ptr(), pp_deg);
 }
 
 void FastPipeline::pp_atan2(const ToleranceCase& c, double* pp_deg) const {
@@ -322,16 +322,9 @@ void FastPipeline::pp_atan2(const ToleranceCase& c, double* pp_deg) const {
 }
 
 void FastPipeline::pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const {
-  if (c.elevation_deg != 0 && !axial_)
-    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
-                     "(FastPipeline axial)");
-  const Mount mt = c.env.mount_at_temperature(c.mount);
-  const SignalChain chain = c.env.chain_at_temperature(c.chain);
-  chain.validate();
-  EnvReadings env;
-  const bool has_env = env_readings(c, mt, env);
+  const CaseState st = case_state(c);
   std::vector<double> peak_T;
-  pp_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, has_env ? &env : nullptr, pp_deg, &peak_T);
+  pp_mount(st.mount, st.chain, st.elevation_deg, st.env_ptr(), pp_deg, &peak_T);
   field_window(peak_T, fmin_mT, fmax_mT);
 }
 
@@ -349,16 +342,9 @@ void FastPipeline::field_window(const std::vector<double>& peak_T, double* fmin_
 
 void FastPipeline::eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_mT,
                              double* fmax_mT) const {
-  if (c.elevation_deg != 0 && !axial_)
-    throw InputError("a magnetization elevation deviation needs the surrogate's axial-magnetization model "
-                     "(FastPipeline axial)");
-  const Mount mt = c.env.mount_at_temperature(c.mount);
-  const SignalChain chain = c.env.chain_at_temperature(c.chain);
-  chain.validate();
-  EnvReadings env;
-  const bool has_env = env_readings(c, mt, env);
+  const CaseState st = case_state(c);
   std::vector<double> peak_T;
-  eps_mount(mt, chain.applied(), elevation_deg_ + c.elevation_deg, e, &peak_T, has_env ? &env : nullptr);
+  eps_mount(st.mount, st.chain, st.elevation_deg, e, &peak_T, st.env_ptr());
   field_window(peak_T, fmin_mT, fmax_mT);
 }
 

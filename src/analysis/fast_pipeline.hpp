@@ -84,6 +84,16 @@ class FastPipeline {
   };
   // The case's environment at its mount (nullopt-like: empty when neutral).
   bool env_readings(const ToleranceCase& c, const Mount& mt, EnvReadings& out) const;
+  // A tolerance case at its temperature: the mount, the applied chain, the elevation and the environment.
+  struct CaseState {
+    Mount mount;
+    SignalChain::Applied chain;
+    double elevation_deg = 0;
+    EnvReadings env;
+    bool has_env = false;
+    const EnvReadings* env_ptr() const { return has_env ? &env : nullptr; }
+  };
+  CaseState case_state(const ToleranceCase& c) const;
   // peak_T (optional): per distinct probe angle, the largest |reading| over the turn (T).
   // env (optional): the environment's part of the readings (probe/environment.hpp).
   // Peak-to-peak without an atan2 per theta: while C cos th + S sin th > 0 (|eps| < 90 deg) eps is
