@@ -16,6 +16,7 @@
 #include "analysis/design_study.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/third_party_leaks.hpp"
 #include "probe/common_keys.hpp"
 #include "report/design_report.hpp"
 #include "report/study_output.hpp"
@@ -117,14 +118,20 @@ int worker(int argc, char** argv) {
 
 int main(int argc, char** argv) {
 #ifdef MAGENC_DESIGN_MPI
-  MPI_Init(&argc, &argv);
+  {
+    MAGENC_IGNORE_THIRD_PARTY_LEAKS;  // OpenMPI's start-up allocations are its own
+    MPI_Init(&argc, &argv);
+  }
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
 #endif
   const int rc = g_rank == 0 ? run_study("design", kDescription, DesignOptions::keys(), argc, argv, run)
                              : worker(argc, argv);
 #ifdef MAGENC_DESIGN_MPI
-  MPI_Finalize();
+  {
+    MAGENC_IGNORE_THIRD_PARTY_LEAKS;
+    MPI_Finalize();
+  }
 #endif
   return rc;
 }

@@ -66,7 +66,7 @@ TEST_CASE("design study: bad input is one line, exit 2, no output", "[studies][b
 }
 
 #ifdef MAGENC_MPIEXEC
-TEST_CASE("design study: mpirun -n 2 writes the tables of one process byte for byte", "[studies][mpi][determinism][cli]") {
+TEST_CASE("mpirun -n 2 design writes the tables of one process byte for byte", "[studies][mpi][determinism][cli]") {
   const fs::path one = temp_out("design_mpi1"), two = temp_out("design_mpi2"), plain = temp_out("design_mpi0");
   const std::string mpirun = std::string("timeout 300 ") + MAGENC_MPIEXEC + " --allow-run-as-root --oversubscribe ";
   auto run = [&](const std::string& prefix, const fs::path& out) {
