@@ -91,8 +91,9 @@ LinearSolveResult eigen_pcg_solve(const SparseMatrix& K, const Eigen::VectorXd& 
 LinearSolveResult petsc_solve(const SparseMatrix& K, const Eigen::VectorXd& f, LinearSolverKind backend, double tol,
                               int max_iterations, Eigen::VectorXd& x);
 
-// One per process of an executable that may run under mpirun. Initializes
-// MPI/PETSc (no-op without PETSc). rank() > 0: call serve(), which takes part
+// One per process of an executable that may run under mpirun. Under an MPI
+// launcher it initializes MPI/PETSc; without one (one rank) PETSc starts with
+// the first petsc_solve (no-op without PETSc). rank() > 0: call serve(), which takes part
 // in every petsc_solve of rank 0 until rank 0's session ends (destructor).
 class MpiSession {
  public:

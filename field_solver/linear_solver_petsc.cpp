@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/errors.hpp"
+#include "core/mpi_launch.hpp"
 #include "core/third_party_leaks.hpp"
 #include "linear_solver.hpp"
 
@@ -274,6 +275,9 @@ LinearSolverKind resolve_linear_solver(LinearSolverKind requested) {
 }
 
 int mpi_world_size() {
+  PetscBool init = PETSC_FALSE;
+  PetscInitialized(&init);
+  if (!init && !started_by_mpi_launcher()) return 1;  // (MPI starts with the first PETSc solve)
   ensure_petsc();
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -360,6 +364,7 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
 std::vector<double> mpi_rank_peak_rss_mib() { return g_rank_rss_mib; }
 
 MpiSession::MpiSession() {
+  if (!started_by_mpi_launcher()) return;  // one rank: PETSc starts with its first solve
   ensure_petsc();
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);

@@ -16,6 +16,7 @@
 #include "analysis/design_study.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
+#include "core/mpi_launch.hpp"
 #include "core/third_party_leaks.hpp"
 #include "probe/common_keys.hpp"
 #include "report/design_report.hpp"
@@ -118,17 +119,21 @@ int worker(int argc, char** argv) {
 
 int main(int argc, char** argv) {
 #ifdef MAGENC_DESIGN_MPI
-  {
-    MAGENC_IGNORE_THIRD_PARTY_LEAKS;  // OpenMPI's start-up allocations are its own
-    MPI_Init(&argc, &argv);
+  // Without a launcher: one rank, and no MPI at all.
+  const bool mpi = started_by_mpi_launcher();
+  if (mpi) {
+    {
+      MAGENC_IGNORE_THIRD_PARTY_LEAKS;  // OpenMPI's start-up allocations are its own
+      MPI_Init(&argc, &argv);
+    }
+    MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &g_size);
   }
-  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
 #endif
   const int rc = g_rank == 0 ? run_study("design", kDescription, DesignOptions::keys(), argc, argv, run)
                              : worker(argc, argv);
 #ifdef MAGENC_DESIGN_MPI
-  {
+  if (mpi) {
     MAGENC_IGNORE_THIRD_PARTY_LEAKS;
     MPI_Finalize();
   }

@@ -222,8 +222,7 @@ bool file_output(const fs::path& exe) {
 }  // namespace
 
 // The executables' keys, in four ctest entries that ctest -j runs in parallel: solve_field and
-// fem_vs_exact each alone (the most keys, [fem] [mesh] [grid], and the slowest start: about 0.4 s per
-// case against 0.01 s for the others, OpenMPI's initialisation), the other apps, and the studies.
+// fem_vs_exact each alone (the most keys: [fem] [mesh] [grid]), the other apps, and the studies.
 namespace {
 enum class Group { SolveField, FemVsExact, OtherApps, Studies };
 Group group_of(const fs::path& exe) {
