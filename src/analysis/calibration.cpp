@@ -258,29 +258,86 @@ double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd&
     return r.maxCoeff() - r.minCoeff();
   }
   const double t = turns;
-  // The fit of e = t eps_cal on psi = t (theta + eps_cal): rows of A one by one into A^T A and A^T e.
-  Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(P, P);
-  Eigen::VectorXd Ate = Eigen::VectorXd::Zero(P);
-  Eigen::MatrixXd A(n, P);
-  Eigen::VectorXd e(n);
-  std::vector<double> row(static_cast<std::size_t>(P));
+  const int N = method.order;
+  // The fit of e = t eps_cal on psi = t (theta + eps_cal). Its normal equations from power sums: with
+  // C_m = sum cos(m psi), S_m = sum sin(m psi) (m = 0..2N, one sincos per pair, the powers by angle
+  // addition across all pairs at once), sum cos j cos k = (C_{j-k} + C_{j+k}) / 2, sum sin j sin k =
+  // (C_{j-k} - C_{j+k}) / 2, sum cos j sin k = (S_{j+k} - S_{j-k}) / 2; A^T e from the same powers.
+  Eigen::ArrayXd e(n), c1(n), s1(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i])), method.order, row.data());
-    for (int k = 0; k < P; ++k) A(i, k) = row[static_cast<std::size_t>(k)];
+    const double psi = deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i]));
+    c1[i] = std::cos(psi);
+    s1[i] = std::sin(psi);
     e[i] = t * eps_cal_deg[i];
   }
-  AtA.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
-  Ate.noalias() = A.transpose() * e;
-  const Eigen::LLT<Eigen::MatrixXd> llt(AtA.selfadjointView<Eigen::Lower>());
-  Eigen::VectorXd h = llt.info() == Eigen::Success ? Eigen::VectorXd(llt.solve(Ate))
-                                                   : Eigen::VectorXd(A.colPivHouseholderQr().solve(e));
-  // The residual of the run: wrap(t eps_run - e_psi(t (theta + eps_run))) / t.
+  std::vector<double> Cm(static_cast<std::size_t>(2 * N + 1)), Sm(static_cast<std::size_t>(2 * N + 1));
+  Eigen::VectorXd Ate(P);
+  Cm[0] = static_cast<double>(n);
+  Sm[0] = 0.0;
+  Ate[0] = e.sum();
+  Eigen::ArrayXd c = c1, s = s1, cn(n);
+  for (int m = 1; m <= 2 * N; ++m) {
+    if (m > 1) {
+      cn = c * c1 - s * s1;
+      s = s * c1 + c * s1;
+      c.swap(cn);
+    }
+    Cm[std::size_t(m)] = c.sum();
+    Sm[std::size_t(m)] = s.sum();
+    if (m <= N) {
+      Ate[2 * m - 1] = (e * c).sum();
+      Ate[2 * m] = (e * s).sum();
+    }
+  }
+  const auto C = [&](int m) { return Cm[std::size_t(std::abs(m))]; };
+  const auto S = [&](int m) { return m < 0 ? -Sm[std::size_t(-m)] : Sm[std::size_t(m)]; };
+  Eigen::MatrixXd AtA(P, P);
+  AtA(0, 0) = Cm[0];
+  for (int k = 1; k <= N; ++k) {
+    AtA(2 * k - 1, 0) = AtA(0, 2 * k - 1) = C(k);
+    AtA(2 * k, 0) = AtA(0, 2 * k) = S(k);
+    for (int j = 1; j <= N; ++j) {
+      AtA(2 * j - 1, 2 * k - 1) = 0.5 * (C(j - k) + C(j + k));
+      AtA(2 * j, 2 * k) = 0.5 * (C(j - k) - C(j + k));
+      AtA(2 * j - 1, 2 * k) = 0.5 * (S(j + k) - S(j - k));  // sum cos(j psi) sin(k psi)
+      AtA(2 * k, 2 * j - 1) = AtA(2 * j - 1, 2 * k);
+    }
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(AtA);
+  Eigen::VectorXd h;
+  if (llt.info() == Eigen::Success) {
+    h = llt.solve(Ate);
+  } else {
+    Eigen::MatrixXd A(n, P);
+    std::vector<double> row(static_cast<std::size_t>(P));
+    for (Eigen::Index i = 0; i < n; ++i) {
+      harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i])), N, row.data());
+      for (int k = 0; k < P; ++k) A(i, k) = row[static_cast<std::size_t>(k)];
+    }
+    h = A.colPivHouseholderQr().solve(e.matrix());
+  }
+  // The residual of the run: wrap(t eps_run - e_psi(t (theta + eps_run))) / t, the series summed across
+  // all pairs at once (angle addition again).
+  Eigen::ArrayXd v = Eigen::ArrayXd::Constant(n, h[0]);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double psi = deg_to_rad(t * (theta_deg[i] + eps_run_deg[i]));
+    c1[i] = std::cos(psi);
+    s1[i] = std::sin(psi);
+  }
+  c = c1;
+  s = s1;
+  for (int m = 1; m <= N; ++m) {
+    if (m > 1) {
+      cn = c * c1 - s * s1;
+      s = s * c1 + c * s1;
+      c.swap(cn);
+    }
+    v += h[2 * m - 1] * c + h[2 * m] * s;
+  }
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (Eigen::Index i = 0; i < n; ++i) {
-    harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_run_deg[i])), method.order, row.data());
-    double v = 0;
-    for (int k = 0; k < P; ++k) v += h[k] * row[static_cast<std::size_t>(k)];
-    const double r = wrap_deg(t * eps_run_deg[i] - v) / t;
+    const double x = t * eps_run_deg[i] - v[i];
+    const double r = (x > -180.0 && x <= 180.0 ? x : wrap_deg(x)) / t;
     lo = std::min(lo, r);
     hi = std::max(hi, r);
   }

@@ -86,8 +86,9 @@ Eigen::VectorXd residual_of_pairs(const Correction& c, const Eigen::VectorXd& th
 // Peak-to-peak (deg) of residual_of_pairs(correct_pairs(method, theta + eps_cal, eps_cal, turns), theta,
 // eps_run): the calibrated error of the Monte Carlo studies in one call. harmonics:N with at least
 // 4 (2N + 1) pairs takes a faster route equal to that one up to round-off: cos(n t), sin(n t) by angle
-// addition from one sincos per pair, and the normal equations (the matrix is well conditioned for such
-// an overdetermined fit; QR when its Cholesky factorisation fails). Other methods: the two calls.
+// addition from one sincos per pair, and the normal equations built from the power sums of cos(m t),
+// sin(m t), m <= 2N (the matrix is well conditioned for such an overdetermined fit; QR when its Cholesky
+// factorisation fails). Other methods: the two calls.
 double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
                          const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns = 1);
 // The residual of a run (angle_error's result at state B): pairs, or channels for ogp.

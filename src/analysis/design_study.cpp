@@ -63,7 +63,7 @@ std::vector<KeySpec> DesignOptions::keys() {
       int_key("design.surrogate_order", d.surrogate_order, 2, 4, "polynomial degree of the local field models"),
       string_key("design.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
                  "how the local field models are built: axis_aligned (a direct fit per node) or symmetry (the exact "
-                 "field's rotational symmetry: 2-3 fits; readings at 40 theta, interpolated exactly; moves p99 at "
+                 "field's rotational symmetry: 2-3 fits; readings at 24 theta, interpolated exactly; moves p99 at "
                  "the fit-residual level), as radius.surrogate_build"),
   };
   ToleranceBox box;  // radius study's defaults

@@ -70,7 +70,7 @@ struct DesignOptions {
   int fast_steps = 360;
   int surrogate_order = 4;
   // How the local field models are built (design.surrogate_build; the exact field): axis_aligned or symmetry
-  // (readings at 40 theta, interpolated exactly: FastPipeline::coarse_steps).
+  // (readings at 24 theta, interpolated exactly: FastPipeline::coarse_steps).
   CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::axis_aligned;
 
   static std::vector<KeySpec> keys();  // [design] keys and tol.*

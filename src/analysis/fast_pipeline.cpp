@@ -52,7 +52,7 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
   }
   using C = CircleFieldModel::Construction;
   if (model.construction() == C::symmetry && (!axial_ || axial_->construction() == C::symmetry)) {
-    for (int M = 40; M < N; ++M)
+    for (int M = 24; M < N; ++M)
       if (N % M == 0) {
         coarse_ = M;
         break;

@@ -34,8 +34,8 @@ class FastPipeline {
   // the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
   // (degree 4 in the displacement, whose coordinates are degree 1 in theta; the node coefficients
   // degree <= 6 in the node angle; the normal degree 1; the environment adds constants). The readings
-  // are then evaluated at M = coarse_steps() nodes (the smallest divisor of N that is >= 40, so every
-  // degree <= 19 is resolved) and interpolated exactly (up to round-off) to the N nodes; otherwise
+  // are then evaluated at M = coarse_steps() nodes (the smallest divisor of N that is >= 24, so every
+  // degree <= 11 is resolved: 24 of 360) and interpolated exactly (up to round-off) to the N nodes; otherwise
   // (coarse_steps() == 0) every node is evaluated. The model's construction chooses, nothing else.
   int coarse_steps() const { return coarse_; }
   // Evaluate every node even for symmetry-built models (the reference the interpolation is tested against).

@@ -70,7 +70,7 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
       string_key("radius.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
                  "how the surrogate's node models are built: axis_aligned (a direct fit per node) or symmetry (the "
-                 "exact field's rotational symmetry: 2-3 fits; readings at 40 theta, interpolated exactly; moves p99 "
+                 "exact field's rotational symmetry: 2-3 fits; readings at 24 theta, interpolated exactly; moves p99 "
                  "at the fit-residual level; exact field only)"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
