@@ -16,6 +16,12 @@
 
 namespace magenc {
 
+namespace {
+thread_local long t_bounded_pp = 0;  // pp_bounded's successes on this thread (FastPipeline::bounded_pp_count)
+}  // namespace
+
+long FastPipeline::bounded_pp_count() { return t_bounded_pp; }
+
 FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm,
                            const CircleFieldModel* axial, double elevation_deg)
     : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm), axial_(axial), elevation_deg_(elevation_deg) {
@@ -59,6 +65,11 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
       }
   }
   if (coarse_ > 0) {
+    for (int K = 3 * coarse_; K <= N; ++K)
+      if (N % K == 0) {
+        medium_ = K;
+        break;
+      }
     // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
     channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
                                              static_cast<Eigen::Index>(2 * arrays_.size()));
@@ -109,6 +120,7 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     // interpolate 2 per array instead of every distinct probe.
     Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R * channel_weights_;
+    if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
     Eigen::MatrixXd cs;
     interpolate(cs_coarse, cs);
     for (int m = 0; m < N; ++m) {
@@ -148,6 +160,97 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     angles_from_channels(m, C, S, chain, eps_deg, track);
     if (track && track->wrapped) return;
   }
+}
+
+bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain,
+                              PpTrack& track) const {
+  using cd = std::complex<double>;
+  const int N = model_.nodes(), M = coarse_, K = medium_, s = N / K;
+  const int kmin = -(M / 2) - 1, kmax = M / 2 - 1, nk = kmax - kmin + 1;  // the frequencies of w
+  thread_local Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::Unscaled);
+  thread_local std::vector<cd> z, Z, Y, wp;
+  thread_local std::vector<double> Wr, Wi;
+  z.resize(static_cast<std::size_t>(M));
+  std::vector<double> lo(arrays_.size()), hi(arrays_.size());  // (the track is set once every array is done)
+  Wr.resize(static_cast<std::size_t>(nk));
+  Wi.resize(static_cast<std::size_t>(nk));
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    for (int j = 0; j < M; ++j) {
+      double C = cs_coarse(j, static_cast<Eigen::Index>(2 * a)), S = cs_coarse(j, static_cast<Eigen::Index>(2 * a + 1));
+      chain(C, S);  // affine: commutes with the interpolation
+      z[std::size_t(j)] = cd(C, S);
+    }
+    fft.fwd(Z, z);
+    // z's coefficients (the M/2 term split in half between +-M/2), shifted by one: w = z e^{-i theta}.
+    const cd W0 = Z[1] / double(M);  // w's constant term: z's frequency 1
+    const double A = std::abs(W0);
+    if (!(A > 0)) return false;
+    const cd rot = std::conj(W0) / A;
+    double E = 0, D1 = 0, D2 = 0;
+    for (int q = -(M / 2); q <= M / 2; ++q) {
+      cd v = Z[std::size_t((q % M + M) % M)] * rot / double(M);
+      if (2 * std::abs(q) == M) v *= 0.5;
+      const int k = q - 1;
+      Wr[std::size_t(k - kmin)] = v.real();
+      Wi[std::size_t(k - kmin)] = v.imag();
+      if (k != 0) {
+        const double av = std::abs(v);
+        E += av;
+        D1 += std::abs(k) * av;
+        D2 += double(k) * k * av;
+      }
+    }
+    // |w| >= Re w >= A - E on the whole circle, so |eps - mean| <= 30 deg and the bounds below hold.
+    const double lo_w = A - E;
+    if (!(lo_w > 0.5 * A)) return false;
+    const double F2 = D2 / lo_w + (D1 / lo_w) * (D1 / lo_w);  // |f''| for f = arg w
+    const double h = 2.0 * kPi / K;
+    const double delta = F2 * h * h / 8.0;  // f above the chord of an interval of length h at most this
+    if (!(delta < 0.1)) return false;
+    const double td = std::tan(delta);
+    // w on the K-node grid (every s-th node): its coefficients folded modulo K, one inverse FFT.
+    Y.assign(static_cast<std::size_t>(K), cd(0.0, 0.0));
+    for (int k = kmin; k <= kmax; ++k) Y[std::size_t((k % K + K) % K)] += cd(Wr[std::size_t(k - kmin)], Wi[std::size_t(k - kmin)]);
+    fft.inv(wp, Y);
+    thread_local std::vector<double> t;
+    t.resize(static_cast<std::size_t>(K));
+    double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
+    for (int p = 0; p < K; ++p) {
+      t[std::size_t(p)] = wp[std::size_t(p)].imag() / wp[std::size_t(p)].real();
+      t_lo = std::min(t_lo, t[std::size_t(p)]);
+      t_hi = std::max(t_hi, t[std::size_t(p)]);
+    }
+    // An interval whose end values are below tan(f_max - delta) (above tan(f_min + delta)) holds no node
+    // above the max (below the min): only the others are evaluated node by node (Horner in e^{i theta}).
+    const double T_hi = (t_hi - td) / (1.0 + t_hi * td), T_lo = (t_lo + td) / (1.0 - t_lo * td);
+    for (int p = 0; p < K && s > 1; ++p) {
+      const double ta = t[std::size_t(p)], tb = t[std::size_t((p + 1) % K)];
+      if (std::max(ta, tb) < T_hi && std::min(ta, tb) > T_lo) continue;
+      for (int i = 1; i < s; ++i) {
+        const int m = p * s + i;
+        const double qc = cos_theta_[std::size_t(m)], qs = sin_theta_[std::size_t(m)];
+        double ar = Wr[std::size_t(nk - 1)], ai = Wi[std::size_t(nk - 1)];
+        for (int j = nk - 2; j >= 0; --j) {
+          const double nr = ar * qc - ai * qs + Wr[std::size_t(j)];
+          ai = ar * qs + ai * qc + Wi[std::size_t(j)];
+          ar = nr;
+        }
+        const int i0 = static_cast<int>(((static_cast<long>(kmin) * m) % N + N) % N);  // e^{i kmin theta_m}
+        const double c0 = cos_theta_[std::size_t(i0)], s0 = sin_theta_[std::size_t(i0)];
+        const double re = ar * c0 - ai * s0, im = ar * s0 + ai * c0;
+        const double tm = im / re;
+        t_lo = std::min(t_lo, tm);
+        t_hi = std::max(t_hi, tm);
+      }
+    }
+    lo[a] = t_lo;
+    hi[a] = t_hi;
+  }
+  track.t_lo = lo;
+  track.t_hi = hi;
+  ++t_bounded_pp;
+  return true;
 }
 
 // eps_deg[a][m] of every array at theta_m = 360 m/N from its channels C[a], S[a]: the signal chain,

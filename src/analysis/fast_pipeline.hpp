@@ -40,6 +40,10 @@ class FastPipeline {
   int coarse_steps() const { return coarse_; }
   // Evaluate every node even for symmetry-built models (the reference the interpolation is tested against).
   void evaluate_every_node() { coarse_ = 0; }
+  // pp over every node even where pp_bounded applies (its reference in the tests).
+  void evaluate_pp_on_every_node() { medium_ = 0; }
+  // How many pp calls on this thread took pp_bounded (tests: the bounded route is exercised).
+  static long bounded_pp_count();
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
   // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
@@ -76,6 +80,7 @@ class FastPipeline {
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
+  int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array (coarse_ > 0)
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
@@ -118,6 +123,15 @@ class FastPipeline {
   // formed at the M nodes and only they are interpolated (2 columns per array instead of every probe).
   // full (N x columns) from the M coarse rows: FFT of length M, zero padding, inverse FFT of length N.
   void interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const;
+  // pp (the PpTrack, in a frame turned by each array's mean angle) from the channels at the M coarse
+  // nodes without the N-node grid. w = (C + i S) e^{-i theta} is a trigonometric polynomial (the
+  // interpolant's coefficients); turned so that its constant term A is real, with E = sum |W_k|,
+  // D1 = sum |k| |W_k|, D2 = sum k^2 |W_k| over k != 0: Re w >= A - E > 0 and f = arg w has
+  // |f''| <= D2 / (A - E) + (D1 / (A - E))^2 = F2. w is evaluated on K nodes (one inverse FFT); between
+  // two of them, h apart, f exceeds the larger end value by at most F2 h^2 / 8, so only the intervals
+  // that could hold the max or the min are evaluated node by node. The same pp as the N-node pass up to
+  // round-off. false (nothing done) where the bound is weak: A - E <= A / 2 or F2 h^2 / 8 >= 0.1 rad.
+  bool pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain, PpTrack& track) const;
   void angles_from_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
                             std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
   // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.

@@ -203,3 +203,49 @@ TEST_CASE("fast pipeline: readings interpolated in theta equal the direct ones o
   }
   CHECK(tilted >= 12);
 }
+
+TEST_CASE("fast pipeline: pp from the bounded intervals equals pp over every node", "[analysis][cross-check]") {
+  // pp_bounded evaluates the 360 nodes only in the intervals its curvature bound cannot exclude. Against
+  // the same pipeline over every node and against max - min of eps (atan2): small and large errors
+  // (r0 = 0.7 mm with `two` reaches tens of degrees, where the bound is weak and the full pass runs),
+  // signal-chain offsets and phase errors, tilted and untilted paths.
+  const AnalyticField field{Magnet{}};
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"), ProbeArray::parse("ring:8")};
+  long bounded = 0, calls = 0, fallbacks = 0;
+  for (double r0 : {0.7, 1.5, 2.1, 3.2}) {
+    const CircleFieldModel model(field, r0, kPlaneZ, 360, 0.5, 0.4, 4, true, Construction::symmetry);
+    const FastPipeline fast(model, arrays);
+    FastPipeline every(model, arrays);
+    every.evaluate_pp_on_every_node();
+    ToleranceBox box;
+    box.sx_mm = box.sy_mm = box.dx_mm = box.dy_mm = 0.15;
+    box.dz_mm = 0.3;
+    box.tilt_x_deg = box.tilt_y_deg = box.magnet_tilt_deg = 1.0;
+    box.offset_cos_mT = box.offset_sin_mT = 2.0;
+    box.gain_mismatch = 0.03;
+    box.phase_error_deg = 2.0;
+    std::vector<ToleranceCase> cases = monte_carlo_cases(box, 60, 21);
+    ToleranceBox flat = box;
+    flat.tilt_x_deg = flat.tilt_y_deg = flat.magnet_tilt_deg = 0;
+    for (const auto& c : monte_carlo_cases(flat, 60, 22)) cases.push_back(c);
+    for (const auto& c : cases) {
+      double pb[3], pe[3], pa[3];
+      const long before = FastPipeline::bounded_pp_count();
+      fast.pp(c, pb);
+      const bool took = FastPipeline::bounded_pp_count() > before;
+      bounded += took;
+      fallbacks += !took;
+      ++calls;
+      every.pp(c, pe);
+      fast.pp_atan2(c, pa);
+      for (int a = 0; a < 3; ++a) {
+        CAPTURE(r0, a, took, pb[a], pe[a], pa[a]);
+        CHECK(std::abs(pb[a] - pe[a]) <= 1e-10);
+        CHECK(std::abs(pb[a] - pa[a]) <= 1e-10);
+      }
+    }
+  }
+  CAPTURE(calls, bounded, fallbacks);
+  CHECK(bounded >= calls / 2);  // the bounded route is the usual one
+  CHECK(fallbacks > 0);         // and the large errors take the full pass
+}
