@@ -65,6 +65,14 @@ Eigen::MatrixXd CircleFieldModel::sample(const FieldSource& src, const Eigen::Ma
   return out;
 }
 
+CircleFieldModel::Construction CircleFieldModel::construction_named(const std::string& name) {
+  if (name == "automatic") return Construction::automatic;
+  if (name == "axis_aligned") return Construction::axis_aligned;
+  if (name == "rotated") return Construction::rotated;
+  if (name == "symmetry") return Construction::symmetry;
+  throw InputError("surrogate build '" + name + "': allowed automatic, axis_aligned, rotated, symmetry");
+}
+
 CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
                                    double reach_xy_mm, double reach_z_mm, int order, bool full_vector,
                                    Construction how)

@@ -31,10 +31,11 @@ class CircleFieldModel {
   //    all) and every node follows from B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B linear in M. Equal
   //    to `rotated` up to round-off (the least-squares fit is linear and commutes with the rotation).
   //  automatic: symmetry when the source declares it, else axis_aligned.
-  // The default is axis_aligned: the radius study's models, and so its numbers, stay those of direct
-  // fits. `symmetry` changes the models at the fit-residual level (measured on the default radius
-  // scan: p99 by up to 6.4e-4 deg, inside the Monte Carlo's own error of ~4e-3 deg, but enough to move
-  // diff4's flat minimum from r0 = 2.50 to 2.45 mm, whose totals differ by 2e-5 deg).
+  // The constructor's default is axis_aligned; the radius and design studies take automatic (keys
+  // radius.surrogate_build, design.surrogate_build). `symmetry` differs from direct fits at the
+  // fit-residual level (measured on the default radius scan: p99 by up to 6.4e-4 deg, inside the Monte
+  // Carlo's own error of ~4e-3 deg, but enough to move diff4's flat minimum from r0 = 2.50 to 2.45 mm,
+  // whose totals differ by 2e-5 deg).
   // Every node's coefficients are in the magnet frame's displacement (a turned stencil's fit is
   // re-expanded: a rotated polynomial of degree <= order is again one).
   enum class Construction { automatic, axis_aligned, rotated, symmetry };
@@ -42,6 +43,8 @@ class CircleFieldModel {
                    double reach_z_mm, int order = 4, bool full_vector = false,
                    Construction how = Construction::axis_aligned);
   Construction construction() const { return construction_; }
+  // "automatic", "axis_aligned", "rotated" or "symmetry" (the keys' spelling; the keys validate it).
+  static Construction construction_named(const std::string& name);
   // Field evaluations the construction took (points; a full-vector point counts once).
   long field_evaluations() const { return field_evaluations_; }
 

@@ -61,10 +61,11 @@ std::vector<KeySpec> DesignOptions::keys() {
                "seed's samples (common random numbers)"),
       int_key("design.fast_steps", d.fast_steps, 8, 100000, "theta samples per turn of the fast pipeline"),
       int_key("design.surrogate_order", d.surrogate_order, 2, 4, "polynomial degree of the local field models"),
-      string_key("design.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
-                 "how the local field models are built: axis_aligned (a direct fit per node) or symmetry (the exact "
-                 "field's rotational symmetry: 2-3 fits; readings at 24 theta, interpolated exactly; moves p99 at "
-                 "the fit-residual level), as radius.surrogate_build"),
+      string_key("design.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry"},
+                 "how the local field models are built: symmetry (the exact field's rotational symmetry: 2-3 fits; "
+                 "readings at 24 theta, interpolated exactly) or axis_aligned (a direct fit per node; p99 moves at the "
+                 "fit-residual level between the two); automatic: symmetry (the design study's field is the exact "
+                 "one), as radius.surrogate_build"),
   };
   ToleranceBox box;  // radius study's defaults
   for (auto& t : mount_box_keys(box, true, "mounting tolerance")) k.push_back(t);
@@ -107,8 +108,7 @@ DesignOptions DesignOptions::from_config(const Config& cfg) {
   o.seed_per_design = cfg.flag("design.seed_per_design");
   o.fast_steps = static_cast<int>(cfg.integer("design.fast_steps"));
   o.surrogate_order = static_cast<int>(cfg.integer("design.surrogate_order"));
-  o.surrogate_build = cfg.str("design.surrogate_build") == "symmetry" ? CircleFieldModel::Construction::symmetry
-                                                                      : CircleFieldModel::Construction::axis_aligned;
+  o.surrogate_build = CircleFieldModel::construction_named(cfg.str("design.surrogate_build"));
   o.validate();
   return o;
 }

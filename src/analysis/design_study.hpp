@@ -69,9 +69,9 @@ struct DesignOptions {
   bool seed_per_design = true;
   int fast_steps = 360;
   int surrogate_order = 4;
-  // How the local field models are built (design.surrogate_build; the exact field): axis_aligned or symmetry
-  // (readings at 24 theta, interpolated exactly: FastPipeline::coarse_steps).
-  CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::axis_aligned;
+  // How the local field models are built (design.surrogate_build; the exact field): automatic (= symmetry:
+  // readings at 24 theta, interpolated exactly, FastPipeline::coarse_steps), symmetry or axis_aligned.
+  CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::automatic;
 
   static std::vector<KeySpec> keys();  // [design] keys and tol.*
   // InputError (one line naming the key) for a sensor that is not a Bz array, a material count that

@@ -184,7 +184,7 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
     fft.fwd(Z, z);
     // z's coefficients (the M/2 term split in half between +-M/2), shifted by one: w = z e^{-i theta}.
     const cd W0 = Z[1] / double(M);  // w's constant term: z's frequency 1
-    const double A = std::abs(W0);
+    const double A = std::sqrt(W0.real() * W0.real() + W0.imag() * W0.imag());
     if (!(A > 0)) return false;
     const cd rot = std::conj(W0) / A;
     double E = 0, D1 = 0, D2 = 0;
@@ -195,7 +195,7 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
       Wr[std::size_t(k - kmin)] = v.real();
       Wi[std::size_t(k - kmin)] = v.imag();
       if (k != 0) {
-        const double av = std::abs(v);
+        const double av = std::sqrt(v.real() * v.real() + v.imag() * v.imag());  // (not hypot: no overflow here)
         E += av;
         D1 += std::abs(k) * av;
         D2 += double(k) * k * av;

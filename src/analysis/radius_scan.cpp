@@ -68,10 +68,11 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
       int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
       int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
-      string_key("radius.surrogate_build", "axis_aligned", {"axis_aligned", "symmetry"},
-                 "how the surrogate's node models are built: axis_aligned (a direct fit per node) or symmetry (the "
-                 "exact field's rotational symmetry: 2-3 fits; readings at 24 theta, interpolated exactly; moves p99 "
-                 "at the fit-residual level; exact field only)"),
+      string_key("radius.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry"},
+                 "how the surrogate's node models are built: symmetry (the exact field's rotational symmetry: 2-3 "
+                 "fits; readings at 24 theta, interpolated exactly; exact field only) or axis_aligned (a direct fit "
+                 "per node; p99 moves at the fit-residual level between the two); automatic: symmetry for a field "
+                 "that declares it (the exact field), axis_aligned for the others"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
       real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
@@ -94,8 +95,7 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.direct_steps = static_cast<int>(cfg.integer("sensor.steps"));
   o.fast_steps = static_cast<int>(cfg.integer("radius.fast_steps"));
   o.surrogate_order = static_cast<int>(cfg.integer("radius.surrogate_order"));
-  o.surrogate_build = cfg.str("radius.surrogate_build") == "symmetry" ? CircleFieldModel::Construction::symmetry
-                                                                      : CircleFieldModel::Construction::axis_aligned;
+  o.surrogate_build = CircleFieldModel::construction_named(cfg.str("radius.surrogate_build"));
   o.box.sx_mm = cfg.real("radius.tol_sx_mm");
   o.box.sy_mm = cfg.real("radius.tol_sy_mm");
   o.box.dx_mm = cfg.real("radius.tol_dx_mm");
@@ -301,7 +301,7 @@ struct RadiusModels {
     const CircleFieldModel::Construction how = opt.surrogate_build;
     if (how == CircleFieldModel::Construction::symmetry && !field.axisymmetric_parts())
       throw InputError("radius.surrogate_build = symmetry needs the exact field: field " + field.name() +
-                       " declares no rotational symmetry: allowed axis_aligned");
+                       " declares no rotational symmetry: allowed axis_aligned or automatic");
     if (!opt.box.has_elevation()) {
       model = std::make_unique<CircleFieldModel>(field, r0, opt.plane_z_mm, opt.fast_steps, reach_xy, reach_z,
                                                  opt.surrogate_order, tilts, how);

@@ -61,10 +61,11 @@ struct RadiusScanOptions {
   int direct_steps = 3600;              // theta samples of the direct pipeline (validation)
   int fast_steps = 360;                 // theta samples N of the surrogate pipeline
   int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
-  // How the local field models are built (radius.surrogate_build): axis_aligned (direct fits, the default)
-  // or symmetry (the exact field's rotational symmetry; the pipeline then interpolates the readings in
-  // theta: FastPipeline::coarse_steps). The exact field only.
-  CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::axis_aligned;
+  // How the local field models are built (radius.surrogate_build): automatic (the default: symmetry for
+  // the exact field, direct fits for the others), axis_aligned (direct fits) or symmetry (the exact field's
+  // rotational symmetry, the exact field only; the pipeline then interpolates the readings in theta:
+  // FastPipeline::coarse_steps).
+  CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::automatic;
   ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg; chain, elevation)
   double magnet_height_mm = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot and reach)
   double elevation_deg = 0;             // the magnet's configured elevation (centre of the box's elevation axis)
