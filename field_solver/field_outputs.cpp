@@ -10,6 +10,7 @@
 #include "fem_config.hpp"
 #include "fields/grid.hpp"
 #include "magenc_version.hpp"
+#include "mesh.hpp"
 #include "linear_solver.hpp"
 #include "vtk_io.hpp"
 
@@ -118,6 +119,56 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   std::ofstream out(dir / "solve.json");
   out << j.dump(2) << "\n";
   if (!out) throw ComputeError("cannot write " + (dir / "solve.json").string());
+}
+
+void write_bodies_vtu(const std::filesystem::path& file, const MagnetostaticSolver& solver) {
+  const FeSolution& sol = solver.solution();
+  const Eigen::Matrix3Xd& B_cell = solver.B_cell();
+  std::vector<int> cells;
+  for (int c = 0; c < sol.num_cells(); ++c)
+    if (sol.region[c] == kRegionMagnet || sol.region[c] >= kRegionPartFirst) cells.push_back(c);
+  // Corner nodes of the kept cells, renumbered in first-use order.
+  std::vector<int> node_of(static_cast<std::size_t>(sol.points_mm.cols()), -1);
+  std::vector<int> nodes;
+  FeSolution b;
+  b.order = 1;
+  b.cell_dofs.resize(4, static_cast<Eigen::Index>(cells.size()));
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    for (int k = 0; k < 4; ++k) {
+      int& n = node_of[static_cast<std::size_t>(sol.cell_dofs(k, cells[i]))];
+      if (n < 0) {
+        n = static_cast<int>(nodes.size());
+        nodes.push_back(sol.cell_dofs(k, cells[i]));
+      }
+      b.cell_dofs(k, static_cast<Eigen::Index>(i)) = n;
+    }
+  b.points_mm.resize(3, static_cast<Eigen::Index>(nodes.size()));
+  b.psi_Tmm.resize(static_cast<Eigen::Index>(nodes.size()));
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    b.points_mm.col(static_cast<Eigen::Index>(i)) = sol.points_mm.col(nodes[i]);
+    b.psi_Tmm[static_cast<Eigen::Index>(i)] = sol.psi_Tmm[nodes[i]];
+  }
+  const auto n_cells = static_cast<Eigen::Index>(cells.size());
+  b.region.resize(n_cells);
+  b.mu_r.resize(n_cells);
+  b.br_T.resize(3, n_cells);
+  Eigen::Matrix3Xd B(3, n_cells);
+  for (Eigen::Index i = 0; i < n_cells; ++i) {
+    const int c = cells[static_cast<std::size_t>(i)];
+    b.region[i] = sol.region[c];
+    b.mu_r[i] = sol.mu_r[c];
+    b.br_T.col(i) = sol.br_T.col(c);
+    B.col(i) = B_cell.col(c);
+  }
+  write_solution_vtu(file, b, B);
+}
+
+void write_B_grid_vti(const std::filesystem::path& file, GridData grid, const MagnetostaticSolver& solver) {
+  const Eigen::Matrix3Xd B = solver.evaluator().B_T(grid.points_mm());
+  if (!B.allFinite()) throw ComputeError("B on the grid of " + file.string() + " contains NaN");
+  grid.set_B(B);
+  grid.source = file.string();
+  write_grid_vti(file, grid, {.compress = false, .base64 = false, .with_bz = false});
 }
 
 }  // namespace magenc::fem

@@ -1,6 +1,7 @@
 #include "steel_parts.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "core/format.hpp"
 #include "fem_config.hpp"
 #include "fem_field.hpp"
+#include "field_outputs.hpp"
 #include "magnetostatic_solver.hpp"
 
 namespace magenc::fem {
@@ -176,6 +178,24 @@ SteelPartsSolve solve_job(const Job& j, double plane_z_mm, MagnetostaticSolver& 
   return s;
 }
 
+// The files of the solve the field pictures show (steel_parts.hpp), timed.
+void write_field_files(const std::filesystem::path& dir, const Config& cfg, const Job& j, MagnetostaticSolver& solver,
+                       SteelPartsResult& r) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::filesystem::create_directories(dir);
+  const GridData grid = steel_parts_slice_grid(cfg, j.parts.front(), r.plane_z_mm);
+  write_bodies_vtu(dir / "bodies.vtu", solver);
+  write_B_grid_vti(dir / "slice_y0.vti", grid, solver);
+  r.field_files_dir = dir.filename().string();
+  r.field_files_solve = j.variant + " (" + j.model + ")";
+  r.field_files = {"bodies.vtu", "slice_y0.vti"};
+  r.slice_step_mm = grid.spacing_mm.x();
+  r.t_field_files_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cerr << "steel_parts: " << r.field_files_solve << ": wrote " << r.field_files_dir << "/bodies.vtu, "
+            << r.field_files_dir << "/slice_y0.vti (" << grid.dims[0] << " x " << grid.dims[2] << " nodes) in "
+            << fmt(r.t_field_files_s, 2) << " s\n";
+}
+
 void log_solve(const SteelPartsSolve& s) {
   std::ostringstream line;
   line << "steel_parts: " << s.variant << " (" << s.model << "): " << s.dofs << " dofs, " << s.potential
@@ -189,7 +209,18 @@ void log_solve(const SteelPartsSolve& s) {
 
 }  // namespace
 
-SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::filesystem::path>& search_dirs) {
+GridData steel_parts_slice_grid(const Config& cfg, const PartSpec& part, double plane_z_mm) {
+  const double R = cfg.real("magnet.radius_mm"), L = cfg.real("magnet.height_mm");
+  const double margin_mm = 2.5, step_mm = 0.05;
+  const double half_width_mm = std::max(R, part.r_outer_mm) + margin_mm;
+  const double z_min_mm = std::min(-0.5 * L, part.z_min_mm) - margin_mm;
+  const double z_max_mm = std::max(0.5 * L, plane_z_mm) + 1.5;
+  return GridData::from_range({-half_width_mm, 0.0, z_min_mm}, {half_width_mm, 0.0, z_max_mm},
+                              {step_mm, step_mm, step_mm});
+}
+
+SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::filesystem::path>& search_dirs,
+                                 const std::filesystem::path& field_dir) {
   // 1. Inputs, all checked before the first solve.
   if (!cfg.tables("parts").empty())
     throw InputError("parts: steel_parts places its own parts (cup, shaft, end shield); remove [[parts]] from the configuration");
@@ -218,6 +249,7 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
   r.br_T = cfg.real("magnet.br_T");
   const auto mounts = study_mounts(r.offset_mm);
   const std::vector<Job> jobs = study_jobs(cfg, r, bh, base);
+  const std::string field_model = bh ? "nonlinear" : "linear";  // the steel cup's solve of the field files
 
   // 2. Solves and spectra.
   for (const Job& j : jobs) {
@@ -225,6 +257,8 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
     d.parts = j.parts;
     MagnetostaticSolver solver(d, base.solver);
     SteelPartsSolve s = solve_job(j, r.plane_z_mm, solver);
+    if (!field_dir.empty() && j.variant == "steel cup" && j.model == field_model)
+      write_field_files(field_dir, cfg, j, solver, r);
     const FemField field(solver.solution());
     for (std::size_t a = 0; a < r.arrays.size(); ++a)
       for (const auto& [label, m] : mounts) {

@@ -15,6 +15,7 @@
 
 #include "analysis/steel_parts.hpp"
 #include "core/config.hpp"
+#include "fields/grid.hpp"
 #include "geometry.hpp"
 
 namespace magenc::fem {
@@ -26,9 +27,18 @@ std::vector<KeySpec> steel_parts_keys();
 // "steel shaft", "end shield" with the material `material` (brass cup: "brass").
 PartSpec steel_parts_part(const std::string& variant, const Config& cfg, const std::string& material);
 
+// The grid of the files below: the vertical plane y = 0 through the magnet's axis, from 2.5 mm
+// beyond the magnet and the part (radially and below) to 1.5 mm above the sensing plane, step 0.05 mm.
+GridData steel_parts_slice_grid(const Config& cfg, const PartSpec& part, double plane_z_mm);
+
 // Runs every solve (progress on stderr). steel_parts.bh_file is looked up as given, then in
 // each of search_dirs. InputError, before any solve, when the configuration sets [[parts]]
-// (the study places its own) or a file or material is bad.
-SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::filesystem::path>& search_dirs);
+// (the study places its own) or a file or material is bad. With a field_dir, the solve of the
+// steel cup (the nonlinear one when steel_parts.nonlinear, else the linear one) also writes, for
+// ParaView, field_dir/bodies.vtu (the magnet and the cup: field_outputs.hpp's write_bodies_vtu)
+// and field_dir/slice_y0.vti (B on steel_parts_slice_grid); field_dir's last component is
+// recorded as SteelPartsResult::field_files_dir.
+SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::filesystem::path>& search_dirs,
+                                 const std::filesystem::path& field_dir = {});
 
 }  // namespace magenc::fem

@@ -20,12 +20,22 @@ States:
                       sensing plane in place coloured by Bz.
   probe_paths.pvsm    probe paths of one mounting case (one polyline per
                       probe, drawn on top) over the plane's Bz and isolines.
+  steel_parts_B.pvsm  the steel_parts study's steel cup: abs(B) [T, log scale]
+                      on the plane y = 0 through the axis, the outlines of the
+                      magnet and the cup, B's direction (arrows), the sensing
+                      plane and the probes at +-r0. Reads
+                      steel_parts/steel_cup/{slice_y0.vti, bodies.vtu}.
 Source names (pipeline browser) are part of the contract that
 tests/paraview/check_states.py checks: plane_Bz_mT, isolines, probe_circle,
 probe_0, probe_1, magnet_outline, clip_y0, mesh_point_B, streamlines,
-paths_on_top, paths_start. Readers are named after their files (plane.vti,
-mesh.vtu, paths_example.vtp); ParaView renames a reader after its new file
-when a state is loaded against other data, so the test finds readers by file.
+paths_on_top, paths_start, slice_absB_T, magnet_section, part_section,
+B_arrows. Readers are named after their files (plane.vti, mesh.vtu,
+paths_example.vtp, slice_y0.vti, bodies.vtu); ParaView renames a reader after
+its new file when a state is loaded against other data, so the test finds
+readers by file.
+
+    --only NAME[,NAME]  writes only these states (e.g. steel_parts_B, whose
+                        data come from the steel_parts study alone).
 """
 import argparse
 import math
@@ -39,6 +49,8 @@ R0_MM = 2.4                  # nominal probe radius (docs/physics.md default)
 PROBE_ANGLES_DEG = (0, 90)   # default array `two`
 MAGNET_R_MM, MAGNET_L_MM = 2.0, 4.0
 PATHS_REL = os.path.join("probe_paths", "paths_example.vtp")
+STEEL_CUP_REL = os.path.join("steel_parts", "steel_cup")   # the steel_parts study's field files
+ABS_B_RANGE_T = (0.005, 2.5)   # log colour range of the steel_parts_B state: 5 mT .. above steel's saturation
 WHITE, BLACK = [1, 1, 1], [0, 0, 0]
 REGION_NAMES = {1: ("magnet", [0.85, 0.2, 0.15]), 2: ("air", [0.86, 0.86, 0.86]),
                 3: ("refinement zone", [0.62, 0.78, 0.92]), 4: ("shaft", [0.45, 0.45, 0.5])}
@@ -343,6 +355,109 @@ def make_probe_paths(data, vmax):
     return view
 
 
+def body_section(name, bodies, region, view, color, width):
+    """The outline of one region of bodies.vtu on the plane y = 0: its cells, their outer surface, cut
+    by the plane; moved 1 mm towards the camera (at -y) so it lies on top of the slice."""
+    cells = Threshold(registrationName=name + "_cells", Input=bodies)
+    cells.Scalars = ["CELLS", "region"]
+    cells.LowerThreshold = region
+    cells.UpperThreshold = region
+    surf = ExtractSurface(registrationName=name + "_surface", Input=cells)
+    cut = Slice(registrationName=name, Input=surf)
+    cut.SliceType = "Plane"
+    cut.SliceType.Origin = [0, 0, 0]
+    cut.SliceType.Normal = [0, 1, 0]
+    front = Transform(registrationName=name + "_front", Input=cut)
+    front.Transform.Translate = [0, -1.0, 0]
+    d = Show(front, view)
+    solid(d, color)
+    d.LineWidth = width
+    return cut
+
+
+def make_steel_parts_B(data, vmax):
+    """abs(B) of the steel_parts study's steel cup on the axis plane y = 0."""
+    view = new_view((1000, 860))
+    sl = XMLImageDataReader(registrationName="slice_y0.vti",
+                            FileName=[os.path.join(data, STEEL_CUP_REL, "slice_y0.vti")])
+    sl.PointArrayStatus = ["B"]
+    sl.UpdatePipeline()
+    b = sl.GetDataInformation().GetBounds()
+    absb = Calculator(registrationName="slice_absB_T", Input=sl)
+    absb.ResultArrayName = "absB_T"
+    absb.Function = "mag(B)"
+    d = Show(absb, view)
+    ColorBy(d, ("POINTS", "absB_T"))
+    lut = GetColorTransferFunction("absB_T")
+    lut.ApplyPreset("Turbo", True)   # many hues: 1 T (magnet) and 2 T (saturated steel) differ
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(*ABS_B_RANGE_T)
+    lut.MapControlPointsToLogSpace()   # the preset's points spread evenly in log(abs(B)), as the GUI does
+    lut.UseLogScale = 1
+    d.LookupTable = lut
+    bar = style_bar(lut, view, "abs(B) [T]", pos=(0.86, 0.12), length=0.6)
+    bar.AddRangeLabels = 1
+    bar.RangeLabelFormat = "%-#.3g"
+
+    # B's direction: unit arrows on a coarse subset of the slice (every 12th node, 0.6 mm).
+    sub = ExtractSubset(registrationName="slice_coarse", Input=sl)
+    sub.SampleRateI, sub.SampleRateJ, sub.SampleRateK = 12, 1, 12
+    unit = Calculator(registrationName="B_unit", Input=sub)
+    unit.ResultArrayName = "B_dir"
+    unit.Function = "B/mag(B)"
+    arrows = Glyph(registrationName="B_arrows", Input=unit, GlyphType="Arrow")
+    arrows.OrientationArray = ["POINTS", "B_dir"]
+    arrows.ScaleArray = ["POINTS", "No scale array"]
+    arrows.ScaleFactor = 0.42
+    arrows.GlyphMode = "All Points"
+    arrows.GlyphTransform.Translate = [-0.5, 0, 0]   # arrows centred on their node
+    front = Transform(registrationName="B_arrows_front", Input=arrows)
+    front.Transform.Translate = [0, -0.5, 0]
+    da = Show(front, view)
+    solid(da, [0.1, 0.1, 0.1])
+    da.Opacity = 0.6
+
+    bodies = XMLUnstructuredGridReader(registrationName="bodies.vtu",
+                                       FileName=[os.path.join(data, STEEL_CUP_REL, "bodies.vtu")])
+    bodies.CellArrayStatus = ["B", "region", "mu_r"]
+    body_section("part_section", bodies, 10, view, WHITE, 4.0)
+    body_section("magnet_section", bodies, 1, view, BLACK, 2.5)
+
+    # The sensing plane (z = z_s) and the probes at +-r0 on it.
+    z_s = plane_height_mm(data)
+    line = Line(registrationName="sensing_plane", Point1=[b[0], -1.0, z_s], Point2=[b[1], -1.0, z_s])
+    dl = Show(line, view)
+    solid(dl, WHITE)
+    dl.LineWidth = 2.5
+    for k, x in enumerate((R0_MM, -R0_MM)):
+        s = Sphere(registrationName="probe_at_%s_r0" % ("plus", "minus")[k], Center=[x, -1.5, z_s],
+                   Radius=0.12, ThetaResolution=24, PhiResolution=24)
+        solid(Show(s, view), WHITE)
+
+    text(view, "abs(B) of the steel_parts study's steel cup (B-H curve) on the plane y = 0 through the axis\n"
+               "(magnetization along +x; log colour scale). Cut outlines: black = magnet, white = cup;\n"
+               "arrows: direction of B; white line: sensing plane z = %.2f mm, dots: probes at x = +-r0" % z_s,
+         size=13)
+    view.OrientationAxesVisibility = 0
+    axes_grid(view, ytitle="", ztitle="z [mm]")
+    zc = 0.5 * (b[4] + b[5])
+    view.CameraParallelProjection = 1
+    view.CameraPosition = [0.6, -60, zc]
+    view.CameraFocalPoint = [0.6, 0, zc]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraParallelScale = 0.5 * (b[5] - b[4]) + 0.9
+    return view
+
+
+def plane_height_mm(data):
+    """The sensing plane's z (mm) of the steel_parts run: magnet.height_mm / 2 + sensor.plane_height_mm
+    from its config.toml (the values it used)."""
+    cfg = open(os.path.join(data, "steel_parts", "config.toml")).read()
+    sec = lambda name: cfg.split("[" + name + "]", 1)[1]
+    num = lambda text, key: float(re.search(r"^\s*" + key + r"\s*=\s*([-0-9.eE+]+)", text, re.M).group(1))
+    return 0.5 * num(sec("magnet"), "height_mm") + num(sec("sensor"), "plane_height_mm")
+
+
 def save_relocatable(path, data):
     """SaveState, then store data file names as output/<sub>/<file>."""
     SaveState(path)
@@ -360,12 +475,21 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", required=True, help="output/ directory with field/ and " + PATHS_REL)
     ap.add_argument("--states", default=os.path.dirname(os.path.abspath(__file__)))
+    ap.add_argument("--only", default="", help="comma-separated state names (default: all)")
     a = ap.parse_args()
     data = os.path.abspath(a.data)
-    vmax = plane_range_mT(data)
-    vmax = nice_step(vmax / 4.0) * math.ceil(vmax / nice_step(vmax / 4.0))  # round up
-    for name, build in (("plane_bz", make_plane_bz), ("magnet_field", make_magnet_field),
-                        ("probe_paths", make_probe_paths)):
+    states = (("plane_bz", make_plane_bz), ("magnet_field", make_magnet_field),
+              ("probe_paths", make_probe_paths), ("steel_parts_B", make_steel_parts_B))
+    only = [n for n in a.only.split(",") if n]
+    unknown = [n for n in only if n not in dict(states)]
+    if unknown:
+        raise SystemExit("make_states: --only %s: allowed %s" % (",".join(unknown), ", ".join(dict(states))))
+    states = [(n, f) for n, f in states if not only or n in only]
+    vmax = 0.0
+    if any(n != "steel_parts_B" for n, _ in states):
+        vmax = plane_range_mT(data)
+        vmax = nice_step(vmax / 4.0) * math.ceil(vmax / nice_step(vmax / 4.0))  # round up
+    for name, build in states:
         ResetSession()
         view = build(data, vmax)
         SetActiveView(view)

@@ -13,7 +13,8 @@ using namespace magenc;
 namespace {
 
 void run(const Config& cfg, StudyOutput& out) {
-  const SteelPartsResult result = fem::run_steel_parts(cfg, {".", MAGENC_SOURCE_DIR});  // field_solver/
+  // field_solver/; the steel cup's field files for ParaView into the output's steel_cup/
+  const SteelPartsResult result = fem::run_steel_parts(cfg, {".", MAGENC_SOURCE_DIR}, out.dir() / "steel_cup");
   write_steel_parts_report(out, result);                                                  // report/
 }
 

@@ -49,6 +49,12 @@ struct SteelPartsResult {
   FieldWindow window;
   std::string linear_material, bh_file;  // the steel parts' materials
   double linear_mu_r = 0;
+  // The FE field files of one solve for ParaView (field_solver/steel_parts.hpp), in the folder
+  // field_files_dir of the study's output ("" when none were written): bodies.vtu and slice_y0.vti.
+  std::string field_files_dir, field_files_solve;  // the folder, the solve they show ("steel cup (nonlinear)")
+  std::vector<std::string> field_files;             // file names in that folder
+  double slice_step_mm = 0;                         // the node spacing of slice_y0.vti
+  double t_field_files_s = 0;                       // time to evaluate and write them
 };
 
 }  // namespace magenc

@@ -136,6 +136,12 @@ void write_steel_parts_report(StudyOutput& out, const SteelPartsResult& r) {
         "the mesh's (zero to the solver tolerance below the mesh's symmetry order). A saturating part does not keep "
         "the field's pure cos(phi) form: its permeability follows |H|, which varies around the part, and the field "
         "gains higher azimuthal terms (ideal-mount c4 of the saturating cup).\n";
+  if (!r.field_files_dir.empty())
+    md << "\nField files of the " << r.field_files_solve << " solve for ParaView, in `" << r.field_files_dir
+       << "/`: `bodies.vtu` (the magnet's and the cup's cells with B, region, mu_r) and `slice_y0.vti` (B [T] on the "
+          "plane y = 0 through the axis, step "
+       << fmt(r.slice_step_mm, 2) << " mm); written in " << fmt(r.t_field_files_s, 2)
+       << " s. State: `paraview_states/steel_parts_B.pvsm`.\n";
   out.write_text("summary.md", md.str());
 }
 

@@ -22,11 +22,14 @@
 
 #include "bh_curve.hpp"
 #include "core/errors.hpp"
+#include "field_outputs.hpp"
 #include "fields/analytic_field.hpp"
+#include "fields/grid.hpp"
 #include "geometry.hpp"
 #include "magnetostatic_solver.hpp"
 #include "solver_fixtures.hpp"
 #include "validation.hpp"
+#include "vtk_io.hpp"
 
 using namespace magenc::fem;
 using namespace magenc::fem::test;
@@ -274,4 +277,46 @@ TEST_CASE("parts: a saturating B-H curve lets more flux over the sensing plane t
   CHECK(h.back() < 1e-4);
   CHECK(b_lin < b_nl);
   CHECK(b_nl < b0);
+}
+
+TEST_CASE("parts: bodies.vtu holds the magnet's and the part's cells, B on a grid is the solve's", "[field_solver][contract]") {
+  const auto s = solved({cup("mu_r:1000")}, "total");
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("magenc_test_bodies_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  write_bodies_vtu(dir / "bodies.vtu", *s);
+  const FeSolution b = read_solution_vtu(dir / "bodies.vtu");
+  // Exactly the cells of regions 1 and 10, as linear tets, with their region, mu_r and B.
+  const FeSolution& sol = s->solution();
+  std::vector<int> kept;  // the solve's cells of the magnet and the part, in order
+  int n_part = 0;
+  for (int c = 0; c < sol.num_cells(); ++c)
+    if (sol.region[c] == kRegionMagnet || sol.region[c] == kRegionPartFirst) {
+      kept.push_back(c);
+      n_part += sol.region[c] == kRegionPartFirst;
+    }
+  REQUIRE(n_part > 0);
+  REQUIRE(n_part < static_cast<int>(kept.size()));
+  CHECK(b.order == 1);
+  REQUIRE(b.num_cells() == static_cast<int>(kept.size()));
+  CHECK(b.points_mm.cols() < sol.points_mm.cols() / 4);  // the air is left out
+  int bad = 0;
+  for (int i = 0; i < b.num_cells(); ++i) {
+    const int c = kept[static_cast<std::size_t>(i)];
+    bad += b.region[i] != sol.region[c] || b.mu_r[i] != sol.mu_r[c];
+    for (int k = 0; k < 4; ++k)
+      bad += b.points_mm.col(b.cell_dofs(k, i)) != sol.points_mm.col(sol.cell_dofs(k, c));
+  }
+  CHECK(bad == 0);
+  // B on a grid of the plane y = 0: the evaluator's values, B only.
+  const magenc::GridData g = magenc::GridData::from_range({-3, 0, -3}, {3, 0, 5}, {0.5, 0.5, 0.5});
+  write_B_grid_vti(dir / "slice.vti", g, *s);
+  const magenc::GridData r = magenc::read_grid_vti(dir / "slice.vti");
+  REQUIRE(r.dims == (std::array<int, 3>{13, 1, 17}));
+  const Eigen::Matrix3Xd B = s->evaluator().B_T(g.points_mm());
+  for (std::size_t i = 0; i < r.nodes(); ++i) {
+    CHECK(r.Bx_T[i] == B(0, static_cast<Eigen::Index>(i)));
+    CHECK(r.Bz_T[i] == B(2, static_cast<Eigen::Index>(i)));
+  }
+  std::filesystem::remove_all(dir);
 }

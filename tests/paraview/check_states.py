@@ -202,6 +202,64 @@ def check_probe_paths(data, paths_rel):
     check_bz_lut()
 
 
+STEEL_CUP = os.path.join("steel_parts", "steel_cup")
+
+
+def check_steel_parts_B(data):
+    """steel_parts_B: abs(B) on the axis plane y = 0 of the steel_parts study's steel cup, the
+    outlines of the magnet (region 1) and the cup (region 10), B's direction."""
+    sl = reader(data, os.path.join(STEEL_CUP, "slice_y0.vti"))
+    if sl is not None:
+        sl.UpdatePipeline()
+        b = sl.GetDataInformation().GetBounds()
+        check(b[2] == b[3] == 0.0, "slice_y0.vti is the plane y = 0 (y extent %g..%g)" % (b[2], b[3]))
+        check(b[0] < -2.5 and b[1] > 2.5 and b[4] < -2.5 and b[5] > 4.55,
+              "slice covers the cup and the sensing plane (bounds %s)" % (b,))
+        rb = has_array(sl, "POINTS", "B", 3)
+        if rb:
+            # Point values, not cell centroids: next to the cup's inner corner the P2 gradient at a node
+            # exceeds the centroid's (mu_r is per cell) and reaches ~4.7 T on the study's mesh.
+            check(0.3 < rb[1] < 8.0, "slice abs(B) max %.3g T is plausible (0.3 .. 8 T)" % rb[1])
+    absb = source("slice_absB_T")
+    if absb is not None:
+        absb.UpdatePipeline()
+        r = has_array(absb, "POINTS", "absB_T", 1)
+        if r and sl is not None and array_info(sl, "POINTS", "B"):
+            check(abs(r[1] - array_info(sl, "POINTS", "B").GetComponentRange(-1)[1]) < 1e-6 * r[1],
+                  "absB_T = abs(B) of the slice")
+    bodies = reader(data, os.path.join(STEEL_CUP, "bodies.vtu"))
+    if bodies is not None:
+        bodies.UpdatePipeline()
+        check(n_cells(bodies) > 100, "bodies.vtu has cells (%d)" % n_cells(bodies))
+        has_array(bodies, "CELLS", "B", 3)
+        rr = has_array(bodies, "CELLS", "region", 1)
+        if rr:
+            check(rr[0] == 1, "bodies.vtu has the magnet region (1): region ids %g..%g" % rr)
+            check(rr[1] == 10, "bodies.vtu has the part region (10): region ids %g..%g" % rr)
+    for name, half_width in (("magnet_section", 2.0), ("part_section", 2.5)):
+        sec = source(name)
+        if sec is None:
+            continue
+        sec.UpdatePipeline()
+        b = sec.GetDataInformation().GetBounds()
+        ok = n_points(sec) > 10
+        check(ok, "%s (the outline on y = 0) is non-empty (%d points)" % (name, n_points(sec)))
+        if ok:
+            check(abs(-b[0] - half_width) < 0.3 and abs(b[1] - half_width) < 0.3,
+                  "%s spans x = +-%g mm (%g..%g)" % (name, half_width, b[0], b[1]))
+    arrows = source("B_arrows")
+    if arrows is not None:
+        arrows.UpdatePipeline()
+        check(n_points(arrows) > 100, "B direction arrows are non-empty (%d points)" % n_points(arrows))
+    lut = GetColorTransferFunction("absB_T")
+    lo, hi = lut.RGBPoints[0], lut.RGBPoints[-4]
+    check(lut.UseLogScale == 1 and lo > 0 and hi / lo >= 100,
+          "abs(B) colour map is logarithmic over >= 2 decades ([%g, %g] T)" % (lo, hi))
+    check(2.0 <= hi <= 3.0, "abs(B) colour map reaches steel's saturation (top %g T)" % hi)
+    bar = GetScalarBar(lut, GetActiveView())
+    check(bar.Visibility == 1 and "[T]" in bar.Title, "abs(B) scalar bar visible, in T (title %r)" % bar.Title)
+
+
 # --- image checks -----------------------------------------------------------
 def read_png(path):
     r = vtkPNGReader()
@@ -249,7 +307,7 @@ def check_image(name, path):
     non_bg, distinct = image_stats(a)
     h, w, _ = a.shape
     check(distinct >= 200, "%s.png has %d distinct colours (>= 200)" % (name, distinct))
-    check(non_bg >= {"plane_bz": 0.35, "magnet_field": 0.35, "probe_paths": 0.5}[name],
+    check(non_bg >= {"plane_bz": 0.35, "magnet_field": 0.35, "probe_paths": 0.5, "steel_parts_B": 0.35}[name],
           "%s.png: %.0f%% of pixels are not background" % (name, 100 * non_bg))
     if name in ("plane_bz", "probe_paths"):
         # Top view, x to the right: Bz > 0 (red) for x > 0, < 0 (blue) for x < 0.
@@ -258,6 +316,13 @@ def check_image(name, path):
         check(reddish(right).mean() > 0.2 and bluish(left).mean() > 0.2,
               "%s.png: red (Bz > 0) on the +x side, blue on the -x side (%.2f, %.2f)"
               % (name, reddish(right).mean(), bluish(left).mean()))
+    if name == "steel_parts_B":
+        # Turbo map, log scale: the magnet and the cup (~1..2 T) dark red, the air around (5..50 mT) blue-cyan.
+        high = (a[..., 0] > 120) & (a[..., 1] < 90) & (a[..., 2] < 60)
+        air = (a[..., 2] > 150) & (a[..., 0] < 120)
+        check(high.mean() > 0.02 and air.mean() > 0.05,
+              "steel_parts_B.png shows high abs(B) (dark red, %.1f%%) and the air's low abs(B) (blue, %.1f%%)"
+              % (100 * high.mean(), 100 * air.mean()))
     if name == "magnet_field":
         magnet_red = (a[..., 0] > 110) & (a[..., 0] > 2.5 * a[..., 1]) & (a[..., 0] > 2.5 * a[..., 2])
         check(magnet_red.mean() > 0.005, "magnet_field.png shows the magnet region (%.2f%% red)"
@@ -267,7 +332,8 @@ def check_image(name, path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--states", required=True)
-    ap.add_argument("--data", required=True, help="an output/ directory (field/, probe_paths/)")
+    ap.add_argument("--data", required=True,
+                    help="an output/ directory (field/, probe_paths/, steel_parts/steel_cup/)")
     ap.add_argument("--images", required=True, help="where to write the rendered PNGs")
     ap.add_argument("--paths", default=os.path.join("probe_paths", "paths_example.vtp"),
                     help="probe paths file relative to --data")
@@ -276,10 +342,11 @@ def main():
     data = os.path.abspath(a.data)
     os.makedirs(a.images, exist_ok=True)
     size = [int(v) for v in a.size.split("x")]
+    sizes = {"steel_parts_B": [1000, 860]}   # the state's own view size (text and colour bar fit)
     with tempfile.TemporaryDirectory() as tmp:
         self_test_image_metric(tmp)
 
-    for name in ("plane_bz", "magnet_field", "probe_paths"):
+    for name in ("plane_bz", "magnet_field", "probe_paths", "steel_parts_B"):
         print("state", name)
         ResetSession()
         state = os.path.join(a.states, name + ".pvsm")
@@ -293,9 +360,10 @@ def main():
         view = GetActiveView() or GetRenderViews()[0]
         SetActiveView(view)
         {"plane_bz": lambda: check_plane_bz(data), "magnet_field": lambda: check_magnet_field(data),
-         "probe_paths": lambda: check_probe_paths(data, a.paths)}[name]()
+         "probe_paths": lambda: check_probe_paths(data, a.paths),
+         "steel_parts_B": lambda: check_steel_parts_B(data)}[name]()
         png = os.path.join(a.images, name + ".png")
-        SaveScreenshot(png, view, ImageResolution=size, OverrideColorPalette="WhiteBackground")
+        SaveScreenshot(png, view, ImageResolution=sizes.get(name, size), OverrideColorPalette="WhiteBackground")
         if check(os.path.isfile(png), "rendered " + png):
             check_image(name, png)
 

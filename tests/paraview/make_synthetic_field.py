@@ -7,8 +7,14 @@ integrated analytically, midpoint rule in phi'). The "mesh" is a tetrahedralized
 box, not a FEM mesh; `psi` is the dipole potential. Used by the ParaView state
 test only when solve_field is not built (tests/CMakeLists.txt says which).
 
-Usage: pvbatch make_synthetic_field.py --out DIR [--omit ARRAY]
-(--omit drops one array everywhere: to check that the state test fails.)
+With --steel-cup DIR it also writes the stand-in of the steel_parts study's
+field files: DIR/slice_y0.vti (the magnet's exact field in air, no cup, on
+the plane y = 0) and DIR/bodies.vtu (tets of a box inside the magnet, region
+1, and inside the study's default cup, region 10).
+
+Usage: pvbatch make_synthetic_field.py --out DIR [--steel-cup DIR] [--omit ARRAY]
+(--omit drops one array everywhere, or with `part` the cup's cells: to check
+that the state test fails.)
 """
 import argparse
 import math
@@ -16,7 +22,8 @@ import os
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkThreshold
 from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter, vtkXMLUnstructuredGridWriter
 
@@ -74,10 +81,46 @@ def write(writer_cls, data, path):
     os.replace(path + ".tmp", path)
 
 
+def tets_of_box(origin, spacing, dims):
+    """A box of images cells split into tetrahedra; returns (grid, cell centroids N x 3)."""
+    tf = vtkDataSetTriangleFilter()
+    tf.SetInputData(image(origin, spacing, dims))
+    tf.Update()
+    ug = tf.GetOutput()
+    pts = vtk_to_numpy(ug.GetPoints().GetData())
+    conn = vtk_to_numpy(ug.GetCells().GetConnectivityArray()).reshape(-1, 4)
+    return ug, pts[conn].mean(axis=1)
+
+
+def write_steel_cup(out, omit):
+    """Stand-in for steel_parts' steel_cup/ (cup: bore R, wall and base 0.5 mm, z -2.5..1.5 mm)."""
+    os.makedirs(out, exist_ok=True)
+    sl = image((-5, 0, -5), (0.1, 1, 0.1), (101, 1, 112))
+    add(sl.GetPointData(), "B", exact_B(points_of(sl)), omit)
+    write(vtkXMLImageDataWriter, sl, os.path.join(out, "slice_y0.vti"))
+    ug, cent = tets_of_box((-2.5, -2.5, -2.5), (0.25, 0.25, 0.25), (21, 21, 19))
+    r = np.hypot(cent[:, 0], cent[:, 1])
+    region = np.zeros(len(cent), dtype=np.int32)
+    region[(r < R + 0.5) & (cent[:, 2] < 1.5)] = 10
+    region[(r < R) & (np.abs(cent[:, 2]) < L / 2)] = 1
+    if omit == "part":
+        region[region == 10] = 0
+    add(ug.GetCellData(), "region", region, omit)
+    add(ug.GetCellData(), "B", exact_B(cent), omit)
+    sel = vtkThreshold()   # the cells of the bodies (region >= 1)
+    sel.SetInputData(ug)
+    sel.SetInputArrayToProcess(0, 0, 0, 1, "region")
+    sel.SetThresholdFunction(vtkThreshold.THRESHOLD_UPPER)
+    sel.SetUpperThreshold(0.5)
+    sel.Update()
+    write(vtkXMLUnstructuredGridWriter, sel.GetOutput(), os.path.join(out, "bodies.vtu"))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", required=True)
     ap.add_argument("--omit", default="")
+    ap.add_argument("--steel-cup", default="")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
 
@@ -115,6 +158,9 @@ def main():
     add(ug.GetCellData(), "region", region, a.omit)
     write(vtkXMLUnstructuredGridWriter, ug, os.path.join(a.out, "mesh.vtu"))
     print("synthetic field written to", a.out)
+    if a.steel_cup:
+        write_steel_cup(a.steel_cup, a.omit)
+        print("synthetic steel_parts field files written to", a.steel_cup)
 
 
 if __name__ == "__main__":
