@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -126,4 +127,27 @@ TEST_CASE("materials: a part of a named B-H material is a nonlinear part, the li
   CHECK(parts[2].mu_r == 1000.0);
   CHECK(!parts[3].bh);
   CHECK(parts[3].mu_r == 1.0);
+}
+
+TEST_CASE("materials: a B-H part starting at mu_r 1 is still a permeable part (fem.potential = auto)", "[field_solver][regression]") {
+  // The hot-rolled steel's curve starts convex: its start value mu_r is 1. It once counted as air, and
+  // fem.potential = auto took the reduced potential for a steel cup around the magnet.
+  const BhCurve c = read_bh_csv(std::filesystem::path(MAGENC_SOURCE_DIR) / "materials/low_carbon_steel_hot_rolled_bh.csv");
+  REQUIRE(c.mu_r(0.0) == Approx(1.0));
+  DomainSpec d;
+  PartSpec cup;
+  cup.shape = PartShape::Cup;
+  cup.r_inner_mm = d.magnet.radius_mm;
+  cup.r_outer_mm = d.magnet.radius_mm + 0.5;
+  cup.z_min_mm = -0.5 * d.magnet.height_mm - 0.5;
+  cup.z_max_mm = 0.25 * d.magnet.height_mm;
+  cup.base_mm = 0.5;
+  cup.mu_r = 1.0;
+  cup.bh = std::make_shared<const BhCurve>(c);
+  d.parts = {cup};
+  CHECK(d.has_permeable_part());
+  CHECK(d.has_permeable_part_touching_magnet());
+  d.parts[0].bh = nullptr;  // the same cup with mu_r 1 and no curve is air
+  CHECK(!d.has_permeable_part());
+  CHECK(!d.has_permeable_part_touching_magnet());
 }
