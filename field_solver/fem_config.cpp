@@ -138,9 +138,11 @@ const std::vector<NamedMaterial>& named_materials() {
        "non-oriented electrical steel M400-50A, B-H curve materials/electrical_steel_bh.csv (typical 50 Hz "
        "datasheet table via the Modelica Standard Library RawData.M400_50A)"},
       {"stainless_1.4305", 1.02, nullptr,
-       "austenitic stainless 1.4305 (303), annealed: EN 10088-1 (via Kloeckner's data page) gives 'very low' "
-       "magnetisability, no number; 1.02 is an assumed value (cold work raises it), materials/README.md"},
-      {"brass", 1.0, nullptr, "brass CuZn39Pb3 (CW614N): not ferromagnetic (copper-zinc alloy), mu_r 1; no datasheet value found, "
+       "austenitic stainless 1.4305 (303), annealed: mu_r 1.003-1.05 for fully annealed austenitic grades "
+       "(British Stainless Steel Association), 1.003-1.005 at 16 kA/m well annealed (Carpenter Technology); "
+       "cold work raises it; materials/README.md"},
+      {"brass", 1.0, nullptr,
+       "brass CuZn39Pb3 (CW614N, C36000 class): 'non-magnetic' in datasheets, no number found; mu_r 1, "
        "materials/README.md"},
   };
   return m;
