@@ -32,7 +32,9 @@ std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector
     if (s > 3 * d0) s = 3 * d0;
     return s;
   };
-  m[0] = end(h[0], h[1], d[0], d[1]);
+  // At the origin (the first row is (0, 0)) at least mu0: a measured curve whose first rows are still in the
+  // convex (Rayleigh) start gives a three-point slope <= 0, and B would fall below mu0 H near H = 0.
+  m[0] = std::max(end(h[0], h[1], d[0], d[1]), kMu0_T_m_per_A);
   m[n - 1] = end(h[n - 2], h[n - 3], d[n - 2], d[n - 3]);
   return m;
 }

@@ -6,6 +6,8 @@
 //
 // Interpolation: monotone piecewise cubic Hermite (Fritsch-Carlson / PCHIP
 // slopes), so B(H) is monotone and C1 between the rows and never overshoots;
+// the slope at the origin is at least mu0 (a table starting convex, as measured
+// curves below their permeability maximum do, would otherwise start flat);
 // beyond the last row B = B_n + mu0 (H - H_n) (saturated iron: dB/dH = mu0).
 // H < 0: B(-H) = -B(H) (no hysteresis). Units: H in A/m, B in T.
 #pragma once

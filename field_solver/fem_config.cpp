@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <unistd.h>
 #include <variant>
@@ -115,23 +116,42 @@ namespace {
 
 struct NamedMaterial {
   const char* name;
-  double mu_r;
+  double mu_r;          // linear materials: the relative permeability
+  const char* bh_file;  // B-H materials: materials/NAME_bh.csv (its header names the source), else nullptr
   const char* source;
 };
 
-// Linear stand-ins (relative permeability) for the common holder materials.
-// Typical handbook values, not measured curves: soft steels' mu_r depends
-// strongly on H (they saturate near 1.5-2 T); the values below are the
-// order of their incremental permeability at moderate fields.
+// The library of named holder materials (materials/README.md). The steels with a
+// published curve solve nonlinearly on it; structural_steel stays linear (the
+// steel_parts study compares it with the B-H file); the near non-magnetic ones are
+// linear.
 const std::vector<NamedMaterial>& named_materials() {
   static const std::vector<NamedMaterial> m{
-      {"structural_steel", 1000.0, "S235/1.0038-class low-carbon steel, order of the mid-field permeability (handbook range 500-2000)"},
-      {"free_cutting_steel", 500.0, "11SMnPb30/1.0718-class free-cutting steel, order of the mid-field permeability (handbook range 200-1000)"},
-      {"electrical_steel", 4000.0, "non-oriented electrical steel (M400-50A class), order of the mid-field permeability (handbook range 2000-8000)"},
-      {"stainless_1.4305", 1.02, "austenitic stainless 1.4305 (303), annealed: mu_r < 1.05 (cold work raises it)"},
-      {"brass", 1.0, "brass CuZn39Pb3: non-magnetic, |mu_r - 1| < 1e-4"},
+      {"structural_steel", 1000.0, nullptr,
+       "S235/1.0038-class low-carbon steel, linear: the order of the secant permeability of the hot-rolled "
+       "low-carbon steel curve materials/low_carbon_steel_hot_rolled_bh.csv (ASM Metals Handbook 8th ed. "
+       "Vol. 1 Fig. 17: 810 at 54 A/m, ~2900 at 270 A/m, ~1130 at 1 kA/m)"},
+      {"free_cutting_steel", 0.0, "materials/free_cutting_steel_bh.csv",
+       "free-cutting steel AISI 1117 (11SMn30/1.0715 class), B-H curve materials/free_cutting_steel_bh.csv "
+       "(FEMM 4.2 library block '1117 Steel', DC curve)"},
+      {"electrical_steel", 0.0, "materials/electrical_steel_bh.csv",
+       "non-oriented electrical steel M400-50A, B-H curve materials/electrical_steel_bh.csv (typical 50 Hz "
+       "datasheet table via the Modelica Standard Library RawData.M400_50A)"},
+      {"stainless_1.4305", 1.02, nullptr,
+       "austenitic stainless 1.4305 (303), annealed: mu_r 1.003-1.05 for fully annealed austenitic grades "
+       "(British Stainless Steel Association), 1.003-1.005 at 16 kA/m well annealed (Carpenter Technology); "
+       "cold work raises it; materials/README.md"},
+      {"brass", 1.0, nullptr,
+       "brass CuZn39Pb3 (CW614N, C36000 class): 'non-magnetic' in datasheets, no number found; mu_r 1, "
+       "materials/README.md"},
   };
   return m;
+}
+
+const NamedMaterial* find_named_material(const std::string& name) {
+  for (const auto& m : named_materials())
+    if (name == m.name) return &m;
+  return nullptr;
 }
 
 }  // namespace
@@ -143,9 +163,17 @@ std::string part_material_names() {
 }
 
 std::string part_material_source(const std::string& name) {
-  for (const auto& m : named_materials())
-    if (name == m.name) return m.source;
-  return "";
+  const NamedMaterial* m = find_named_material(name);
+  return m ? m->source : "";
+}
+
+std::filesystem::path part_material_bh_file(const std::string& material) {
+  if (material.rfind("bh:", 0) == 0) return material.substr(3);
+  const NamedMaterial* m = find_named_material(material);
+  if (!m || !m->bh_file) return {};
+  const std::filesystem::path f(m->bh_file);
+  if (std::filesystem::exists(f)) return f;  // the working directory first, then the source tree
+  return std::filesystem::path(MAGENC_SOURCE_DIR) / f;
 }
 
 double part_material_mu_r(const std::string& material, const std::string& what) {
@@ -153,8 +181,8 @@ double part_material_mu_r(const std::string& material, const std::string& what) 
     throw InputError(what + ": material = '" + material + "' is out of range: allowed mu_r:VALUE (VALUE in [1, 1e6]) or one of " +
                      part_material_names());
   };
-  if (material.rfind("bh:", 0) == 0) {
-    const BhCurve c = read_bh_csv(material.substr(3));
+  if (const std::filesystem::path f = part_material_bh_file(material); !f.empty()) {
+    const BhCurve c = read_bh_csv(f);
     return c.mu_r(0.0);
   }
   if (material.rfind("mu_r:", 0) == 0) {
@@ -168,9 +196,8 @@ double part_material_mu_r(const std::string& material, const std::string& what) 
       return bad();
     }
   }
-  for (const auto& m : named_materials())
-    if (material == m.name) return m.mu_r;
-  return bad();
+  const NamedMaterial* m = find_named_material(material);
+  return m ? m->mu_r : bad();
 }
 
 std::vector<PartSpec> parts_from_config(const Config& cfg) {
@@ -201,9 +228,9 @@ std::vector<PartSpec> parts_from_config(const Config& cfg) {
     p.offset_x_mm = real("offset_x_mm", 0);
     p.offset_y_mm = real("offset_y_mm", 0);
     p.material = t.text("material");
-    if (p.material.rfind("bh:", 0) == 0) {
+    if (const std::filesystem::path f = part_material_bh_file(p.material); !f.empty()) {
       try {
-        p.bh = std::make_shared<const BhCurve>(read_bh_csv(p.material.substr(3)));
+        p.bh = std::make_shared<const BhCurve>(read_bh_csv(f));
       } catch (const InputError& e) {
         throw InputError(what + ": " + e.what());
       }

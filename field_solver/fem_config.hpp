@@ -1,6 +1,7 @@
 // Configuration of the FEM: [mesh], [fem], [grid], [shaft] keys (declared once,
 // here) and their translation into the solver's structs.
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -18,11 +19,15 @@ std::vector<KeySpec> solve_field_schema();
 
 // [[parts]] of the configuration (material resolved to mu_r; geometry checked by DomainSpec::validate).
 std::vector<PartSpec> parts_from_config(const Config& cfg);
-// A part's material text (mu_r:VALUE or a named material) as mu_r; InputError naming `what` and the allowed forms.
+// A part's material text (mu_r:VALUE, bh:FILE or a named material) as mu_r (a B-H curve: its initial
+// slope); InputError naming `what` and the allowed forms.
 double part_material_mu_r(const std::string& material, const std::string& what);
 // The named materials ("a, b, ...") and the source of one ("" when unknown).
 std::string part_material_names();
 std::string part_material_source(const std::string& name);
+// The B-H file of a material: bh:FILE -> FILE; a named material with a curve -> materials/NAME_bh.csv
+// (in the working directory if there, else in the source tree); empty for a linear material.
+std::filesystem::path part_material_bh_file(const std::string& material);
 
 struct FemSettings {
   DomainSpec domain;

@@ -108,7 +108,7 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                           {"r_inner_mm", p.r_inner_mm}, {"r_outer_mm", p.r_outer_mm}, {"z_min_mm", p.z_min_mm},
                           {"z_max_mm", p.z_max_mm}, {"base_mm", p.base_mm}, {"offset_mm", {p.offset_x_mm, p.offset_y_mm}},
                           {"material", p.material}, {"mu_r", p.mu_r}, {"nonlinear", p.bh != nullptr},
-                          {"material_source", p.bh ? p.material.substr(3) : part_material_source(p.material)}});
+                          {"material_source", p.material.rfind("bh:", 0) == 0 ? p.material.substr(3) : part_material_source(p.material)}});
   }
   j["plane_z_mm"] = s.plane_z_mm;
   j["plane_grid"] = {{"origin_mm", {s.plane.origin_mm[0], s.plane.origin_mm[1], s.plane.origin_mm[2]}},

@@ -330,8 +330,9 @@ bool DomainSpec::has_off_axis_part() const {
   return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return !p.coaxial(); });
 }
 
+// A B-H part is permeable whatever its start value mu_r (a curve whose first rows are convex starts at 1).
 bool DomainSpec::has_permeable_part() const {
-  return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.mu_r != 1.0; });
+  return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.mu_r != 1.0 || p.bh != nullptr; });
 }
 
 bool DomainSpec::has_nonlinear_part() const {
@@ -341,7 +342,7 @@ bool DomainSpec::has_nonlinear_part() const {
 bool DomainSpec::has_permeable_part_touching_magnet() const {
   const double top = 0.5 * magnet.height_mm, R = magnet.radius_mm;
   for (const auto& p : parts) {
-    if (p.mu_r == 1.0 || !p.coaxial()) continue;  // parts off the axis keep a gap to the magnet (validate)
+    if ((p.mu_r == 1.0 && !p.bh) || !p.coaxial()) continue;  // parts off the axis keep a gap to the magnet (validate)
     for (const auto& q : p.rects())
       if (q.r0 <= R && q.z0 <= top && q.z1 >= -top) return true;  // closed meridian rectangles meet
   }

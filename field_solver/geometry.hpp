@@ -133,11 +133,11 @@ struct DomainSpec {
   // True when a part's axis is off the z axis: the domain has no mirror
   // symmetry, and a symmetric mesh would be wrong (the solver meshes the whole domain).
   bool has_off_axis_part() const;
-  // True when a part has mu_r != 1 (fem.potential = auto then takes the split potential).
+  // True when a part has mu_r != 1 or a B-H curve (fem.potential = auto then takes the split potential).
   bool has_permeable_part() const;
   // True when a part has a B-H curve (a nonlinear solve).
   bool has_nonlinear_part() const;
-  // True when a part with mu_r != 1 touches the magnet (its faces on the magnet's faces):
+  // True when a part with mu_r != 1 or a B-H curve touches the magnet (its faces on the magnet's faces):
   // the split potential does not hold there (see reduced_potential.hpp), fem.potential = auto takes the total.
   bool has_permeable_part_touching_magnet() const;
 
