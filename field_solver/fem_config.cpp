@@ -102,8 +102,8 @@ std::vector<KeySpec> fem_keys() {
            required(real_key("z_min_mm", 0, -1000, 1000, "mm", "bottom (magnet frame: magnet centre at z = 0)")),
            required(real_key("z_max_mm", 0, -1000, 1000, "mm", "top")),
            real_key("base_mm", 0, 0, 1000, "mm", "cup only: base thickness at z_min"),
-           real_key("offset_x_mm", 0, -1000, 1000, "mm", "x of the part's axis (non-zero: no mesh symmetry)"),
-           real_key("offset_y_mm", 0, -1000, 1000, "mm", "y of the part's axis (non-zero: no mesh symmetry)"),
+           real_array_field("offset_mm", 2, -1000, 1000, "mm",
+                            "[x, y] of the part's axis, default [0, 0] (non-zero: no mesh symmetry)"),
            required(string_key("material", "mu_r:1000", {},
                                "mu_r:VALUE (linear, 1..1e6), bh:FILE.csv (B-H curve, columns H_A_per_m,B_T; nonlinear solve) or a named material: " + part_material_names()))},
           "",
@@ -225,8 +225,10 @@ std::vector<PartSpec> parts_from_config(const Config& cfg) {
     p.z_min_mm = real("z_min_mm", 0);
     p.z_max_mm = real("z_max_mm", 0);
     p.base_mm = real("base_mm", 0);
-    p.offset_x_mm = real("offset_x_mm", 0);
-    p.offset_y_mm = real("offset_y_mm", 0);
+    if (const std::vector<double> offset = t.numbers("offset_mm"); offset.size() == 2) {  // checked when set
+      p.offset_x_mm = offset[0];
+      p.offset_y_mm = offset[1];
+    }
     p.material = t.text("material");
     if (const std::filesystem::path f = part_material_bh_file(p.material); !f.empty()) {
       try {

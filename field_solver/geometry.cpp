@@ -386,8 +386,8 @@ void validate_part(const PartSpec& p, const std::string& what) {
   finite("z_min_mm", p.z_min_mm);
   finite("z_max_mm", p.z_max_mm);
   finite("base_mm", p.base_mm);
-  finite("offset_x_mm", p.offset_x_mm);
-  finite("offset_y_mm", p.offset_y_mm);
+  if (!std::isfinite(p.offset_x_mm) || !std::isfinite(p.offset_y_mm))
+    bad("offset_mm = [" + num(p.offset_x_mm) + ", " + num(p.offset_y_mm) + "] is not a pair of finite numbers");
   if (!(p.r_outer_mm > 0)) bad("r_outer_mm = " + num(p.r_outer_mm) + " is out of range: allowed > 0 mm");
   if (!(p.r_inner_mm >= 0 && p.r_inner_mm < p.r_outer_mm))
     bad("r_inner_mm = " + num(p.r_inner_mm) + " is out of range: allowed [0, r_outer_mm = " + num(p.r_outer_mm) + ") mm");
@@ -575,7 +575,7 @@ void DomainSpec::validate_parts() const {
         if (meet) throw InputError(what + " overlaps " + o.what + ": parts may touch, not overlap");
       } else if (closed_meet(b, o)) {
         throw InputError(what + " touches or overlaps " + o.what +
-                         ": a part off the axis (offset_x_mm, offset_y_mm != 0) must keep a gap to every other body");
+                         ": a part off the axis (offset_mm != [0, 0]) must keep a gap to every other body");
       }
     }
     // The refinement zone around the sensing plane stays air.
@@ -639,8 +639,8 @@ namespace {
 void refuse_off_axis(const DomainSpec& spec) {
   for (const auto& p : spec.parts)
     if (!p.coaxial())
-      throw InputError("part '" + p.name + "' is off the axis (offset " + num(p.offset_x_mm) + ", " + num(p.offset_y_mm) +
-                       " mm): the domain has no mirror symmetry, a symmetric mesh (mesh.symmetric = true) is refused; "
+      throw InputError("part '" + p.name + "' is off the axis (offset_mm = [" + num(p.offset_x_mm) + ", " + num(p.offset_y_mm) +
+                       "] mm): the domain has no mirror symmetry, a symmetric mesh (mesh.symmetric = true) is refused; "
                        "use mesh.symmetric = false");
 }
 }  // namespace

@@ -74,7 +74,8 @@ struct ShaftSpec {
 };
 
 // A permeable part around the magnet ([[parts]] in the configuration): a body
-// of revolution about the axis through (offset_x_mm, offset_y_mm), magnet frame.
+// of revolution about the axis through (offset_x_mm, offset_y_mm), magnet frame
+// (the configuration's offset_mm = [x, y]).
 //   cylinder: r <= r_outer, z_min..z_max (r_inner must be 0)
 //   tube:     r_inner..r_outer (r_inner > 0), z_min..z_max
 //   cup:      a tube plus a base r <= r_outer, z_min..z_min + base_mm (open at z_max)
@@ -91,7 +92,7 @@ struct PartSpec {
   double z_min_mm = -1;
   double z_max_mm = 0;
   double base_mm = 0;  // cup only
-  double offset_x_mm = 0, offset_y_mm = 0;
+  double offset_x_mm = 0, offset_y_mm = 0;  // the field offset_mm = [x, y]
   std::string material = "mu_r:1000";  // as configured (recorded in solve.json)
   double mu_r = 1000.0;                 // linear relative permeability (with bh: the initial one, a start value)
   std::shared_ptr<const BhCurve> bh;    // bh:FILE.csv: nonlinear B(H) (the solver iterates mu_r per cell)

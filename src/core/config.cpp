@@ -122,6 +122,14 @@ KeySpec settings_field(std::string name, std::string help) {
   return s;
 }
 
+KeySpec real_array_field(std::string name, std::size_t length, double min, double max, std::string unit,
+                         std::string help) {
+  KeySpec s = real_list_key(std::move(name), std::vector<double>(length, 0.0), min, max, std::move(unit),
+                            std::move(help), false, length);
+  s.max_elements = length;
+  return s;
+}
+
 KeySpec required(KeySpec field) {
   field.required = true;
   return field;
@@ -147,11 +155,25 @@ std::vector<std::pair<std::string, ConfigScalar>> ConfigTable::settings(const st
   return out;
 }
 
+std::vector<double> ConfigTable::numbers(const std::string& field) const {
+  std::vector<double> out;
+  for (const auto& e : entries)
+    if (e.field == field && e.array)
+      for (const auto& x : *e.array) {
+        if (auto d = std::get_if<double>(&x)) out.push_back(*d);
+        else if (auto l = std::get_if<long>(&x)) out.push_back(static_cast<double>(*l));
+      }
+  return out;
+}
+
 namespace {
 
 bool is_list(KeySpec::Type t) {
   return t == KeySpec::Type::RealList || t == KeySpec::Type::IntList || t == KeySpec::Type::StringList;
 }
+
+// A list key of a fixed number of elements (real_array_field): a TOML array only.
+bool fixed_length(const KeySpec& s) { return is_list(s.type) && s.max_elements > 0 && s.max_elements == s.min_elements; }
 
 // The scalar type of a list key's elements.
 KeySpec::Type element_type(KeySpec::Type t) {
@@ -243,6 +265,13 @@ std::string tables_toml(const ConfigTables& tables, const std::string& open, con
     for (std::size_t j = 0; j < entries.size();) {
       const ConfigTableEntry& e = entries[j];
       out += (j ? ", " : "") + dotted_key_toml(e.field) + " = ";
+      if (e.array) {
+        out += "[";
+        for (std::size_t k = 0; k < e.array->size(); ++k) out += (k ? ", " : "") + scalar_toml((*e.array)[k]);
+        out += "]";
+        ++j;
+        continue;
+      }
       if (e.key.empty()) {
         out += scalar_toml(e.value);
         ++j;
@@ -267,6 +296,16 @@ std::string tables_json(const ConfigTables& tables) {
     for (std::size_t j = 0; j < entries.size();) {
       const ConfigTableEntry& e = entries[j];
       out += (j ? ", " : "") + quoted(e.field) + ": ";
+      if (e.array) {
+        out += "[";
+        for (std::size_t k = 0; k < e.array->size(); ++k) {
+          const ConfigScalar& x = (*e.array)[k];
+          out += (k ? ", " : "") + (std::holds_alternative<double>(x) ? fmt_sig(std::get<double>(x), 12) : scalar_toml(x));
+        }
+        out += "]";
+        ++j;
+        continue;
+      }
       if (e.key.empty()) {
         out += std::holds_alternative<double>(e.value) ? fmt_sig(std::get<double>(e.value), 12) : scalar_toml(e.value);
         ++j;
@@ -371,9 +410,19 @@ ConfigTables toml_tables(const KeySpec& s, const toml::node& node, const std::st
           if (!v) fail(name + " key " + key + " is an array: allowed a number, string or boolean");
           table.entries.push_back({name, key, *v});
         });
+      } else if (const toml::array* elements = value.as_array(); elements && is_list(f->type)) {
+        ConfigList list;
+        for (std::size_t m = 0; m < elements->size(); ++m) {
+          const auto v = toml_scalar(*elements->get(m));
+          if (!v)
+            fail("field " + name + " element " + std::to_string(m + 1) + " of " + std::to_string(elements->size()) +
+                 " is an array or table");
+          list.push_back(*v);
+        }
+        table.entries.push_back({name, "", ConfigScalar(0.0), std::move(list)});
       } else {
         const auto v = toml_scalar(value);
-        if (!v) fail(name + " is an array or table");
+        if (!v) fail(is_list(f->type) ? "field " + name + " must be an array" : name + " is an array or table");
         table.entries.push_back({name, "", *v});
       }
     }
@@ -462,6 +511,7 @@ ConfigValue parse_list_text(const KeySpec& s, const std::string& raw, const std:
     if (!a) return fail();
     return toml_list(s, *a, origin);
   }
+  if (fixed_length(s)) return fail();  // a fixed-length array: a TOML array only
   // Comma-separated text (earlier configurations): each element parsed as a scalar of the element type.
   KeySpec e = s;
   e.type = element_type(s.type);
@@ -561,8 +611,10 @@ std::string allowed_range(const KeySpec& s) {
       what = s.choices.empty() ? "non-empty strings" : "strings, each " + allowed_range(e);
     else
       what = std::string(e.type == KeySpec::Type::Int ? "integers" : "numbers") + ", each " + allowed_range(e);
-    return "an array of " + std::to_string(s.min_elements) + " or more " + what +
-           " (or the same as comma-separated text)";
+    if (fixed_length(s)) return "an array of " + std::to_string(s.min_elements) + " " + what;
+    const std::string count = std::to_string(s.min_elements) +
+                              (s.max_elements > 0 ? " to " + std::to_string(s.max_elements) : std::string(" or more"));
+    return "an array of " + count + " " + what + " (or the same as comma-separated text)";
   }
   switch (s.type) {
     case KeySpec::Type::Real:
@@ -662,8 +714,30 @@ ConfigValue checked_scalar(const KeySpec& s, const ConfigValue& v, const std::st
   }
 }
 
+// Why entry e of array field f (real_array_field) is not valid ("" when it is); its elements normalized.
+std::string array_field_error(const KeySpec& f, ConfigTableEntry& e) {
+  if (!e.array || !e.key.empty()) return "field " + e.field + " must be an array";
+  ConfigList& l = *e.array;
+  if (l.size() < f.min_elements || (f.max_elements > 0 && l.size() > f.max_elements))
+    return "field " + e.field + " has " + std::to_string(l.size()) + " element" + (l.size() == 1 ? "" : "s");
+  KeySpec element = f;
+  element.type = element_type(f.type);
+  for (std::size_t k = 0; k < l.size(); ++k) {
+    element.key = "field " + e.field + " element " + std::to_string(k + 1) + " of " + std::to_string(l.size());
+    try {
+      l[k] = as_scalar(checked_scalar(element, std::visit([](const auto& y) { return ConfigValue(y); }, l[k]), ""));
+    } catch (const InputError& err) {
+      std::string why = err.what();  // "field x element 1 of 2 = nan is out of range: allowed ...": cut below
+      if (const auto cut = why.find(": allowed "); cut != std::string::npos) why.erase(cut);
+      return why;
+    }
+  }
+  return "";
+}
+
 // The tables of table-list key s, checked: declared fields only, required ones present, scalar
-// fields valid (non-empty text for a free String), Settings values finite; entries sorted by field and key.
+// fields valid (non-empty text for a free String), array fields of their length with valid elements,
+// Settings values finite; entries sorted by field and key.
 ConfigTables checked_tables(const KeySpec& s, ConfigTables tables, const std::string& where) {
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const auto fail = [&](const std::string& why) { table_fail(s, where, i, tables.size(), why); };
@@ -684,6 +758,11 @@ ConfigTables checked_tables(const KeySpec& s, ConfigTables tables, const std::st
           fail(e.field + " key " + e.key + " = " + fmt_sig(*d, 6) + " is not finite");
         continue;
       }
+      if (is_list(f->type)) {
+        if (const std::string why = array_field_error(*f, e); !why.empty()) fail(why);
+        continue;
+      }
+      if (e.array) fail("field " + e.field + " is an array");
       if (!e.key.empty()) fail(e.field + " is not a table");
       if (f->type == KeySpec::Type::String && f->choices.empty())
         if (auto p = std::get_if<std::string>(&e.value); p && trim(*p).empty()) fail(e.field + " is empty");
@@ -739,7 +818,7 @@ void Config::assign_checked(const KeySpec& s, const ConfigValue& v, const std::s
       if (auto text = std::get_if<std::string>(&v)) return assign_checked(s, parse_text(s, *text, origin), origin);
       throw InputError(where + s.key + " must be an array: allowed " + allowed_range(s));
     }
-    if (l->size() < s.min_elements)
+    if (l->size() < s.min_elements || (s.max_elements > 0 && l->size() > s.max_elements))
       throw InputError(where + s.key + " has " + std::to_string(l->size()) + " elements: allowed " + allowed_range(s));
     KeySpec e = s;
     e.type = element_type(s.type);

@@ -16,6 +16,9 @@
 //   set = { fem.order = 1 }          # a Settings field: a table of key = scalar (dotted keys flattened)
 // and on the command line the same as an inline array, `--set 'key=[{label = "P1", set = {fem.order = 1}}]'`
 // (empty text or [] for none). Readers take them with tables().
+// A table field may also be a fixed-length array of numbers (real_array_field, e.g. offset_mm = [2.5, 0]):
+// a TOML array only (never comma-separated text), every element checked like a Real key, an error
+// naming the field, the element and the count. Readers take its elements with ConfigTable::numbers().
 #pragma once
 #include <map>
 #include <optional>
@@ -36,7 +39,8 @@ struct KeySpec {
   bool max_exclusive = false;
   std::vector<std::string> choices;  // String, StringList: allowed values (empty = any non-empty text)
   std::size_t min_elements = 1;      // lists: fewest elements (0: may be empty)
-  std::vector<KeySpec> fields;       // TableList: the fields of each table (scalar keys and Settings)
+  std::size_t max_elements = 0;      // lists: most elements (0: no limit); == min_elements: a fixed-length array
+  std::vector<KeySpec> fields;       // TableList: the fields of each table (scalar keys, arrays, Settings)
   bool required = false;             // a TableList field every table must have
   std::string unit;                  // "mm", "deg", "T", "" for none
   std::string help;
@@ -58,10 +62,14 @@ KeySpec string_list_key(std::string key, const std::vector<std::string>& def, st
                         std::string help, std::size_t min_elements = 1);
 
 // Table-list keys: an array of tables (the value is the TOML text of an inline array, "" for none).
-// `fields`: scalar fields (real_key, int_key, string_key, bool_key; `required` ones must be present)
-// and Settings fields (settings_field: a table of key = scalar, nested tables flattened to dotted keys).
+// `fields`: scalar fields (real_key, int_key, string_key, bool_key; `required` ones must be present),
+// fixed-length number arrays (real_array_field) and Settings fields (settings_field: a table of
+// key = scalar, nested tables flattened to dotted keys).
 KeySpec table_list_key(std::string key, std::vector<KeySpec> fields, std::string def_toml, std::string help);
 KeySpec settings_field(std::string name, std::string help);
+// A table field of exactly `length` numbers, each in [min, max] (a TOML array, e.g. offset_mm = [2.5, 0]).
+KeySpec real_array_field(std::string name, std::size_t length, double min, double max, std::string unit,
+                         std::string help);
 KeySpec required(KeySpec field);
 
 using ConfigScalar = std::variant<double, long, std::string, bool>;
@@ -71,7 +79,8 @@ using ConfigList = std::vector<ConfigScalar>;
 struct ConfigTableEntry {
   std::string field;  // the field's name ("label", "set")
   std::string key;    // a Settings field's dotted key ("fem.order"); empty for scalar fields
-  ConfigScalar value;
+  ConfigScalar value;                      // a scalar or Settings field's value
+  std::optional<ConfigList> array = {};    // an array field's elements (value unused)
 };
 struct ConfigTable {
   std::vector<ConfigTableEntry> entries;
@@ -80,6 +89,8 @@ struct ConfigTable {
   std::string text(const std::string& field) const;
   // A Settings field's key = value pairs (empty when absent).
   std::vector<std::pair<std::string, ConfigScalar>> settings(const std::string& field) const;
+  // An array field's elements as numbers (empty when absent).
+  std::vector<double> numbers(const std::string& field) const;
 };
 using ConfigTables = std::vector<ConfigTable>;
 using ConfigValue = std::variant<double, long, std::string, bool, ConfigList, ConfigTables>;

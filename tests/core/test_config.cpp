@@ -332,6 +332,97 @@ TEST_CASE("table-list keys: bad tables are one line naming the key the element a
   CHECK(c.tables("study.variants")[0].text("label") == "a");
 }
 
+namespace {
+// A table-list key like parts: a name and a fixed-length number array offset_mm = [x, y].
+std::vector<KeySpec> array_field_keys() {
+  return {table_list_key("parts",
+                         {required(string_key("name", "", {}, "name")),
+                          real_array_field("offset_mm", 2, -1000, 1000, "mm", "xy of the axis")},
+                         "", "parts")};
+}
+}  // namespace
+
+TEST_CASE("table-list keys: a fixed-length number array field from a file, --set and the echo", "[core][contract]") {
+  Config c(array_field_keys());
+  CHECK(c.tables("parts").empty());
+  c.load_toml_string("[[parts]]\nname = \"a\"\noffset_mm = [2.5, 0]\n\n[[parts]]\nname = \"b\"\n"
+                     "\n[[parts]]\nname = \"c\"\noffset_mm = [-1000, 1e3]\n");
+  ConfigTables t = c.tables("parts");
+  REQUIRE(t.size() == 3);
+  CHECK(t[0].numbers("offset_mm") == std::vector<double>{2.5, 0.0});
+  CHECK_FALSE(t[1].has("offset_mm"));
+  CHECK(t[1].numbers("offset_mm").empty());
+  CHECK(t[2].numbers("offset_mm") == std::vector<double>{-1000.0, 1000.0});
+  // Integer elements are held as reals (a Real key's elements).
+  REQUIRE(t[0].entries.size() == 2);
+  REQUIRE(t[0].entries[1].array);
+  CHECK(std::holds_alternative<double>((*t[0].entries[1].array)[1]));
+  // The echo reads back to the same tables; the JSON writes the pair as an array.
+  Config d(array_field_keys());
+  d.load_toml_string(c.to_toml());
+  REQUIRE(d.tables("parts").size() == 3);
+  CHECK(d.tables("parts")[0].numbers("offset_mm") == std::vector<double>{2.5, 0.0});
+  CHECK(d.to_toml() == c.to_toml());
+  CHECK(c.to_toml().find("offset_mm = [2.5, 0.0]") != std::string::npos);
+  CHECK(c.to_json().find("{\"name\": \"a\", \"offset_mm\": [2.5, 0]}") != std::string::npos);
+  // --set: the same inline array.
+  c.set("parts=[{ name = \"s\", offset_mm = [0, -3.25] }]");
+  REQUIRE(c.tables("parts").size() == 1);
+  CHECK(c.tables("parts")[0].numbers("offset_mm") == std::vector<double>{0.0, -3.25});
+  // The allowed form, as --help and docs/keys.md show it.
+  const std::string form = "offset_mm = an array of 2 numbers, each [-1000, 1000] mm";
+  CHECK(allowed_range(c.schema().front()).find(form) != std::string::npos);
+  CHECK(c.describe().find(form) != std::string::npos);
+  CHECK(allowed_range(c.schema().front().fields[1]) == "an array of 2 numbers, each [-1000, 1000] mm");
+}
+
+TEST_CASE("table-list keys: a bad number array field is one line naming the element, the field and its form",
+          "[core][bad-input]") {
+  Config c(array_field_keys());
+  c.set("parts=[{ name = \"ok\", offset_mm = [1, 2] }]");
+  const std::string form = "offset_mm = an array of 2 numbers, each [-1000, 1000] mm";
+  auto toml = [](const std::string& value) {
+    return [value](Config& x) { x.load_toml_string("[[parts]]\nname = \"a\"\noffset_mm = " + value + "\n", "f.toml"); };
+  };
+  auto set = [](const std::string& value) {
+    return [value](Config& x) { x.set("parts=[{ name = \"a\" }, { name = \"b\", offset_mm = " + value + " }]"); };
+  };
+  struct Case {
+    std::function<void(Config&)> f;
+    std::string says;
+  };
+  for (const auto& [f, says] : std::vector<Case>{
+           {toml("[1]"), "f.toml: parts element 1 of 1: field offset_mm has 1 element:"},
+           {toml("[1, 2, 3]"), "parts element 1 of 1: field offset_mm has 3 elements"},
+           {toml("[]"), "parts element 1 of 1: field offset_mm has 0 elements"},
+           {toml("[\"1\", 2]"), "parts element 1 of 1: field offset_mm element 1 of 2 must be a number"},
+           {toml("[true, 2]"), "field offset_mm element 1 of 2 must be a number"},
+           {toml("[0, nan]"), "field offset_mm element 2 of 2 = nan is out of range"},
+           {toml("[-inf, 0]"), "field offset_mm element 1 of 2 = -inf is out of range"},
+           {toml("[0, 1000.5]"), "field offset_mm element 2 of 2 = 1000.5 is out of range"},
+           {toml("[-1001, 0]"), "field offset_mm element 1 of 2 = -1001 is out of range"},
+           {toml("[[1], 2]"), "field offset_mm element 1 of 2 is an array or table"},
+           {toml("2.5"), "parts element 1 of 1: field offset_mm must be an array"},
+           {toml("\"2.5,0\""), "field offset_mm must be an array"},
+           {toml("{ x = 1, y = 2 }"), "field offset_mm must be an array"},
+           {set("[1]"), "--set: parts element 2 of 2: field offset_mm has 1 element:"},
+           {set("[1, 2, 3]"), "--set: parts element 2 of 2: field offset_mm has 3 elements"},
+           {set("[1, \"x\"]"), "field offset_mm element 2 of 2 must be a number"},
+           {set("[nan, 0]"), "field offset_mm element 1 of 2 = nan is out of range"},
+           {set("[0, inf]"), "field offset_mm element 2 of 2 = inf is out of range"},
+           {set("[2000, 0]"), "field offset_mm element 1 of 2 = 2000 is out of range"},
+           {set("3"), "--set: parts element 2 of 2: field offset_mm must be an array"},
+       }) {
+    const std::string e = error_of(c, f);
+    INFO(e);
+    CHECK_THAT(e, Catch::Contains(says) && Catch::Contains(form));
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  // A refused value leaves the previous one in place.
+  REQUIRE(c.tables("parts").size() == 1);
+  CHECK(c.tables("parts")[0].numbers("offset_mm") == std::vector<double>{1.0, 2.0});
+}
+
 TEST_CASE("calibration.at is a table of keys from a file or --set or the default and is echoed and checked",
           "[core][contract][bad-input]") {
   Config cfg(merge_schemas(common_keys(), calibration_keys()));

@@ -149,10 +149,14 @@ TEST_CASE("parts: touching parts share their faces (a cup flush with the magnet'
 TEST_CASE("parts: a part off the axis is never symmetrized", "[field_solver][physics]") {
   const std::string screw =
       "parts=[{name = \"screw\", shape = \"cylinder\", r_outer_mm = 1.0, z_min_mm = -6.0, z_max_mm = 1.0, "
-      "offset_x_mm = 4.0, material = \"mu_r:1000\"}]";
+      "offset_mm = [4.0, 0.0], material = \"mu_r:1000\"}]";
   const FemSettings fs = coarse_settings({screw});
   REQUIRE(fs.domain.mesh.symmetric);
+  REQUIRE(fs.domain.parts.size() == 1);
+  CHECK(fs.domain.parts[0].offset_x_mm == 4.0);
+  CHECK(fs.domain.parts[0].offset_y_mm == 0.0);
   CHECK_THROWS_AS(mesh_quadrant(fs.domain), magenc::InputError);
+  CHECK_THROWS_WITH(mesh_quadrant(fs.domain), Catch::Contains("part 'screw' is off the axis (offset_mm = [4, 0] mm)"));
   CHECK_THROWS_AS(mesh_domain(fs.domain), magenc::InputError);
   const auto s = solved({screw});
   CHECK(s->mesh_layout().rfind("whole domain: a part off the axis", 0) == 0);
@@ -189,8 +193,10 @@ TEST_CASE("parts: bad parts are one-line input errors naming the part", "[field_
        "material"},
       {"parts=[{name = \"m\", shape = \"disk\", r_outer_mm = 3, z_min_mm = -4, z_max_mm = -3, material = \"mu_r:12x\"}]",
        "material"},
-      {"parts=[{name = \"s\", shape = \"cylinder\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = 1, offset_x_mm = 2.5, "
+      {"parts=[{name = \"s\", shape = \"cylinder\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = 1, offset_mm = [2.5, 0], "
        "material = \"mu_r:10\"}]", "off the axis"},
+      {"parts=[{name = \"s\", shape = \"cylinder\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = 1, offset_mm = [0, -2.5], "
+       "material = \"mu_r:10\"}]", "a part off the axis (offset_mm != [0, 0]) must keep a gap"},
       {"parts=[{name = \"p\", shape = \"pyramid\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = -5, material = \"mu_r:10\"}]",
        "shape"},
   };
@@ -198,6 +204,24 @@ TEST_CASE("parts: bad parts are one-line input errors naming the part", "[field_
     const std::string e = input_error({set});
     CAPTURE(set, e);
     CHECK(e.find(needle) != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  // offset_mm is [x, y]: an array of two finite numbers in [-1000, 1000] mm; the earlier scalar keys are unknown.
+  const std::string form = "offset_mm = an array of 2 numbers, each [-1000, 1000] mm";
+  for (const auto& [offset, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"offset_mm = [1]", "parts element 1 of 1: field offset_mm has 1 element"},
+           {"offset_mm = [1, 2, 3]", "parts element 1 of 1: field offset_mm has 3 elements"},
+           {"offset_mm = [\"1\", 2]", "field offset_mm element 1 of 2 must be a number"},
+           {"offset_mm = [0, nan]", "field offset_mm element 2 of 2 = nan is out of range"},
+           {"offset_mm = [inf, 0]", "field offset_mm element 1 of 2 = inf is out of range"},
+           {"offset_mm = [0, -1000.5]", "field offset_mm element 2 of 2 = -1000.5 is out of range"},
+           {"offset_mm = 2.5", "parts element 1 of 1: field offset_mm must be an array"},
+           {"offset_x_mm = 2.5", "parts element 1 of 1: unknown field 'offset_x_mm'"},
+       }) {
+    const std::string e = input_error({"parts=[" + ok_disk + ", " + offset + "}]"});
+    CAPTURE(offset, e);
+    CHECK(e.find(needle) != std::string::npos);
+    CHECK(e.find(form) != std::string::npos);
     CHECK(e.find('\n') == std::string::npos);
   }
   // The same geometry, valid: no error.

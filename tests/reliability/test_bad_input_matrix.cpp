@@ -294,6 +294,47 @@ TEST_CASE("bad-input matrix: every study x every declared key x its bad values (
   key_matrix(Group::Studies, 9, "studies");
 }
 
+// [[parts]]' offset_mm = [x, y] (a table field the key matrix above does not reach: parts has no section):
+// every executable that declares parts refuses a bad offset with exit 2, one line naming the field and
+// its allowed form, and no output; --set inline tables and, for solve_field, [[parts]] sections.
+TEST_CASE("bad-input matrix: the parts' offset_mm x every executable that declares parts", "[apps][bad-input][cli]") {
+  const std::string part = "name = \"s\", shape = \"cylinder\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = -3, "
+                           "material = \"mu_r:10\", offset_mm = ";
+  const std::vector<std::pair<std::string, std::string>> offsets = {
+      {"[1]", "has 1 element"},
+      {"[1, 2, 3]", "has 3 elements"},
+      {"[\"1\", 0]", "element 1 of 2 must be a number"},
+      {"[0, nan]", "element 2 of 2 = nan is out of range"},
+      {"[inf, 0]", "element 1 of 2 = inf is out of range"},
+      {"[0, -1001]", "element 2 of 2 = -1001 is out of range"},
+      {"2.5", "must be an array"},
+      {"{ x = 1 }", "must be an array"},
+  };
+  const std::string form = "offset_mm = an array of 2 numbers, each [-1000, 1000] mm";
+  ScratchDir s("magenc_matrix_parts");
+  int cases = 0;
+  auto check = [&](const std::string& exe, const std::vector<std::string>& args, const std::vector<std::string>& inputs,
+                   const std::string& says) {
+    ++cases;
+    const ProcResult r = run(kBin / exe, args, s.dir);
+    const auto stray = s.entries_except(inputs);
+    INFO(exe << " " << args[1] << "\n  stderr: " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.err.find("parts element 1 of 1: field offset_mm " + says) != std::string::npos);
+    CHECK(r.err.find(form) != std::string::npos);
+    CHECK(stray.empty());
+  };
+  for (const char* exe : {"solve_field", "fem_vs_exact", "fem_convergence", "steel_parts"})
+    for (const auto& [offset, says] : offsets)
+      check(exe, {"--set", "parts=[{ " + part + offset + " }]", "--out", "out"}, {}, says);
+  for (const auto& [offset, says] : offsets) {
+    s.write("parts.toml", "[[parts]]\n" + std::regex_replace(part, std::regex(", "), "\n") + offset + "\n");
+    check("solve_field", {"--config", "parts.toml", "--out", "out"}, {"parts.toml"}, says);
+  }
+  WARN("bad-input matrix (parts offset_mm): " << cases << " cases");
+}
+
 TEST_CASE("bad-input matrix: every executable x unusable files and output paths", "[apps][bad-input][cli]") {
   const auto exes = executables(kBin);
   REQUIRE(exes.size() >= 14);
