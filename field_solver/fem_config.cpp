@@ -131,6 +131,10 @@ const std::vector<NamedMaterial>& named_materials() {
        "S235/1.0038-class low-carbon steel, linear: the order of the secant permeability of the hot-rolled "
        "low-carbon steel curve materials/low_carbon_steel_hot_rolled_bh.csv (ASM Metals Handbook 8th ed. "
        "Vol. 1 Fig. 17: 810 at 54 A/m, ~2900 at 270 A/m, ~1130 at 1 kA/m)"},
+      {"low_carbon_steel", 0.0, "materials/low_carbon_steel_hot_rolled_bh.csv",
+       "hot-rolled low-carbon steel (S235, AISI 1010-1020 class), measured DC curve "
+       "materials/low_carbon_steel_hot_rolled_bh.csv (ASM Metals Handbook 8th ed. Vol. 1 Fig. 17, digitized "
+       "for FEMM 4.2); the nonlinear counterpart of structural_steel"},
       {"free_cutting_steel", 0.0, "materials/free_cutting_steel_bh.csv",
        "free-cutting steel AISI 1117 (11SMn30/1.0715 class), B-H curve materials/free_cutting_steel_bh.csv "
        "(FEMM 4.2 library block '1117 Steel', DC curve)"},

@@ -279,9 +279,8 @@ def make_magnet_field(data, vmax):
     blut = GetColorTransferFunction("B")
     blut.ApplyPreset("Viridis (matplotlib)", True)
     blut.AutomaticRescaleRangeMode = "Never"
+    blut.UseLogScale = 1
     blut.RescaleTransferFunction(0.01, 1.5)
-    blut.MapControlPointsToLogSpace()  # the preset's points spread evenly in log(|B|): without it most of
-    blut.UseLogScale = 1               # the lines (below ~0.2 T) take the bottom colour
     dt.LookupTable = blut
     style_bar(blut, view, "|B| [T]", pos=(0.82, 0.5), length=0.38)
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -223,12 +226,39 @@ std::vector<Eigen::MatrixXd> CircleFieldModel::symmetry_fits(const FieldSource::
 void CircleFieldModel::to_frame_coefficients(const std::vector<Eigen::Vector3d>& stencil,
                                              const std::vector<Eigen::MatrixXd>& G, const std::vector<double>& cphi,
                                              const std::vector<double>& sphi) {
-  const Eigen::Index P = static_cast<Eigen::Index>(stencil.size());
-  const Eigen::MatrixXd Vfull = stencil_monomials(stencil, 1.0, 0.0);
-  const Eigen::MatrixXd pinv_full = Vfull.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // T x P
+  // W_j (T x T) depends on the node count and the order only (the stencil is in scaled units): computed
+  // once per process for each (nodes, order), every node in parallel, and shared by every later model.
+  static std::mutex mtx;
+  static std::map<std::pair<int, int>, std::shared_ptr<const std::vector<Eigen::MatrixXd>>> cache;
+  std::shared_ptr<const std::vector<Eigen::MatrixXd>> maps;
+  {
+    const std::lock_guard<std::mutex> lock(mtx);
+    auto& entry = cache[{nodes_, order_}];
+    if (!entry) {
+      const Eigen::Index P = static_cast<Eigen::Index>(stencil.size());
+      // The stencil's monomials turned by -phi, in scaled units (so that W depends on nothing else).
+      const auto turned = [&](double c, double s) {
+        Eigen::MatrixXd V(P, terms());
+        std::vector<double> u(static_cast<std::size_t>(terms()));
+        for (Eigen::Index p = 0; p < P; ++p) {
+          const Eigen::Vector3d& q = stencil[std::size_t(p)];
+          scaled_monomials(c * q.x() + s * q.y(), -s * q.x() + c * q.y(), q.z(), u.data());
+          for (int t = 0; t < terms(); ++t) V(p, t) = u[std::size_t(t)];
+        }
+        return V;
+      };
+      const Eigen::MatrixXd pinv_full = turned(1.0, 0.0).colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(P, P));  // T x P
+      auto W = std::make_shared<std::vector<Eigen::MatrixXd>>(static_cast<std::size_t>(nodes_));
+#pragma omp parallel for schedule(static)
+      for (int j = 0; j < nodes_; ++j)
+        (*W)[std::size_t(j)] = pinv_full * turned(cphi[std::size_t(j)], sphi[std::size_t(j)]);
+      entry = W;
+    }
+    maps = entry;
+  }
   std::vector<Eigen::MatrixXd*> out = {&coef_, &coef_x_, &coef_y_};
   for (int j = 0; j < nodes_; ++j) {
-    const Eigen::MatrixXd W = pinv_full * stencil_monomials(stencil, cphi[std::size_t(j)], sphi[std::size_t(j)]);  // T x T
+    const Eigen::MatrixXd& W = (*maps)[std::size_t(j)];
     for (std::size_t c = 0; c < G.size(); ++c) {
       Eigen::MatrixXd& coef = *out[c];
       const double constant = coef(0, j);
@@ -238,21 +268,31 @@ void CircleFieldModel::to_frame_coefficients(const std::vector<Eigen::Vector3d>&
   }
 }
 
-void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const {
+namespace {
+// Monomials of total degree <= order of a scaled displacement, in the order of exps_ (a, then b, then c),
+// without its table: (px[a] py[b]) pz[c].
+inline void monomials_of(int order, double ux, double uy, double uz, double* u) {
   double px[5] = {1, 0, 0, 0, 0}, py[5] = {1, 0, 0, 0, 0}, pz[5] = {1, 0, 0, 0, 0};
-  const double ux = ex_mm / reach_xy_mm_, uy = ey_mm / reach_xy_mm_, uz = ez_mm / reach_z_mm_;
   for (int i = 1; i < 5; ++i) {
     px[i] = px[i - 1] * ux;
     py[i] = py[i - 1] * uy;
     pz[i] = pz[i - 1] * uz;
   }
-  // The order of exps_ (a, then b, then c), without its table: (px[a] py[b]) pz[c].
   int t = 0;
-  for (int a = 0; a <= order_; ++a)
-    for (int b = 0; a + b <= order_; ++b) {
+  for (int a = 0; a <= order; ++a)
+    for (int b = 0; a + b <= order; ++b) {
       const double pab = px[a] * py[b];
-      for (int c = 0; a + b + c <= order_; ++c) u[t++] = pab * pz[c];
+      for (int c = 0; a + b + c <= order; ++c) u[t++] = pab * pz[c];
     }
+}
+}  // namespace
+
+void CircleFieldModel::monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const {
+  monomials_of(order_, ex_mm / reach_xy_mm_, ey_mm / reach_xy_mm_, ez_mm / reach_z_mm_, u);
+}
+
+void CircleFieldModel::scaled_monomials(double ux, double uy, double uz, double* u) const {
+  monomials_of(order_, ux, uy, uz, u);
 }
 
 }  // namespace magenc

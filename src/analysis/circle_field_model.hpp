@@ -60,10 +60,18 @@ class CircleFieldModel {
     B[1] = coef_y_.col(node).dot(uu);
     B[2] = coef_.col(node).dot(uu);
   }
+  // n . B (T) at node j displaced by the displacement whose monomials are u (full_vector models): one
+  // vectorized pass over the three components' coefficients.
+  double Bn_T(int node, const double* u, double nx, double ny, double nz) const {
+    const Eigen::Map<const Eigen::VectorXd> uu(u, terms());
+    return (nx * coef_x_.col(node) + ny * coef_y_.col(node) + nz * coef_.col(node)).dot(uu);
+  }
   double reach_xy_mm() const { return reach_xy_mm_; }
   double reach_z_mm() const { return reach_z_mm_; }
   // Monomials of a displacement (magnet frame, mm): u must hold terms() values.
   void monomials(double ex_mm, double ey_mm, double ez_mm, double* u) const;
+  // The same of a displacement already divided by the reach (ux = ex / reach_xy, ...).
+  void scaled_monomials(double ux, double uy, double uz, double* u) const;
   // Model Bz (T) at node j displaced by the displacement whose monomials are u.
   double bz_T(int node, const double* u) const { return coef_.col(node).dot(Eigen::Map<const Eigen::VectorXd>(u, terms())); }
   // Bz sampled exactly at node j (no displacement), T.

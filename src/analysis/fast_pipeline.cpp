@@ -119,7 +119,7 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
     // interpolate 2 per array instead of every distinct probe.
     Eigen::MatrixXd cs_coarse;
-    cs_coarse.noalias() = R * channel_weights_;
+    cs_coarse.noalias() = R.lazyProduct(channel_weights_);  // (tiny: no blocked product)
     if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
     Eigen::MatrixXd cs;
     interpolate(cs_coarse, cs);
@@ -293,7 +293,6 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
     fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
   std::vector<double> u(T);
-  double B[3], Ba[3];
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   const int step = coarse_ > 0 ? N / coarse_ : 1;
@@ -309,13 +308,9 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       // Displacement from node j (nominal position of this probe at theta, magnet frame).
       const Eigen::Vector3d q = K.point_to_magnet(fixed[i], ct, st);
       model_.monomials(q.x() - r0 * cos_theta_[std::size_t(j)], q.y() - r0 * sin_theta_[std::size_t(j)], q.z() - zs, u.data());
-      model_.B_T(j, u.data(), B);
-      if (axial_) {
-        // cos(al) * diametric + sin(al) * axial (B is linear in M).
-        axial_->B_T(j, u.data(), Ba);
-        for (int c = 0; c < 3; ++c) B[c] = ce * B[c] + se * Ba[c];
-      }
-      double Bn = n.x() * B[0] + n.y() * B[1] + n.z() * B[2];
+      double Bn = model_.Bn_T(j, u.data(), n.x(), n.y(), n.z());
+      // cos(al) * diametric + sin(al) * axial (B is linear in M).
+      if (axial_) Bn = ce * Bn + se * axial_->Bn_T(j, u.data(), n.x(), n.y(), n.z());
       if (env) Bn = env->br_scale * Bn + env->stray_T[i];
       R(r, static_cast<Eigen::Index>(i)) = Bn;
     }

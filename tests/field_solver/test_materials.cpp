@@ -74,7 +74,7 @@ void check_curve(const SourceRanges& s) {
 
 TEST_CASE("materials: every named material resolves, B-H files from the source tree", "[field_solver][contract]") {
   const std::vector<std::string> names = named_materials();
-  REQUIRE(names.size() == 5);
+  REQUIRE(names.size() == 6);
   for (const std::string& n : names) {
     CAPTURE(n);
     CHECK(!part_material_source(n).empty());
@@ -89,6 +89,7 @@ TEST_CASE("materials: every named material resolves, B-H files from the source t
   }
   CHECK(part_material_bh_file("free_cutting_steel").filename() == "free_cutting_steel_bh.csv");
   CHECK(part_material_bh_file("electrical_steel").filename() == "electrical_steel_bh.csv");
+  CHECK(part_material_bh_file("low_carbon_steel").filename() == "low_carbon_steel_hot_rolled_bh.csv");
   CHECK(part_material_bh_file("structural_steel").empty());  // linear (the steel_parts study's linear model)
   CHECK(part_material_bh_file("bh:x.csv") == std::filesystem::path("x.csv"));
   CHECK(part_material_mu_r("structural_steel", "t") == 1000.0);
