@@ -279,8 +279,9 @@ def make_magnet_field(data, vmax):
     blut = GetColorTransferFunction("B")
     blut.ApplyPreset("Viridis (matplotlib)", True)
     blut.AutomaticRescaleRangeMode = "Never"
-    blut.UseLogScale = 1
     blut.RescaleTransferFunction(0.01, 1.5)
+    blut.MapControlPointsToLogSpace()  # the preset's points spread evenly in log(|B|): without it most of
+    blut.UseLogScale = 1               # the lines (below ~0.2 T) take the bottom colour
     dt.LookupTable = blut
     style_bar(blut, view, "|B| [T]", pos=(0.82, 0.5), length=0.38)
 
@@ -489,6 +490,9 @@ def main():
     if any(n != "steel_parts_B" for n, _ in states):
         vmax = plane_range_mT(data)
         vmax = nice_step(vmax / 4.0) * math.ceil(vmax / nice_step(vmax / 4.0))  # round up
+    # paraview.simple resets the camera at the first Render of a process: spend it on a throwaway view,
+    # so that every state keeps the camera its builder sets (with --only too).
+    Render(CreateView("RenderView"))
     for name, build in states:
         ResetSession()
         view = build(data, vmax)
