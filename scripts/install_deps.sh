@@ -14,6 +14,7 @@ done
 PKGS=(
   build-essential cmake pkg-config
   libeigen3-dev            # linear algebra, sparse solvers
+  libsleef-dev             # SLEEF: vectorized atan2 (the Monte Carlo engine, core/vector_math.hpp)
   libomp-dev               # OpenMP (g++ uses libgomp; kept for clang builds)
   libvtk9-dev              # VTK XML writers/readers
   libtet1.5-dev            # TetGen tetrahedral mesher

@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/units.hpp"
+#include "core/vector_math.hpp"
 #include "probe/mounting.hpp"
 
 namespace magenc {
@@ -232,62 +233,30 @@ Eigen::VectorXd residual_of_pairs(const Correction& c, const Eigen::VectorXd& th
   return r;
 }
 
-namespace {
-// Row (1, cos t, sin t, ..., cos N t, sin N t) of the harmonic fit at t (rad): one sincos, then angle addition.
-void harmonic_row(double t, int order, double* row) {
-  const double c1 = std::cos(t), s1 = std::sin(t);
-  row[0] = 1.0;
-  double c = 1.0, s = 0.0;
-  for (int n = 1; n <= order; ++n) {
-    const double cn = c * c1 - s * s1;
-    s = s * c1 + c * s1;
-    c = cn;
-    row[2 * n - 1] = c;
-    row[2 * n] = s;
-  }
-}
-}  // namespace
 
-double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
-                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns) {
-  const Eigen::Index n = theta_deg.size();
-  const int P = 2 * method.order + 1;
-  if (method.kind != CalibrationKind::Harmonics || n < 4 * P || eps_cal_deg.size() != n || eps_run_deg.size() != n) {
-    const Correction c = correct_pairs(method, theta_deg + eps_cal_deg, eps_cal_deg, turns);
-    const Eigen::VectorXd r = residual_of_pairs(c, theta_deg, eps_run_deg);
-    return r.maxCoeff() - r.minCoeff();
-  }
-  const double t = turns;
-  const int N = method.order;
-  // The fit of e = t eps_cal on psi = t (theta + eps_cal). Its normal equations from power sums: with
-  // C_m = sum cos(m psi), S_m = sum sin(m psi) (m = 0..2N, one sincos per pair, the powers by angle
-  // addition across all pairs at once), sum cos j cos k = (C_{j-k} + C_{j+k}) / 2, sum sin j sin k =
-  // (C_{j-k} - C_{j+k}) / 2, sum cos j sin k = (S_{j+k} - S_{j-k}) / 2; A^T e from the same powers.
-  Eigen::ArrayXd e(n), c1(n), s1(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double psi = deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i]));
-    c1[i] = std::cos(psi);
-    s1[i] = std::sin(psi);
-    e[i] = t * eps_cal_deg[i];
-  }
-  std::vector<double> Cm(static_cast<std::size_t>(2 * N + 1)), Sm(static_cast<std::size_t>(2 * N + 1));
+namespace {
+// calibrated_pp_deg's harmonics:N route on t eps (deg) and the unit vectors of psi = t (theta + eps) at the
+// calibration state (e, c1, s1) and at the run (er, cr, sr).
+double harmonics_residual_pp(int N, double t, const Eigen::VectorXd& e, const Eigen::VectorXd& c1,
+                             const Eigen::VectorXd& s1, const Eigen::VectorXd& er, const Eigen::VectorXd& cr,
+                             const Eigen::VectorXd& sr) {
+  const Eigen::Index n = e.size();
+  const int P = 2 * N + 1;
+  // The fit of e on psi. Its normal equations from power sums: with C_m = sum cos(m psi), S_m = sum
+  // sin(m psi) (m = 0..2N, the powers of e^{i psi} by angle addition, all pairs at once: core/vector_math.hpp),
+  // sum cos j cos k = (C_{j-k} + C_{j+k}) / 2, sum sin j sin k = (C_{j-k} - C_{j+k}) / 2, sum cos j sin k =
+  // (S_{j+k} - S_{j-k}) / 2; A^T e from the same powers.
+  thread_local std::vector<double> Cm, Sm, WC, WS;
+  Cm.resize(std::size_t(2 * N + 1));
+  Sm.resize(std::size_t(2 * N + 1));
+  WC.resize(std::size_t(N + 1));
+  WS.resize(std::size_t(N + 1));
+  unit_power_sums(c1.data(), s1.data(), e.data(), std::size_t(n), 2 * N, N, Cm.data(), Sm.data(), WC.data(), WS.data());
   Eigen::VectorXd Ate(P);
-  Cm[0] = static_cast<double>(n);
-  Sm[0] = 0.0;
-  Ate[0] = e.sum();
-  Eigen::ArrayXd c = c1, s = s1, cn(n);
-  for (int m = 1; m <= 2 * N; ++m) {
-    if (m > 1) {
-      cn = c * c1 - s * s1;
-      s = s * c1 + c * s1;
-      c.swap(cn);
-    }
-    Cm[std::size_t(m)] = c.sum();
-    Sm[std::size_t(m)] = s.sum();
-    if (m <= N) {
-      Ate[2 * m - 1] = (e * c).sum();
-      Ate[2 * m] = (e * s).sum();
-    }
+  Ate[0] = WC[0];
+  for (int m = 1; m <= N; ++m) {
+    Ate[2 * m - 1] = WC[std::size_t(m)];
+    Ate[2 * m] = WS[std::size_t(m)];
   }
   const auto C = [&](int m) { return Cm[std::size_t(std::abs(m))]; };
   const auto S = [&](int m) { return m < 0 ? -Sm[std::size_t(-m)] : Sm[std::size_t(m)]; };
@@ -308,40 +277,76 @@ double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd&
   if (llt.info() == Eigen::Success) {
     h = llt.solve(Ate);
   } else {
+    // The fit matrix itself, its columns by the same angle addition, and QR.
     Eigen::MatrixXd A(n, P);
-    std::vector<double> row(static_cast<std::size_t>(P));
-    for (Eigen::Index i = 0; i < n; ++i) {
-      harmonic_row(deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i])), N, row.data());
-      for (int k = 0; k < P; ++k) A(i, k) = row[static_cast<std::size_t>(k)];
+    A.col(0).setOnes();
+    Eigen::ArrayXd c = c1.array(), s = s1.array(), cn(n);
+    for (int m = 1; m <= N; ++m) {
+      if (m > 1) {
+        cn = c * c1.array() - s * s1.array();
+        s = s * c1.array() + c * s1.array();
+        c.swap(cn);
+      }
+      A.col(2 * m - 1) = c.matrix();
+      A.col(2 * m) = s.matrix();
     }
-    h = A.colPivHouseholderQr().solve(e.matrix());
+    h = A.colPivHouseholderQr().solve(e);
   }
-  // The residual of the run: wrap(t eps_run - e_psi(t (theta + eps_run))) / t, the series summed across
-  // all pairs at once (angle addition again).
-  Eigen::ArrayXd v = Eigen::ArrayXd::Constant(n, h[0]);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double psi = deg_to_rad(t * (theta_deg[i] + eps_run_deg[i]));
-    c1[i] = std::cos(psi);
-    s1[i] = std::sin(psi);
-  }
-  c = c1;
-  s = s1;
-  for (int m = 1; m <= N; ++m) {
-    if (m > 1) {
-      cn = c * c1 - s * s1;
-      s = s * c1 + c * s1;
-      c.swap(cn);
-    }
-    v += h[2 * m - 1] * c + h[2 * m] * s;
-  }
+  // The residual of the run: wrap(t eps_run - e_psi(psi_run)) / t, the series summed at every pair at once.
+  thread_local std::vector<double> v;
+  v.resize(std::size_t(n));
+  unit_series(cr.data(), sr.data(), std::size_t(n), h.data(), N, v.data());
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double x = t * eps_run_deg[i] - v[i];
+    const double x = er[i] - v[std::size_t(i)];
     const double r = (x > -180.0 && x <= 180.0 ? x : wrap_deg(x)) / t;
     lo = std::min(lo, r);
     hi = std::max(hi, r);
   }
   return hi - lo;
+}
+
+// The two calls calibrated_pp_deg stands for.
+double pairs_residual_pp(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
+                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns) {
+  const Correction c = correct_pairs(method, theta_deg + eps_cal_deg, eps_cal_deg, turns);
+  const Eigen::VectorXd r = residual_of_pairs(c, theta_deg, eps_run_deg);
+  return r.maxCoeff() - r.minCoeff();
+}
+
+bool harmonics_route(const CalibrationMethod& method, Eigen::Index n, Eigen::Index n_cal, Eigen::Index n_run) {
+  return method.kind == CalibrationKind::Harmonics && n >= 4 * (2 * method.order + 1) && n_cal == n && n_run == n;
+}
+}  // namespace
+
+double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
+                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns) {
+  const Eigen::Index n = theta_deg.size();
+  if (!harmonics_route(method, n, eps_cal_deg.size(), eps_run_deg.size()))
+    return pairs_residual_pp(method, theta_deg, eps_cal_deg, eps_run_deg, turns);
+  const double t = turns;
+  // psi = t (theta + eps): one sincos per pair.
+  const Eigen::VectorXd e = t * eps_cal_deg, er = t * eps_run_deg;
+  Eigen::VectorXd c1(n), s1(n), cr(n), sr(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double p = deg_to_rad(t * (theta_deg[i] + eps_cal_deg[i])), q = deg_to_rad(t * (theta_deg[i] + eps_run_deg[i]));
+    c1[i] = std::cos(p);
+    s1[i] = std::sin(p);
+    cr[i] = std::cos(q);
+    sr[i] = std::sin(q);
+  }
+  return harmonics_residual_pp(method.order, t, e, c1, s1, er, cr, sr);
+}
+
+double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
+                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& cos_cal,
+                         const Eigen::VectorXd& sin_cal, const Eigen::VectorXd& eps_run_deg,
+                         const Eigen::VectorXd& cos_run, const Eigen::VectorXd& sin_run) {
+  const Eigen::Index n = theta_deg.size();
+  if (!harmonics_route(method, n, eps_cal_deg.size(), eps_run_deg.size()) || cos_cal.size() != n ||
+      sin_cal.size() != n || cos_run.size() != n || sin_run.size() != n)
+    return pairs_residual_pp(method, theta_deg, eps_cal_deg, eps_run_deg, 1);
+  return harmonics_residual_pp(method.order, 1.0, eps_cal_deg, cos_cal, sin_cal, eps_run_deg, cos_run, sin_run);
 }
 
 Eigen::VectorXd residual_deg(const Correction& c, const AngleErrorResult& run) {

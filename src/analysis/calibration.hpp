@@ -91,6 +91,13 @@ Eigen::VectorXd residual_of_pairs(const Correction& c, const Eigen::VectorXd& th
 // factorisation fails). Other methods: the two calls.
 double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
                          const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& eps_run_deg, int turns = 1);
+// The same for one electrical turn (turns = 1) with the sensor's angles psi = theta + eps of the calibration
+// state and of the run given as unit vectors (cos psi, sin psi: the normalized channels, FastPipeline's
+// UnitAngles): no trigonometric call. Equal to the call above up to round-off.
+double calibrated_pp_deg(const CalibrationMethod& method, const Eigen::VectorXd& theta_deg,
+                         const Eigen::VectorXd& eps_cal_deg, const Eigen::VectorXd& cos_cal,
+                         const Eigen::VectorXd& sin_cal, const Eigen::VectorXd& eps_run_deg,
+                         const Eigen::VectorXd& cos_run, const Eigen::VectorXd& sin_run);
 // The residual of a run (angle_error's result at state B): pairs, or channels for ogp.
 Eigen::VectorXd residual_deg(const Correction& c, const AngleErrorResult& run);
 // The run with eps replaced by the residual and the spectrum recomputed when the run was uniform

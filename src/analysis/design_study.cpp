@@ -278,7 +278,8 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
     double fmin = 0, fmax = 0;
     std::vector<Eigen::VectorXd> ef, er;  // eps at the factory state (computed once) and at the run state
-    fast.eps_field(fc, ef, &fmin, &fmax);
+    std::vector<UnitAngles> pf, pr;       // the sensor's angles there (the calibration's abscissae)
+    fast.eps_field(fc, ef, &fmin, &fmax, cal ? &pf : nullptr);
     if (has_run) {
       ToleranceCase rc = fc;
       const ToleranceCase dc = run_box.case_sample(drift_seed, i);
@@ -288,12 +289,14 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
       rc.mount.dy_mm += dc.mount.dy_mm;
       rc.mount.dz_mm += dc.mount.dz_mm;
       rc.env = dc.env;
-      fast.eps(rc, er);
+      fast.eps(rc, er, cal ? &pr : nullptr);
     }
     const Eigen::VectorXd& run = has_run ? er[0] : ef[0];
     out[0] = run.maxCoeff() - run.minCoeff();
     if (cal) {
-      out[1] = calibrated_pp_deg(o.req.calibration, theta, ef[0], run);
+      const UnitAngles& run_psi = has_run ? pr[0] : pf[0];
+      out[1] = calibrated_pp_deg(o.req.calibration, theta, ef[0], pf[0].cos_psi, pf[0].sin_psi, run, run_psi.cos_psi,
+                                 run_psi.sin_psi);
     } else {
       out[1] = out[0];
     }

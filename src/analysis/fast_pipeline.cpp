@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "core/vector_math.hpp"
 #include "probe/environment.hpp"
 #include "probe/sensor.hpp"
 #include "probe/spectrum.hpp"
@@ -64,12 +65,12 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
         break;
       }
   }
-  if (coarse_ > 0) {
-    for (int K = 3 * coarse_; K <= N; ++K)
-      if (N % K == 0) {
-        medium_ = K;
-        break;
-      }
+  for (int K = 3 * coarse_; coarse_ > 0 && K <= N; ++K)
+    if (N % K == 0) {
+      medium_ = K;
+      break;
+    }
+  {
     // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
     channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
                                              static_cast<Eigen::Index>(2 * arrays_.size()));
@@ -106,59 +107,41 @@ void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& f
 }
 
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
-                          std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track) const {
+                          std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track,
+                          std::vector<UnitAngles>* psi) const {
   const int N = model_.nodes();
-  const std::size_t P = angle_index_.size();
-  if (!track) {
-    eps_deg.resize(arrays_.size());
-    for (auto& e : eps_deg) e.resize(N);
-  }
   const std::size_t A = arrays_.size();
-  std::vector<double> C(A), S(A);
+  Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
   if (R.rows() != N && !peak_T) {
     // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
     // interpolate 2 per array instead of every distinct probe.
     Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R.lazyProduct(channel_weights_);  // (tiny: no blocked product)
     if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
-    Eigen::MatrixXd cs;
     interpolate(cs_coarse, cs);
-    for (int m = 0; m < N; ++m) {
-      for (std::size_t a = 0; a < A; ++a) {
-        C[a] = cs(m, static_cast<Eigen::Index>(2 * a));
-        S[a] = cs(m, static_cast<Eigen::Index>(2 * a + 1));
-      }
-      angles_from_channels(m, C, S, chain, eps_deg, track);
-      if (track && track->wrapped) return;
+  } else {
+    Eigen::MatrixXd full;
+    const Eigen::MatrixXd* Rn = &R;
+    if (R.rows() != N) {
+      interpolate(R, full);
+      Rn = &full;
     }
-    return;
+    if (peak_T) {
+      peak_T->resize(angle_index_.size());
+      for (std::size_t i = 0; i < peak_T->size(); ++i)
+        (*peak_T)[i] = Rn->col(static_cast<Eigen::Index>(i)).cwiseAbs().maxCoeff();
+    }
+    cs.noalias() = Rn->lazyProduct(channel_weights_);
   }
-  Eigen::MatrixXd full;
-  const Eigen::MatrixXd* Rn = &R;
-  if (R.rows() != N) {
-    interpolate(R, full);
-    Rn = &full;
-  }
-  if (peak_T) peak_T->assign(P, 0.0);
-  std::vector<double> B(P);
+  if (!track) return angles_of_channels(cs, chain, eps_deg, psi);
+  std::vector<double> C(A), S(A);
   for (int m = 0; m < N; ++m) {
-    for (std::size_t i = 0; i < P; ++i) {
-      B[i] = (*Rn)(m, static_cast<Eigen::Index>(i));
-      if (peak_T) (*peak_T)[i] = std::max((*peak_T)[i], std::abs(B[i]));
-    }
     for (std::size_t a = 0; a < A; ++a) {
-      const ProbeArray& arr = arrays_[a];
-      double c = 0, s = 0;
-      for (std::size_t k = 0; k < arr.size(); ++k) {
-        const double Bk = B[static_cast<std::size_t>(slot_[a][k])];
-        c += arr.w_cos[k] * Bk;
-        s += arr.w_sin[k] * Bk;
-      }
-      C[a] = c;
-      S[a] = s;
+      C[a] = cs(m, static_cast<Eigen::Index>(2 * a));
+      S[a] = cs(m, static_cast<Eigen::Index>(2 * a + 1));
     }
-    angles_from_channels(m, C, S, chain, eps_deg, track);
-    if (track && track->wrapped) return;
+    track_channels(m, C, S, chain, *track);
+    if (track->wrapped) return;
   }
 }
 
@@ -253,35 +236,74 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
   return true;
 }
 
-// eps_deg[a][m] of every array at theta_m = 360 m/N from its channels C[a], S[a]: the signal chain,
-// atan2 minus theta (or the PpTrack).
-void FastPipeline::angles_from_channels(int m, std::vector<double>& Cv, std::vector<double>& Sv,
-                                        const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
-                                        PpTrack* track) const {
-  const double theta_deg = 360.0 * m / model_.nodes();
+// The PpTrack at theta_m = 360 m/N from the channels C[a], S[a] of every array: the signal chain, then
+// tan(eps) = y / x with (x, y) = (C, S) turned back by theta.
+void FastPipeline::track_channels(int m, std::vector<double>& Cv, std::vector<double>& Sv,
+                                  const SignalChain::Applied& chain, PpTrack& track) const {
   const double ct = cos_theta_[std::size_t(m)], st = sin_theta_[std::size_t(m)];
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     double C = Cv[a], S = Sv[a];
     chain(C, S);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-    if (track) {
-      // (C, S) turned back by theta: tan(eps) = y / x.
-      const double x = C * ct + S * st, y = S * ct - C * st;
-      if (!(x > 0)) {
-        track->wrapped = true;
-        return;
-      }
-      const double t = y / x;
-      track->t_lo[a] = std::min(track->t_lo[a], t);
-      track->t_hi[a] = std::max(track->t_hi[a], t);
-    } else {
-      eps_deg[a][m] = wrap_deg(rad_to_deg(std::atan2(S, C)) - theta_deg);
+    const double x = C * ct + S * st, y = S * ct - C * st;
+    if (!(x > 0)) {
+      track.wrapped = true;
+      return;
     }
+    const double t = y / x;
+    track.t_lo[a] = std::min(track.t_lo[a], t);
+    track.t_hi[a] = std::max(track.t_hi[a], t);
+  }
+}
+
+void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalChain::Applied& chain,
+                                      std::vector<Eigen::VectorXd>& eps_deg, std::vector<UnitAngles>* psi) const {
+  const int N = model_.nodes();
+  eps_deg.resize(arrays_.size());
+  if (psi) psi->resize(arrays_.size());
+  thread_local std::vector<double> C, S, x, y;
+  for (auto* v : {&C, &S, &x, &y}) v->resize(std::size_t(N));
+  const double* ct = cos_theta_.data();
+  const double* st = sin_theta_.data();
+  for (std::size_t a = 0; a < arrays_.size(); ++a) {
+    const double* c0 = cs.col(static_cast<Eigen::Index>(2 * a)).data();
+    const double* s0 = cs.col(static_cast<Eigen::Index>(2 * a + 1)).data();
+    for (int m = 0; m < N; ++m) {
+      double c = c0[m], s = s0[m];
+      chain(c, s);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
+      C[std::size_t(m)] = c;
+      S[std::size_t(m)] = s;
+    }
+    // (C, S) turned back by theta: eps = atan2(y, x), already in [-180, 180] deg.
+    for (int m = 0; m < N; ++m) {
+      x[std::size_t(m)] = C[std::size_t(m)] * ct[m] + S[std::size_t(m)] * st[m];
+      y[std::size_t(m)] = S[std::size_t(m)] * ct[m] - C[std::size_t(m)] * st[m];
+    }
+    Eigen::VectorXd& e = eps_deg[a];
+    e.resize(N);
+    atan2_rad(y.data(), x.data(), e.data(), std::size_t(N));
+    e *= 180.0 / kPi;
+    if (!psi) continue;
+    // psi = theta + eps = atan2(S, C): its cosine and sine are the normalized channels.
+    UnitAngles& u = (*psi)[a];
+    u.cos_psi.resize(N);
+    u.sin_psi.resize(N);
+    const Eigen::Map<const Eigen::ArrayXd> Ca(C.data(), N), Sa(S.data(), N);
+    thread_local Eigen::ArrayXd r;
+    r = (Ca.square() + Sa.square()).sqrt();
+    u.cos_psi = (Ca / r).matrix();
+    u.sin_psi = (Sa / r).matrix();
+    if ((r == 0.0).any())  // both channels 0 (a degenerate case): psi = atan2(0, 0) = 0
+      for (int m = 0; m < N; ++m)
+        if (r[m] == 0.0) {
+          u.cos_psi[m] = 1.0;
+          u.sin_psi[m] = 0.0;
+        }
   }
 }
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                               std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                              const EnvReadings* env, PpTrack* track) const {
+                              const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
@@ -315,7 +337,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       R(r, static_cast<Eigen::Index>(i)) = Bn;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track);
+  finish(R, chain, eps_deg, peak_T, track, psi);
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
@@ -348,15 +370,16 @@ FastPipeline::CaseState FastPipeline::case_state(const ToleranceCase& c) const {
   return st;
 }
 
-void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const {
+void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg,
+                       std::vector<UnitAngles>* psi) const {
   const CaseState st = case_state(c);
-  eps_mount(st.mount, st.chain, st.elevation_deg, eps_deg, nullptr, st.env_ptr());
+  eps_mount(st.mount, st.chain, st.elevation_deg, eps_deg, nullptr, st.env_ptr(), nullptr, psi);
 }
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                             const EnvReadings* env, PpTrack* track) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track);
+                             const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track, psi);
   const int N = model_.nodes();
   const int T = model_.terms();
   std::vector<double> u(T);
@@ -379,7 +402,7 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       R(r, static_cast<Eigen::Index>(i)) = b;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track);
+  finish(R, chain, eps_deg, peak_T, track, psi);
 }
 
 namespace {
@@ -439,10 +462,10 @@ void FastPipeline::field_window(const std::vector<double>& peak_T, double* fmin_
 }
 
 void FastPipeline::eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_mT,
-                             double* fmax_mT) const {
+                             double* fmax_mT, std::vector<UnitAngles>* psi) const {
   const CaseState st = case_state(c);
   std::vector<double> peak_T;
-  eps_mount(st.mount, st.chain, st.elevation_deg, e, &peak_T, st.env_ptr());
+  eps_mount(st.mount, st.chain, st.elevation_deg, e, &peak_T, st.env_ptr(), nullptr, psi);
   field_window(peak_T, fmin_mT, fmax_mT);
 }
 

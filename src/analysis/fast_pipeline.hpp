@@ -15,6 +15,12 @@
 
 namespace magenc {
 
+// The sensor's angle psi = theta + eps at every node as a unit vector: the channels after the signal
+// chain, normalized (cos psi = C / |(C, S)|, sin psi = S / |(C, S)|; (1, 0) where both are 0).
+struct UnitAngles {
+  Eigen::VectorXd cos_psi, sin_psi;
+};
+
 // The fast pipeline on a CircleFieldModel for several arrays at once.
 class FastPipeline {
  public:
@@ -58,7 +64,8 @@ class FastPipeline {
   // deviation give exactly eps(c.mount). The case's environment (a temperature, a homogeneous stray
   // field: ToleranceBox) scales the readings by Br(T)/Br, adds n.B_stray to each probe's reading and
   // drifts the offsets and the air gap, as angle_error() does; a neutral one changes nothing.
-  void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg) const;
+  // psi (optional): also the sensor's angle of every array as unit vectors (UnitAngles).
+  void eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, std::vector<UnitAngles>* psi = nullptr) const;
   // Peak-to-peak of eps of every array (pp_deg has arrays() values).
   void pp(const Mount& m, double* pp_deg) const;
   void pp(const ToleranceCase& c, double* pp_deg) const;
@@ -68,7 +75,8 @@ class FastPipeline {
   // peak |reading| over the turn of each of its probes, min (fmin_mT) and max (fmax_mT) over them.
   void pp_field(const ToleranceCase& c, double* pp_deg, double* fmin_mT, double* fmax_mT) const;
   // eps(c) and the field window of pp_field in one pass (the same numbers as the two calls).
-  void eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_mT, double* fmax_mT) const;
+  void eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_mT, double* fmax_mT,
+                 std::vector<UnitAngles>* psi = nullptr) const;
 
  private:
   const CircleFieldModel& model_;
@@ -81,7 +89,7 @@ class FastPipeline {
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
   int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
-  Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array (coarse_ > 0)
+  Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
     double br_scale = 1;
@@ -108,17 +116,19 @@ class FastPipeline {
     std::vector<double> t_lo, t_hi;
     bool wrapped = false;
   };
-  // track (optional): pp only; eps_deg is then left unset.
+  // track (optional): pp only; eps_deg is then left unset. psi (optional): UnitAngles too.
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                 const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
+                 const EnvReadings* env = nullptr, PpTrack* track = nullptr,
+                 std::vector<UnitAngles>* psi = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                   std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
-                  const EnvReadings* env = nullptr, PpTrack* track = nullptr) const;
+                  const EnvReadings* env = nullptr, PpTrack* track = nullptr,
+                  std::vector<UnitAngles>* psi = nullptr) const;
   // From the readings R (rows: every node, or the M coarse nodes, then interpolated; columns: the
   // distinct probes): peak_T, and eps or the PpTrack of every array.
   void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
-              std::vector<double>* peak_T, PpTrack* track) const;
+              std::vector<double>* peak_T, PpTrack* track, std::vector<UnitAngles>* psi) const;
   // Without peak_T on the coarse nodes: the channels C, S (linear in the readings: channel_weights_) are
   // formed at the M nodes and only they are interpolated (2 columns per array instead of every probe).
   // full (N x columns) from the M coarse rows: FFT of length M, zero padding, inverse FFT of length N.
@@ -132,8 +142,13 @@ class FastPipeline {
   // that could hold the max or the min are evaluated node by node. The same pp as the N-node pass up to
   // round-off. false (nothing done) where the bound is weak: A - E <= A / 2 or F2 h^2 / 8 >= 0.1 rad.
   bool pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain, PpTrack& track) const;
-  void angles_from_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
-                            std::vector<Eigen::VectorXd>& eps_deg, PpTrack* track) const;
+  // The PpTrack at node m from the channels C[a], S[a] of every array.
+  void track_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
+                      PpTrack& track) const;
+  // eps (and psi) of every array from its channels at every node (cs: N x 2 arrays(), C then S), the
+  // signal chain applied: eps = atan2 of (C, S) turned back by theta, in bulk (core/vector_math.hpp).
+  void angles_of_channels(const Eigen::MatrixXd& cs, const SignalChain::Applied& chain,
+                          std::vector<Eigen::VectorXd>& eps_deg, std::vector<UnitAngles>* psi) const;
   // pp of every array at mount mt: the PpTrack pass, then atan2 (eps_mount) when it wrapped.
   void pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg, const EnvReadings* env,
                 double* pp_deg, std::vector<double>* peak_T = nullptr) const;

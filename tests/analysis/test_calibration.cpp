@@ -341,7 +341,7 @@ TEST_CASE("calibration study: no drift leaves the factory residual, threads do n
   }
 }
 
-TEST_CASE("calibrated_pp_deg equals correct_pairs + residual_of_pairs to round-off", "[analysis][cross-check]") {
+TEST_CASE("calibrated_pp_deg (angles or unit vectors) equals correct_pairs + residual_of_pairs to round-off", "[analysis][cross-check]") {
   // Error curves of the size of the Monte Carlo's (a few tenths of a degree, harmonics 1..3 and 5) at the
   // calibration state and, changed, at the run state; one with a large error (psi far from uniform).
   const int n = 360;
@@ -361,6 +361,14 @@ TEST_CASE("calibrated_pp_deg equals correct_pairs + residual_of_pairs to round-o
         const double fast = calibrated_pp_deg(method, theta, ec, er, turns);
         CAPTURE(scale, m, turns, ref, fast);
         CHECK(std::abs(fast - ref) <= 1e-11 * std::max(1.0, scale));
+        if (turns == 1) {
+          // The same with the sensor's angles given as unit vectors (FastPipeline's UnitAngles).
+          const Eigen::ArrayXd pc = (theta + ec).array() * (kPi / 180.0), pr = (theta + er).array() * (kPi / 180.0);
+          const double unit = calibrated_pp_deg(method, theta, ec, pc.cos().matrix(), pc.sin().matrix(), er,
+                                                pr.cos().matrix(), pr.sin().matrix());
+          CAPTURE(unit);
+          CHECK(std::abs(unit - ref) <= 1e-11 * std::max(1.0, scale));
+        }
       }
     }
   }

@@ -521,7 +521,7 @@ TEST_CASE("surrogate with a temperature and a stray field: the direct pipeline",
   }
 }
 
-TEST_CASE("FastPipeline::eps_field gives the numbers of eps and pp_field", "[analysis][cross-check]") {
+TEST_CASE("FastPipeline::eps_field gives the numbers of eps and pp_field, and the angles as unit vectors", "[analysis][cross-check]") {
   const AnalyticField field(default_magnet());
   const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("ring:8")};
   ToleranceBox box;
@@ -536,6 +536,23 @@ TEST_CASE("FastPipeline::eps_field gives the numbers of eps and pp_field", "[ana
     fast.eps_field(c, e1, fmin, fmax);
     fast.eps(c, e2);
     fast.pp_field(c, pp, fmin2, fmax2);
+    // The sensor's angles as unit vectors: cos and sin of theta + eps, with eps unchanged by asking.
+    std::vector<Eigen::VectorXd> e3, e4;
+    std::vector<UnitAngles> u3, u4;
+    double f3[2], g3[2];
+    fast.eps_field(c, e3, f3, g3, &u3);
+    fast.eps(c, e4, &u4);
+    for (std::size_t a = 0; a < arrays.size(); ++a) {
+      CHECK(e3[a] == e1[a]);
+      CHECK(e4[a] == e2[a]);
+      CHECK(u3[a].cos_psi == u4[a].cos_psi);
+      CHECK(u3[a].sin_psi == u4[a].sin_psi);
+      for (int m = 0; m < 360; ++m) {
+        const double psi = (m + e1[a][m]) * M_PI / 180.0;  // theta_m = m deg
+        CHECK(std::abs(u3[a].cos_psi[m] - std::cos(psi)) < 1e-13);
+        CHECK(std::abs(u3[a].sin_psi[m] - std::sin(psi)) < 1e-13);
+      }
+    }
     for (std::size_t a = 0; a < arrays.size(); ++a) {
       CHECK(e1[a] == e2[a]);
       CHECK(std::abs(pp[a] - (e1[a].maxCoeff() - e1[a].minCoeff())) < 1e-12);
