@@ -25,6 +25,7 @@ PKGS=(
   libbenchmark-dev         # Google Benchmark (bench target)
   gnuplot-nox              # plots (PNG via pngcairo)
   libceres-dev             # Ceres Solver: nonlinear least squares (diagnose)
+  libfftw3-dev             # FFTW 3: the Monte Carlo engine's fixed-size transforms (src/probe/trig_interpolation.cpp)
   clang-14 libclang-rt-14-dev  # libFuzzer targets (scripts/fuzz.sh; ASan/UBSan runtimes)
   llvm-14                  # llvm-symbolizer: readable sanitizer stack traces
   libpetsc-real-dev        # PETSc 3.18 (pulls OpenMPI): fem.solver = petsc-gamg / petsc-hypre, mpirun solves

@@ -6,14 +6,13 @@
 #include <complex>
 #include <string>
 
-#include <unsupported/Eigen/FFT>
-
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "core/vector_math.hpp"
 #include "probe/environment.hpp"
 #include "probe/sensor.hpp"
 #include "probe/spectrum.hpp"
+#include "probe/trig_interpolation.hpp"
 
 namespace magenc {
 
@@ -86,24 +85,11 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
 void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {
   // The coarse samples' discrete Fourier coefficients (a real FFT of length M), zero-padded to N and a real
   // inverse FFT of length N: trigonometric interpolation on the M equispaced nodes, exact for every
-  // trigonometric polynomial of degree < M/2 (half weight on the M/2 term, M even).
+  // trigonometric polynomial of degree < M/2 (half weight on the M/2 term, M even): probe/trig_interpolation.hpp.
   const int N = model_.nodes(), M = coarse_;
-  thread_local Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  thread_local std::vector<double> x, y;
-  thread_local std::vector<std::complex<double>> X, Y;
+  const TrigInterpolation& interp = TrigInterpolation::of(M, N);
   full.resize(N, coarse.cols());
-  x.resize(static_cast<std::size_t>(M));
-  const double scale = static_cast<double>(N) / M;
-  for (Eigen::Index c = 0; c < coarse.cols(); ++c) {
-    for (int k = 0; k < M; ++k) x[std::size_t(k)] = coarse(k, c);
-    fft.fwd(X, x);
-    Y.assign(static_cast<std::size_t>(N / 2 + 1), std::complex<double>(0.0, 0.0));
-    for (int k = 0; 2 * k < M; ++k) Y[std::size_t(k)] = scale * X[std::size_t(k)];
-    if (M % 2 == 0) Y[std::size_t(M / 2)] = 0.5 * scale * std::real(X[std::size_t(M / 2)]);
-    fft.inv(y, Y);
-    for (int m = 0; m < N; ++m) full(m, c) = y[std::size_t(m)];
-  }
+  for (Eigen::Index c = 0; c < coarse.cols(); ++c) interp(coarse.col(c).data(), full.col(c).data());
 }
 
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
@@ -150,11 +136,13 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
   using cd = std::complex<double>;
   const int N = model_.nodes(), M = coarse_, K = medium_, s = N / K;
   const int kmin = -(M / 2) - 1, kmax = M / 2 - 1, nk = kmax - kmin + 1;  // the frequencies of w
-  thread_local Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::Unscaled);
+  const ComplexDft& dft_m = ComplexDft::of(M);  // unscaled (probe/trig_interpolation.hpp)
+  const ComplexDft& dft_k = ComplexDft::of(K);
   thread_local std::vector<cd> z, Z, Y, wp;
   thread_local std::vector<double> Wr, Wi;
   z.resize(static_cast<std::size_t>(M));
+  Z.resize(static_cast<std::size_t>(M));
+  wp.resize(static_cast<std::size_t>(K));
   std::vector<double> lo(arrays_.size()), hi(arrays_.size());  // (the track is set once every array is done)
   Wr.resize(static_cast<std::size_t>(nk));
   Wi.resize(static_cast<std::size_t>(nk));
@@ -164,7 +152,7 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
       chain(C, S);  // affine: commutes with the interpolation
       z[std::size_t(j)] = cd(C, S);
     }
-    fft.fwd(Z, z);
+    dft_m.forward(z.data(), Z.data());
     // z's coefficients (the M/2 term split in half between +-M/2), shifted by one: w = z e^{-i theta}.
     const cd W0 = Z[1] / double(M);  // w's constant term: z's frequency 1
     const double A = std::sqrt(W0.real() * W0.real() + W0.imag() * W0.imag());
@@ -195,7 +183,7 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
     // w on the K-node grid (every s-th node): its coefficients folded modulo K, one inverse FFT.
     Y.assign(static_cast<std::size_t>(K), cd(0.0, 0.0));
     for (int k = kmin; k <= kmax; ++k) Y[std::size_t((k % K + K) % K)] += cd(Wr[std::size_t(k - kmin)], Wi[std::size_t(k - kmin)]);
-    fft.inv(wp, Y);
+    dft_k.backward(Y.data(), wp.data());
     thread_local std::vector<double> t;
     t.resize(static_cast<std::size_t>(K));
     double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
