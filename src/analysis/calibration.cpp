@@ -296,10 +296,14 @@ double harmonics_residual_pp(int N, double t, const Eigen::VectorXd& e, const Ei
   thread_local std::vector<double> v;
   v.resize(std::size_t(n));
   unit_series(cr.data(), sr.data(), std::size_t(n), h.data(), N, v.data());
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  thread_local Eigen::ArrayXd x;
+  x = er.array() - Eigen::Map<const Eigen::ArrayXd>(v.data(), n);
+  double lo = x.minCoeff(), hi = x.maxCoeff();
+  if (lo > -180.0 && hi <= 180.0) return (hi - lo) / t;  // nothing to wrap (the usual case)
+  lo = std::numeric_limits<double>::infinity();
+  hi = -lo;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double x = er[i] - v[std::size_t(i)];
-    const double r = (x > -180.0 && x <= 180.0 ? x : wrap_deg(x)) / t;
+    const double r = (x[i] > -180.0 && x[i] <= 180.0 ? x[i] : wrap_deg(x[i])) / t;
     lo = std::min(lo, r);
     hi = std::max(hi, r);
   }

@@ -245,27 +245,31 @@ void FastPipeline::track_channels(int m, std::vector<double>& Cv, std::vector<do
 
 void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalChain::Applied& chain,
                                       std::vector<Eigen::VectorXd>& eps_deg, std::vector<UnitAngles>* psi) const {
+  using Arr = Eigen::ArrayXd;
+  using Map = Eigen::Map<const Arr>;
   const int N = model_.nodes();
   eps_deg.resize(arrays_.size());
   if (psi) psi->resize(arrays_.size());
-  thread_local std::vector<double> C, S, x, y;
-  for (auto* v : {&C, &S, &x, &y}) v->resize(std::size_t(N));
-  const double* ct = cos_theta_.data();
-  const double* st = sin_theta_.data();
+  thread_local Arr Cc, Sc, x, y, r;
+  const Map ct(cos_theta_.data(), N), st(sin_theta_.data(), N);
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     const double* c0 = cs.col(static_cast<Eigen::Index>(2 * a)).data();
     const double* s0 = cs.col(static_cast<Eigen::Index>(2 * a + 1)).data();
-    for (int m = 0; m < N; ++m) {
-      double c = c0[m], s = s0[m];
-      chain(c, s);  // signal chain (probe/signal_chain.hpp); no-op for an ideal chain
-      C[std::size_t(m)] = c;
-      S[std::size_t(m)] = s;
+    if (!chain.ideal) {
+      // The signal chain (probe/signal_chain.hpp), node by node.
+      Cc.resize(N);
+      Sc.resize(N);
+      for (int m = 0; m < N; ++m) {
+        double c = c0[m], s = s0[m];
+        chain(c, s);
+        Cc[m] = c;
+        Sc[m] = s;
+      }
     }
+    const Map C(chain.ideal ? c0 : Cc.data(), N), S(chain.ideal ? s0 : Sc.data(), N);
     // (C, S) turned back by theta: eps = atan2(y, x), already in [-180, 180] deg.
-    for (int m = 0; m < N; ++m) {
-      x[std::size_t(m)] = C[std::size_t(m)] * ct[m] + S[std::size_t(m)] * st[m];
-      y[std::size_t(m)] = S[std::size_t(m)] * ct[m] - C[std::size_t(m)] * st[m];
-    }
+    x = C * ct + S * st;
+    y = S * ct - C * st;
     Eigen::VectorXd& e = eps_deg[a];
     e.resize(N);
     atan2_rad(y.data(), x.data(), e.data(), std::size_t(N));
@@ -273,16 +277,14 @@ void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalCha
     if (!psi) continue;
     // psi = theta + eps = atan2(S, C): its cosine and sine are the normalized channels.
     UnitAngles& u = (*psi)[a];
-    u.cos_psi.resize(N);
-    u.sin_psi.resize(N);
-    const Eigen::Map<const Eigen::ArrayXd> Ca(C.data(), N), Sa(S.data(), N);
-    thread_local Eigen::ArrayXd r;
-    r = (Ca.square() + Sa.square()).sqrt();
-    u.cos_psi = (Ca / r).matrix();
-    u.sin_psi = (Sa / r).matrix();
-    if ((r == 0.0).any())  // both channels 0 (a degenerate case): psi = atan2(0, 0) = 0
+    r = (C.square() + S.square()).sqrt();
+    const bool degenerate = (r == 0.0).any();  // both channels 0 somewhere: psi = atan2(0, 0) = 0 there
+    r = r.inverse();
+    u.cos_psi = (C * r).matrix();
+    u.sin_psi = (S * r).matrix();
+    if (degenerate)
       for (int m = 0; m < N; ++m)
-        if (r[m] == 0.0) {
+        if (C[m] == 0.0 && S[m] == 0.0) {
           u.cos_psi[m] = 1.0;
           u.sin_psi[m] = 0.0;
         }

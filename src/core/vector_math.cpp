@@ -52,6 +52,8 @@ inline void load4(v4d& v, const double* p, std::size_t i, std::size_t n) {
 inline double lane_sum(const v4d& v) { return (v[0] + v[1]) + (v[2] + v[3]); }
 }  // namespace
 
+// Both functions take 8 nodes per step as two independent blocks of 4: the recurrence z^m = z^{m-1} z is a
+// chain of dependent multiplications, and two chains keep the vector units busy.
 MAGENC_CLONES
 void unit_power_sums(const double* c, const double* s, const double* w, std::size_t n, int M, int K, double* C,
                      double* S, double* WC, double* WS) {
@@ -61,25 +63,32 @@ void unit_power_sums(const double* c, const double* s, const double* w, std::siz
   acc.assign(16 * rows, 0.0);
   v4d_mem* const rows0 = reinterpret_cast<v4d_mem*>(acc.data());
   v4d w0 = {0.0, 0.0, 0.0, 0.0};
-  for (std::size_t i = 0; i < n; i += 4) {
-    v4d bc, bs, bw = {0.0, 0.0, 0.0, 0.0};
-    load4(bc, c, i, n);
-    load4(bs, s, i, n);
-    if (w) load4(bw, w, i, n);
-    w0 += bw;
-    v4d pc = bc, ps = bs;
+  for (std::size_t i = 0; i < n; i += 8) {
+    v4d ac, as, bc, bs, aw = {0.0, 0.0, 0.0, 0.0}, bw = aw;
+    load4(ac, c, i, n);
+    load4(as, s, i, n);
+    load4(bc, c, i + 4, n);
+    load4(bs, s, i + 4, n);
+    if (w) {
+      load4(aw, w, i, n);
+      load4(bw, w, i + 4, n);
+    }
+    w0 += aw + bw;
+    v4d pa = ac, qa = as, pb = bc, qb = bs;  // Re and Im of z^m, blocks a and b
     v4d_mem* row = rows0;
     for (int m = 1; m <= M; ++m, row += 4) {
       if (m > 1) {
-        const v4d nc = pc * bc - ps * bs;
-        ps = ps * bc + pc * bs;
-        pc = nc;
+        const v4d na = pa * ac - qa * as, nb = pb * bc - qb * bs;
+        qa = qa * ac + pa * as;
+        qb = qb * bc + pb * bs;
+        pa = na;
+        pb = nb;
       }
-      row[0] += pc;
-      row[1] += ps;
+      row[0] += pa + pb;
+      row[1] += qa + qb;
       if (m <= K) {
-        row[2] += bw * pc;
-        row[3] += bw * ps;
+        row[2] += aw * pa + bw * pb;
+        row[3] += aw * qa + bw * qb;
       }
     }
   }
@@ -102,18 +111,24 @@ void unit_power_sums(const double* c, const double* s, const double* w, std::siz
 
 MAGENC_CLONES
 void unit_series(const double* c, const double* s, std::size_t n, const double* h, int K, double* out) {
-  for (std::size_t i = 0; i < n; i += 4) {
-    v4d bc, bs;
-    load4(bc, c, i, n);
-    load4(bs, s, i, n);
-    v4d pc = {1.0, 1.0, 1.0, 1.0}, ps = {0.0, 0.0, 0.0, 0.0}, v = pc * h[0];
+  for (std::size_t i = 0; i < n; i += 8) {
+    v4d ac, as, bc, bs;
+    load4(ac, c, i, n);
+    load4(as, s, i, n);
+    load4(bc, c, i + 4, n);
+    load4(bs, s, i + 4, n);
+    v4d pa = {1.0, 1.0, 1.0, 1.0}, qa = {0.0, 0.0, 0.0, 0.0}, pb = pa, qb = qa, va = pa * h[0], vb = va;
     for (int m = 1; m <= K; ++m) {
-      const v4d nc = pc * bc - ps * bs;
-      ps = ps * bc + pc * bs;
-      pc = nc;
-      v += h[2 * m - 1] * pc + h[2 * m] * ps;
+      const v4d na = pa * ac - qa * as, nb = pb * bc - qb * bs;
+      qa = qa * ac + pa * as;
+      qb = qb * bc + pb * bs;
+      pa = na;
+      pb = nb;
+      va += h[2 * m - 1] * pa + h[2 * m] * qa;
+      vb += h[2 * m - 1] * pb + h[2 * m] * qb;
     }
-    for (int l = 0; l < 4 && i + std::size_t(l) < n; ++l) out[i + std::size_t(l)] = v[l];
+    for (int l = 0; l < 4 && i + std::size_t(l) < n; ++l) out[i + std::size_t(l)] = va[l];
+    for (int l = 0; l < 4 && i + 4 + std::size_t(l) < n; ++l) out[i + 4 + std::size_t(l)] = vb[l];
   }
 }
 

@@ -1,6 +1,6 @@
 // Elementwise maths over arrays in bulk: the Monte Carlo engine's angle evaluations and the calibration
 // fit's trigonometric sums, vectorized (SLEEF, https://sleef.org, Debian libsleef-dev, for atan2; the sums
-// are plain loops over blocks of nodes that the compiler vectorizes, with an AVX2/FMA clone chosen at run
+// are plain loops over blocks of nodes that the compiler vectorizes, with an AVX2 clone chosen at run
 // time on x86-64 with GCC).
 #pragma once
 #include <cstddef>
@@ -16,7 +16,7 @@ void atan2_rad(const double* y, const double* x, double* out, std::size_t n);
 // multiplication (angle addition, so the round-off grows like m): for m = 0..M
 //   C[m] = sum_i Re z_i^m,  S[m] = sum_i Im z_i^m,
 // and for m = 0..K (K <= M) the weighted sums WC[m] = sum_i w[i] Re z_i^m, WS[m] = sum_i w[i] Im z_i^m.
-// Arrays C, S have M + 1 entries, WC, WS K + 1. The order of the additions is fixed (blocks of 4 nodes), so
+// Arrays C, S have M + 1 entries, WC, WS K + 1. The order of the additions is fixed (blocks of 8 nodes), so
 // the sums do not depend on the thread count.
 void unit_power_sums(const double* c, const double* s, const double* w, std::size_t n, int M, int K, double* C,
                      double* S, double* WC, double* WS);
