@@ -277,8 +277,10 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   // Per sample: uncalibrated pp, calibrated pp, field min, field max (factory state, 20 C).
   auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
     double fmin = 0, fmax = 0;
-    std::vector<Eigen::VectorXd> ef, er;  // eps at the factory state (computed once) and at the run state
-    std::vector<UnitAngles> pf, pr;       // the sensor's angles there (the calibration's abscissae)
+    // eps at the factory state (computed once) and at the run state, and the sensor's angles there (the
+    // calibration's abscissae); per thread, so that a sample allocates nothing.
+    thread_local std::vector<Eigen::VectorXd> ef, er;
+    thread_local std::vector<UnitAngles> pf, pr;
     fast.eps_field(fc, ef, &fmin, &fmax, cal ? &pf : nullptr);
     if (has_run) {
       ToleranceCase rc = fc;

@@ -97,16 +97,16 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
                           std::vector<UnitAngles>* psi) const {
   const int N = model_.nodes();
   const std::size_t A = arrays_.size();
-  Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
+  thread_local Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
   if (R.rows() != N && !peak_T) {
     // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
     // interpolate 2 per array instead of every distinct probe.
-    Eigen::MatrixXd cs_coarse;
+    thread_local Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R.lazyProduct(channel_weights_);  // (tiny: no blocked product)
     if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
     interpolate(cs_coarse, cs);
   } else {
-    Eigen::MatrixXd full;
+    thread_local Eigen::MatrixXd full;
     const Eigen::MatrixXd* Rn = &R;
     if (R.rows() != N) {
       interpolate(R, full);
@@ -117,7 +117,11 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
       for (std::size_t i = 0; i < peak_T->size(); ++i)
         (*peak_T)[i] = Rn->col(static_cast<Eigen::Index>(i)).cwiseAbs().maxCoeff();
     }
-    cs.noalias() = Rn->lazyProduct(channel_weights_);
+    // cs = Rn W, column by column as sums of scaled probe columns (contiguous, vectorized).
+    cs.setZero(N, channel_weights_.cols());
+    for (Eigen::Index c = 0; c < cs.cols(); ++c)
+      for (Eigen::Index i = 0; i < Rn->cols(); ++i)
+        if (channel_weights_(i, c) != 0.0) cs.col(c) += channel_weights_(i, c) * Rn->col(i);
   }
   if (!track) return angles_of_channels(cs, chain, eps_deg, psi);
   std::vector<double> C(A), S(A);
@@ -245,49 +249,39 @@ void FastPipeline::track_channels(int m, std::vector<double>& Cv, std::vector<do
 
 void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalChain::Applied& chain,
                                       std::vector<Eigen::VectorXd>& eps_deg, std::vector<UnitAngles>* psi) const {
-  using Arr = Eigen::ArrayXd;
-  using Map = Eigen::Map<const Arr>;
   const int N = model_.nodes();
   eps_deg.resize(arrays_.size());
   if (psi) psi->resize(arrays_.size());
-  thread_local Arr Cc, Sc, x, y, r;
-  const Map ct(cos_theta_.data(), N), st(sin_theta_.data(), N);
+  thread_local std::vector<double> Cc, Sc;
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
-    const double* c0 = cs.col(static_cast<Eigen::Index>(2 * a)).data();
-    const double* s0 = cs.col(static_cast<Eigen::Index>(2 * a + 1)).data();
+    const double* C = cs.col(static_cast<Eigen::Index>(2 * a)).data();
+    const double* S = cs.col(static_cast<Eigen::Index>(2 * a + 1)).data();
     if (!chain.ideal) {
       // The signal chain (probe/signal_chain.hpp), node by node.
-      Cc.resize(N);
-      Sc.resize(N);
+      Cc.resize(std::size_t(N));
+      Sc.resize(std::size_t(N));
       for (int m = 0; m < N; ++m) {
-        double c = c0[m], s = s0[m];
+        double c = C[m], s = S[m];
         chain(c, s);
-        Cc[m] = c;
-        Sc[m] = s;
+        Cc[std::size_t(m)] = c;
+        Sc[std::size_t(m)] = s;
       }
+      C = Cc.data();
+      S = Sc.data();
     }
-    const Map C(chain.ideal ? c0 : Cc.data(), N), S(chain.ideal ? s0 : Sc.data(), N);
-    // (C, S) turned back by theta: eps = atan2(y, x), already in [-180, 180] deg.
-    x = C * ct + S * st;
-    y = S * ct - C * st;
+    // eps = the angle of (C, S) turned back by theta, in [-180, 180] deg; psi = theta + eps = atan2(S, C),
+    // whose cosine and sine are the normalized channels (core/vector_math.hpp, all nodes at once).
     Eigen::VectorXd& e = eps_deg[a];
     e.resize(N);
-    atan2_rad(y.data(), x.data(), e.data(), std::size_t(N));
+    double *cp = nullptr, *sp = nullptr;
+    if (psi) {
+      (*psi)[a].cos_psi.resize(N);
+      (*psi)[a].sin_psi.resize(N);
+      cp = (*psi)[a].cos_psi.data();
+      sp = (*psi)[a].sin_psi.data();
+    }
+    channel_angles(C, S, cos_theta_.data(), sin_theta_.data(), std::size_t(N), e.data(), cp, sp);
     e *= 180.0 / kPi;
-    if (!psi) continue;
-    // psi = theta + eps = atan2(S, C): its cosine and sine are the normalized channels.
-    UnitAngles& u = (*psi)[a];
-    r = (C.square() + S.square()).sqrt();
-    const bool degenerate = (r == 0.0).any();  // both channels 0 somewhere: psi = atan2(0, 0) = 0 there
-    r = r.inverse();
-    u.cos_psi = (C * r).matrix();
-    u.sin_psi = (S * r).matrix();
-    if (degenerate)
-      for (int m = 0; m < N; ++m)
-        if (C[m] == 0.0 && S[m] == 0.0) {
-          u.cos_psi[m] = 1.0;
-          u.sin_psi[m] = 0.0;
-        }
   }
 }
 
@@ -304,11 +298,13 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
   std::vector<Eigen::Vector3d> fixed(angle_index_.size());
   for (std::size_t i = 0; i < angle_index_.size(); ++i)
     fixed[i] = K.fixed_position_mm(r0 * cos_theta_[std::size_t(angle_index_[i])], r0 * sin_theta_[std::size_t(angle_index_[i])]);
-  std::vector<double> u(T);
+  thread_local std::vector<double> u;
+  u.resize(std::size_t(T));
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   const int step = coarse_ > 0 ? N / coarse_ : 1;
-  Eigen::MatrixXd R(N / step, static_cast<Eigen::Index>(angle_index_.size()));
+  thread_local Eigen::MatrixXd R;  // (per thread: no allocation per sample)
+  R.resize(N / step, static_cast<Eigen::Index>(angle_index_.size()));
   for (int r = 0; r < R.rows(); ++r) {
     const int m = r * step;
     // cos, sin of theta_m from the table (the same values std::cos(2 pi m/N) gives: no trig per probe).
@@ -372,11 +368,13 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
   if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track, psi);
   const int N = model_.nodes();
   const int T = model_.terms();
-  std::vector<double> u(T);
+  thread_local std::vector<double> u;
+  u.resize(std::size_t(T));
   const double ce = axial_ ? std::cos(deg_to_rad(elevation_deg)) : 1.0;
   const double se = axial_ ? std::sin(deg_to_rad(elevation_deg)) : 0.0;
   const int step = coarse_ > 0 ? N / coarse_ : 1;
-  Eigen::MatrixXd R(N / step, static_cast<Eigen::Index>(angle_index_.size()));
+  thread_local Eigen::MatrixXd R;  // (per thread: no allocation per sample)
+  R.resize(N / step, static_cast<Eigen::Index>(angle_index_.size()));
   for (int r = 0; r < R.rows(); ++r) {
     const int m = r * step;
     const double c = cos_theta_[m], s = sin_theta_[m];

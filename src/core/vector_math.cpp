@@ -20,6 +20,8 @@ namespace magenc {
 #if defined(MAGENC_ATAN2_AVX2)
 namespace detail {
 std::size_t atan2_rad_avx2(const double* y, const double* x, double* out, std::size_t n);  // vector_math_avx2.cpp
+std::size_t channel_angles_avx2(const double* C, const double* S, const double* ct, const double* st, std::size_t n,
+                                double* eps_rad, double* cpsi, double* spsi);
 }  // namespace detail
 #endif
 
@@ -34,6 +36,29 @@ void atan2_rad(const double* y, const double* x, double* out, std::size_t n) {
     _mm_storeu_pd(out + i, Sleef_atan2d2_u35(_mm_loadu_pd(y + i), _mm_loadu_pd(x + i)));
 #endif
   for (; i < n; ++i) out[i] = std::atan2(y[i], x[i]);
+}
+
+void channel_angles(const double* C, const double* S, const double* ct, const double* st, std::size_t n,
+                    double* eps_rad, double* cpsi, double* spsi) {
+  std::size_t i = 0;
+#if defined(MAGENC_ATAN2_AVX2)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) i = detail::channel_angles_avx2(C, S, ct, st, n, eps_rad, cpsi, spsi);
+#endif
+  if (i == n) return;
+  thread_local std::vector<double> x, y;
+  x.resize(n - i);
+  y.resize(n - i);
+  for (std::size_t k = i; k < n; ++k) {
+    x[k - i] = C[k] * ct[k] + S[k] * st[k];
+    y[k - i] = S[k] * ct[k] - C[k] * st[k];
+    if (!cpsi) continue;
+    const double r = std::sqrt(C[k] * C[k] + S[k] * S[k]);
+    const double inv = 1.0 / (r == 0.0 ? 1.0 : r);
+    cpsi[k] = r == 0.0 ? 1.0 : C[k] * inv;
+    spsi[k] = r == 0.0 ? 0.0 : S[k] * inv;
+  }
+  atan2_rad(y.data(), x.data(), eps_rad + i, n - i);
 }
 
 namespace {

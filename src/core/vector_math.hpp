@@ -12,6 +12,13 @@ namespace magenc {
 // out may alias x or y.
 void atan2_rad(const double* y, const double* x, double* out, std::size_t n);
 
+// The angles of channel pairs less theta, and their unit vectors: for i < n, with x = C ct + S st and
+// y = S ct - C st ((C, S) turned back by theta; ct, st = cos, sin theta),
+//   eps_rad[i] = atan2(y, x)  (atan(y / x) where x > 0, in blocks of 4 on AVX2: within 5 ULP of atan2),
+// and when cpsi, spsi are not null, (cpsi, spsi)[i] = (C, S) / |(C, S)|, (1, 0) where both are 0.
+void channel_angles(const double* C, const double* S, const double* ct, const double* st, std::size_t n,
+                    double* eps_rad, double* cpsi, double* spsi);
+
 // Power sums of the unit complex numbers z_i = c[i] + i s[i] (|z_i| = 1; i < n), z^m by complex
 // multiplication (angle addition, so the round-off grows like m): for m = 0..M
 //   C[m] = sum_i Re z_i^m,  S[m] = sum_i Im z_i^m,
