@@ -1,4 +1,4 @@
-// core/vector_math: the bulk atan2 against libm's, the power sums and series of unit complex numbers
+// core/vector_math: the bulk atan2 and the channel angles against libm's, the power sums and series of unit complex numbers
 // against cos/sin term by term.
 #include <catch2/catch.hpp>
 
@@ -78,5 +78,39 @@ TEST_CASE("unit_power_sums and unit_series agree with the cos/sin sums term by t
       for (int m = 1; m <= K; ++m) r += h[std::size_t(2 * m - 1)] * std::cos(m * t[i]) + h[std::size_t(2 * m)] * std::sin(m * t[i]);
       CHECK(std::abs(v[i] - r) <= 1e-13);
     }
+  }
+}
+
+TEST_CASE("channel_angles: the angle of the channels less theta, and their unit vector", "[core][cross-check]") {
+  // Channels around a rotating field with errors up to +-60 deg (some blocks of four with x <= 0: the atan2
+  // branch), one pair of zero channels, and n not a multiple of 4.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::size_t n = 363;
+  std::vector<double> C(n), S(n), ct(n), st(n), eps(n), cp(n), sp(n), eps2(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double th = 2 * M_PI * static_cast<double>(i) / 360.0;
+    const double err = (i < 180 ? 0.02 : 1.05) * u(rng);  // rad: small, then beyond +-60 deg
+    const double amp = 0.05 * (1.0 + 0.3 * u(rng));
+    ct[i] = std::cos(th);
+    st[i] = std::sin(th);
+    C[i] = amp * std::cos(th + err);
+    S[i] = amp * std::sin(th + err);
+  }
+  C[7] = S[7] = 0.0;
+  for (std::size_t i = 200; i < 204; ++i) C[i] = -C[i];  // a block turned by about 180 deg
+  channel_angles(C.data(), S.data(), ct.data(), st.data(), n, eps.data(), cp.data(), sp.data());
+  channel_angles(C.data(), S.data(), ct.data(), st.data(), n, eps2.data(), nullptr, nullptr);
+  const double ulp = std::numeric_limits<double>::epsilon();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = C[i] * ct[i] + S[i] * st[i], y = S[i] * ct[i] - C[i] * st[i];
+    const double ref = std::atan2(y, x);
+    INFO("i = " << i << ", ref = " << ref << ", got = " << eps[i]);
+    // atan (3.5 ULP) of y / x (0.5 ULP) where x > 0, SLEEF's atan2 (3.5 ULP) elsewhere.
+    CHECK(std::abs(eps[i] - ref) <= 5 * ulp * std::abs(ref));
+    CHECK(eps2[i] == eps[i]);
+    const double r = std::hypot(C[i], S[i]);
+    CHECK(std::abs(cp[i] - (r > 0 ? C[i] / r : 1.0)) <= 4 * ulp);
+    CHECK(std::abs(sp[i] - (r > 0 ? S[i] / r : 0.0)) <= 4 * ulp);
   }
 }
