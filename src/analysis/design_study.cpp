@@ -6,6 +6,8 @@
 #include <memory>
 #include <numeric>
 
+#include <omp.h>
+
 #include "analysis/radius_scan.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -262,6 +264,39 @@ struct DesignModel {
   }
 };
 
+// The field window's extremes over a design's samples (min of fmin, max of fmax) without every sample's exact
+// window. eps_field_bounds gives each sample's fmin in [min_lo, min_hi] and fmax in [max_lo, max_hi]; each
+// thread keeps the smallest fmin and the largest fmax it has recorded. A sample's exact window is computed
+// only where its bounds could pass them (max_hi above the thread's largest fmax, min_lo below its smallest
+// fmin); otherwise it records max_lo and min_hi, which cannot pass the true extremes. The design's min and
+// max of the recorded values are then exactly those of every sample's exact window, for any thread count and
+// order: the bounds are strict (max_lo < fmax < max_hi), so every recorded value is at most the true max F,
+// and the sample that holds F has max_hi > F, above every recorded value: it is always evaluated exactly
+// (the same for the min).
+class WindowExtremes {
+ public:
+  WindowExtremes() : lo_(std::size_t(omp_get_max_threads()), kInf), hi_(lo_.size(), -kInf) {}
+  void record(const FastPipeline& fast, const ToleranceCase& c, const double bounds[4], double* fmin, double* fmax) {
+    const std::size_t t = std::size_t(omp_get_thread_num());
+    *fmin = bounds[1];
+    *fmax = bounds[2];
+    const bool need_min = bounds[0] < lo_[t], need_max = bounds[3] > hi_[t];
+    if (need_min || need_max) {
+      thread_local std::vector<Eigen::VectorXd> e;
+      double emin = 0, emax = 0;
+      fast.eps_field(c, e, &emin, &emax);
+      if (need_min) *fmin = emin;
+      if (need_max) *fmax = emax;
+    }
+    lo_[t] = std::min(lo_[t], *fmin);
+    hi_[t] = std::max(hi_[t], *fmax);
+  }
+
+ private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> lo_, hi_;  // per OpenMP thread
+};
+
 DesignResult evaluate_with(const DesignOptions& o, const Design& d, const CircleFieldModel& model,
                            const ToleranceBox& box, bool drift) {
   const FastPipeline fast(model, {o.space.sensors[d.sensor]}, d.magnet_height_mm);
@@ -274,14 +309,17 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   Eigen::VectorXd theta(N);
   for (int m = 0; m < N; ++m) theta[m] = 360.0 * m / N;
   const bool cal = !o.req.calibration.none();
-  // Per sample: uncalibrated pp, calibrated pp, field min, field max (factory state, 20 C).
+  // Per sample: uncalibrated pp, calibrated pp, field min, field max (factory state, 20 C; the field
+  // window recorded so that its extremes over the samples are exact: WindowExtremes).
+  WindowExtremes window;
   auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
-    double fmin = 0, fmax = 0;
     // eps at the factory state (computed once) and at the run state, and the sensor's angles there (the
     // calibration's abscissae); per thread, so that a sample allocates nothing.
     thread_local std::vector<Eigen::VectorXd> ef, er;
     thread_local std::vector<UnitAngles> pf, pr;
-    fast.eps_field(fc, ef, &fmin, &fmax, cal ? &pf : nullptr);
+    double bounds[4];  // fmin in [0], [1]; fmax in [2], [3]
+    fast.eps_field_bounds(fc, ef, &bounds[0], &bounds[1], &bounds[2], &bounds[3], cal ? &pf : nullptr);
+    window.record(fast, fc, bounds, &out[2], &out[3]);
     if (has_run) {
       ToleranceCase rc = fc;
       const ToleranceCase dc = run_box.case_sample(drift_seed, i);
@@ -302,8 +340,6 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
     } else {
       out[1] = out[0];
     }
-    out[2] = fmin;
-    out[3] = fmax;
   };
   const Eigen::MatrixXd v = evaluate_cases(factory, 4, f);
   DesignResult r;

@@ -64,6 +64,20 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
         break;
       }
   }
+  if (coarse_ > 0) {
+    // The interpolant's real coefficients from the M coarse samples (peak_bounds): a_0 = mean, a_k, b_k =
+    // (2/M) sum x_j cos, sin(2 pi j k / M), and for M even a_{M/2} = (1/M) sum x_j (-1)^j (the half weight).
+    const int M = coarse_;
+    coef_map_ = Eigen::MatrixXd::Zero(2 * (M / 2) + 1, M);  // rows a_0, a_1, b_1, ..., a_{M/2}, b_{M/2}
+    for (int j = 0; j < M; ++j) {
+      coef_map_(0, j) = 1.0 / M;
+      for (int k = 1; 2 * k < M; ++k) {
+        coef_map_(2 * k - 1, j) = 2.0 / M * std::cos(2.0 * kPi * j * k / M);
+        coef_map_(2 * k, j) = 2.0 / M * std::sin(2.0 * kPi * j * k / M);
+      }
+      if (M % 2 == 0) coef_map_(M - 1, j) = (j % 2 == 0 ? 1.0 : -1.0) / M;  // (b_{M/2} stays 0)
+    }
+  }
   for (int K = 3 * coarse_; coarse_ > 0 && K <= N; ++K)
     if (N % K == 0) {
       medium_ = K;
@@ -94,13 +108,14 @@ void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& f
 
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track,
-                          std::vector<UnitAngles>* psi) const {
+                          std::vector<UnitAngles>* psi, std::vector<double>* peak_hi_T) const {
   const int N = model_.nodes();
   const std::size_t A = arrays_.size();
   thread_local Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
-  if (R.rows() != N && !peak_T) {
-    // No field window: the channels are linear in the readings, so form them at the M coarse nodes and
-    // interpolate 2 per array instead of every distinct probe.
+  if (R.rows() != N && (!peak_T || peak_hi_T)) {
+    // No field window, or only its bounds: the channels are linear in the readings, so form them at the M
+    // coarse nodes and interpolate 2 per array instead of every distinct probe.
+    if (peak_T) peak_bounds(R, *peak_T, *peak_hi_T);
     thread_local Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R.lazyProduct(channel_weights_);  // (tiny: no blocked product)
     if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
@@ -116,6 +131,7 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
       peak_T->resize(angle_index_.size());
       for (std::size_t i = 0; i < peak_T->size(); ++i)
         (*peak_T)[i] = Rn->col(static_cast<Eigen::Index>(i)).cwiseAbs().maxCoeff();
+      if (peak_hi_T) *peak_hi_T = *peak_T;  // (every node evaluated: the bounds are the value)
     }
     // cs = Rn W, column by column as sums of scaled probe columns (contiguous, vectorized).
     cs.setZero(N, channel_weights_.cols());
@@ -132,6 +148,26 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     }
     track_channels(m, C, S, chain, *track);
     if (track->wrapped) return;
+  }
+}
+
+void FastPipeline::peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo_T, std::vector<double>& hi_T) const {
+  const int M = coarse_, H = M / 2;
+  // Each probe's interpolant's coefficients (rows a_0, a_1, b_1, ..., a_{M/2}, b_{M/2}), one small product.
+  thread_local Eigen::MatrixXd coef;
+  coef.noalias() = coef_map_ * R;
+  const double h = 2.0 * kPi / M;
+  lo_T.resize(angle_index_.size());
+  hi_T.resize(angle_index_.size());
+  for (Eigen::Index i = 0; i < R.cols(); ++i) {
+    const double* a = coef.col(i).data();
+    double D2 = 0;  // >= |b''| everywhere
+    for (int k = 1; k <= H; ++k) D2 += double(k) * k * std::sqrt(a[2 * k - 1] * a[2 * k - 1] + a[2 * k] * a[2 * k]);
+    // Between two coarse nodes h apart, |b| exceeds the larger end value by at most |b''| h^2 / 8. The
+    // relative margins 1e-12 cover the round-off of the interpolated values eps_field takes the peaks from.
+    const double coarse = R.col(i).cwiseAbs().maxCoeff();
+    lo_T[std::size_t(i)] = coarse * (1.0 - 1e-12);
+    hi_T[std::size_t(i)] = (coarse + D2 * h * h / 8.0) * (1.0 + 1e-12);
   }
 }
 
@@ -287,7 +323,8 @@ void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalCha
 
 void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                               std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                              const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi) const {
+                              const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi,
+                              std::vector<double>* peak_hi_T) const {
   if (!model_.full_vector())
     throw InputError("a tilted mount needs a surrogate with the full field vector (CircleFieldModel full_vector)");
   const int N = model_.nodes();
@@ -323,7 +360,7 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       R(r, static_cast<Eigen::Index>(i)) = Bn;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi);
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
@@ -364,8 +401,9 @@ void FastPipeline::eps(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps
 
 void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                              std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T,
-                             const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi) const {
-  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track, psi);
+                             const EnvReadings* env, PpTrack* track, std::vector<UnitAngles>* psi,
+                             std::vector<double>* peak_hi_T) const {
+  if (mt.tilted()) return eps_tilted(mt, chain, elevation_deg, eps_deg, peak_T, env, track, psi, peak_hi_T);
   const int N = model_.nodes();
   const int T = model_.terms();
   thread_local std::vector<double> u;
@@ -390,7 +428,7 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       R(r, static_cast<Eigen::Index>(i)) = b;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi);
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
 }
 
 namespace {
@@ -447,6 +485,16 @@ void FastPipeline::field_window(const std::vector<double>& peak_T, double* fmin_
     fmin_mT[a] = lo * 1e3;
     fmax_mT[a] = hi * 1e3;
   }
+}
+
+void FastPipeline::eps_field_bounds(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_lo_mT,
+                                    double* fmin_hi_mT, double* fmax_lo_mT, double* fmax_hi_mT,
+                                    std::vector<UnitAngles>* psi) const {
+  const CaseState st = case_state(c);
+  std::vector<double> lo_T, hi_T;
+  eps_mount(st.mount, st.chain, st.elevation_deg, e, &lo_T, st.env_ptr(), nullptr, psi, &hi_T);
+  field_window(lo_T, fmin_lo_mT, fmax_lo_mT);
+  field_window(hi_T, fmin_hi_mT, fmax_hi_mT);
 }
 
 void FastPipeline::eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& e, double* fmin_mT,

@@ -77,6 +77,16 @@ class FastPipeline {
   // eps(c) and the field window of pp_field in one pass (the same numbers as the two calls).
   void eps_field(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_mT, double* fmax_mT,
                  std::vector<UnitAngles>* psi = nullptr) const;
+  // eps(c) (and psi) with bounds on eps_field's field window instead of its value, cheaper with
+  // symmetry-built models: every array's fmin_mT lies in [fmin_lo_mT, fmin_hi_mT] and fmax_mT in
+  // [fmax_lo_mT, fmax_hi_mT]. Each probe's peak |reading| is at least the largest of its M coarse
+  // readings and at most that plus D2 h^2 / 8 (D2 = sum k^2 |c_k| of its interpolant's coefficients
+  // bounds |b''|, h = 360/M deg: the most |b| can exceed its larger value at the ends of an interval
+  // between two coarse nodes), with relative margins of 1e-12 for the round-off of eps_field's interpolated
+  // readings, so that eps_field's values lie strictly inside. Where every node is evaluated the bounds are the values.
+  void eps_field_bounds(const ToleranceCase& c, std::vector<Eigen::VectorXd>& eps_deg, double* fmin_lo_mT,
+                        double* fmin_hi_mT, double* fmax_lo_mT, double* fmax_hi_mT,
+                        std::vector<UnitAngles>* psi = nullptr) const;
 
  private:
   const CircleFieldModel& model_;
@@ -90,6 +100,7 @@ class FastPipeline {
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
   int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array
+  Eigen::MatrixXd coef_map_;                    // coarse samples -> the interpolant's real coefficients
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].
   struct EnvReadings {
     double br_scale = 1;
@@ -116,19 +127,24 @@ class FastPipeline {
     std::vector<double> t_lo, t_hi;
     bool wrapped = false;
   };
-  // track (optional): pp only; eps_deg is then left unset. psi (optional): UnitAngles too.
+  // track (optional): pp only; eps_deg is then left unset. psi (optional): UnitAngles too. peak_hi_T
+  // (with peak_T): bounds on the peaks instead of their values (eps_field_bounds), peak_T the lower ones.
   void eps_mount(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                  std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
                  const EnvReadings* env = nullptr, PpTrack* track = nullptr,
-                 std::vector<UnitAngles>* psi = nullptr) const;
+                 std::vector<UnitAngles>* psi = nullptr, std::vector<double>* peak_hi_T = nullptr) const;
   void eps_tilted(const Mount& m, const SignalChain::Applied& chain, double elevation_deg,
                   std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T = nullptr,
                   const EnvReadings* env = nullptr, PpTrack* track = nullptr,
-                  std::vector<UnitAngles>* psi = nullptr) const;
+                  std::vector<UnitAngles>* psi = nullptr, std::vector<double>* peak_hi_T = nullptr) const;
   // From the readings R (rows: every node, or the M coarse nodes, then interpolated; columns: the
   // distinct probes): peak_T, and eps or the PpTrack of every array.
   void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
-              std::vector<double>* peak_T, PpTrack* track, std::vector<UnitAngles>* psi) const;
+              std::vector<double>* peak_T, PpTrack* track, std::vector<UnitAngles>* psi,
+              std::vector<double>* peak_hi_T = nullptr) const;
+  // Bounds on every distinct probe's peak |reading| over the N nodes from its M coarse readings R (columns):
+  // lo = the largest coarse |reading|, hi = lo + D2 h^2 / 8, with 1e-12 relative margins (eps_field_bounds).
+  void peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo_T, std::vector<double>& hi_T) const;
   // Without peak_T on the coarse nodes: the channels C, S (linear in the readings: channel_weights_) are
   // formed at the M nodes and only they are interpolated (2 columns per array instead of every probe).
   // full (N x columns) from the M coarse rows: FFT of length M, zero padding, inverse FFT of length N.

@@ -204,6 +204,55 @@ TEST_CASE("fast pipeline: readings interpolated in theta equal the direct ones o
   CHECK(tilted >= 12);
 }
 
+TEST_CASE("fast pipeline: eps_field_bounds brackets eps_field's window strictly and gives its eps", "[analysis][cross-check]") {
+  // Symmetry-built models (the coarse path and its bounds) and direct fits (every node: the bounds are the
+  // values); eccentric, tilted, tempered, stray-field and signal-chain cases.
+  const AnalyticField field{Magnet{}};
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"), ProbeArray::parse("ring:8")};
+  ToleranceBox box;
+  box.sx_mm = box.sy_mm = 0.15;
+  box.dz_mm = 0.2;
+  box.tilt_x_deg = box.tilt_y_deg = 1.0;
+  box.temperature_min_C = -40;
+  box.temperature_max_C = 125;
+  box.stray_mT = 1.0;
+  box.offset_cos_mT = 0.5;
+  box.phase_error_deg = 1.0;
+  using C = CircleFieldModel::Construction;
+  for (const C build : {C::symmetry, C::axis_aligned}) {
+    const CircleFieldModel model(field, 1.8, kPlaneZ, 360, 0.5, 0.4, 4, true, build);
+    const FastPipeline fast(model, arrays);
+    REQUIRE((fast.coarse_steps() > 0) == (build == C::symmetry));
+    double widest = 0;
+    for (const ToleranceCase& c : monte_carlo_cases(box, 40, 9)) {
+      std::vector<Eigen::VectorXd> e1, e2;
+      std::vector<UnitAngles> u1, u2;
+      double fmin[3], fmax[3], b[4][3];
+      fast.eps_field(c, e1, fmin, fmax, &u1);
+      fast.eps_field_bounds(c, e2, b[0], b[1], b[2], b[3], &u2);
+      for (int a = 0; a < 3; ++a) {
+        CAPTURE(a, fmin[a], b[0][a], b[1][a], fmax[a], b[2][a], b[3][a]);
+        CHECK((e1[std::size_t(a)] - e2[std::size_t(a)]).cwiseAbs().maxCoeff() <= 1e-12);
+        CHECK((u1[std::size_t(a)].cos_psi - u2[std::size_t(a)].cos_psi).cwiseAbs().maxCoeff() <= 1e-14);
+        if (build == C::symmetry) {
+          CHECK(b[0][a] < fmin[a]);
+          CHECK(fmin[a] < b[1][a]);
+          CHECK(b[2][a] < fmax[a]);
+          CHECK(fmax[a] < b[3][a]);
+          widest = std::max(widest, (b[3][a] - b[2][a]) / fmax[a]);
+        } else {
+          CHECK(b[0][a] == fmin[a]);
+          CHECK(b[1][a] == fmin[a]);
+          CHECK(b[2][a] == fmax[a]);
+          CHECK(b[3][a] == fmax[a]);
+        }
+      }
+    }
+    // The bounds are narrow (the curvature bound over 15 deg: about 1 % of the peak), or they would not save work.
+    if (build == C::symmetry) CHECK(widest < 0.03);
+  }
+}
+
 TEST_CASE("fast pipeline: pp from the bounded intervals equals pp over every node", "[analysis][cross-check]") {
   // pp_bounded evaluates the 360 nodes only in the intervals its curvature bound cannot exclude. Against
   // the same pipeline over every node and against max - min of eps (atan2): small and large errors
