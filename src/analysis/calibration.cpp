@@ -233,7 +233,6 @@ Eigen::VectorXd residual_of_pairs(const Correction& c, const Eigen::VectorXd& th
   return r;
 }
 
-
 namespace {
 // calibrated_pp_deg's harmonics:N route on t eps (deg) and the unit vectors of psi = t (theta + eps) at the
 // calibration state (e, c1, s1) and at the run (er, cr, sr).
