@@ -83,17 +83,15 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
       medium_ = K;
       break;
     }
-  {
-    // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
-    channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
-                                             static_cast<Eigen::Index>(2 * arrays_.size()));
-    for (std::size_t a = 0; a < arrays_.size(); ++a)
-      for (std::size_t k = 0; k < arrays_[a].size(); ++k) {
-        const auto i = static_cast<Eigen::Index>(slot_[a][k]);
-        channel_weights_(i, static_cast<Eigen::Index>(2 * a)) += arrays_[a].w_cos[k];
-        channel_weights_(i, static_cast<Eigen::Index>(2 * a + 1)) += arrays_[a].w_sin[k];
-      }
-  }
+  // The channels of every array as a linear map of the distinct probes' readings (columns 2a, 2a + 1).
+  channel_weights_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(angle_index_.size()),
+                                           static_cast<Eigen::Index>(2 * arrays_.size()));
+  for (std::size_t a = 0; a < arrays_.size(); ++a)
+    for (std::size_t k = 0; k < arrays_[a].size(); ++k) {
+      const auto i = static_cast<Eigen::Index>(slot_[a][k]);
+      channel_weights_(i, static_cast<Eigen::Index>(2 * a)) += arrays_[a].w_cos[k];
+      channel_weights_(i, static_cast<Eigen::Index>(2 * a + 1)) += arrays_[a].w_sin[k];
+    }
 }
 
 void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {

@@ -8,7 +8,7 @@
 namespace magenc {
 
 // out[i] = atan2(y[i], x[i]) in radians, [-pi, pi], for i < n. SLEEF's 3.5-ULP atan2 (its runtime
-// dispatch picks the CPU's vector extension): within 4e-16 rad of std::atan2 (tests/core/test_vector_math.cpp).
+// dispatch picks the CPU's vector extension): within 4 ULP of std::atan2 (tests/core/test_vector_math.cpp).
 // out may alias x or y.
 void atan2_rad(const double* y, const double* x, double* out, std::size_t n);
 
