@@ -36,13 +36,13 @@ step "$BIN/airgap" --out output/airgap
 # medium P2, mu_r = 1; seconds each) itself and adds the default solve.
 step "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field --out output/harmonic_provenance
 step "$BIN/radius" --out output/radius
-step "$BIN/error_sources" --config studies/error_sources.toml --out output/error_sources
-step "$BIN/sensor_principles" --config studies/sensor_principles.toml --out output/sensor_principles
-step "$BIN/calibration" --config studies/calibration.toml --out output/calibration
-step "$BIN/stray_field" --config studies/stray_field.toml --out output/stray_field
-step "$BIN/temperature" --config studies/temperature.toml --out output/temperature
-step "$BIN/steel_parts" --config studies/steel_parts.toml --out output/steel_parts
-step "$BIN/design" --config studies/design.toml --out output/design
+step "$BIN/error_sources" --config studies/error_sources/error_sources.toml --out output/error_sources
+step "$BIN/sensor_principles" --config studies/sensor_principles/sensor_principles.toml --out output/sensor_principles
+step "$BIN/calibration" --config studies/calibration/calibration.toml --out output/calibration
+step "$BIN/stray_field" --config studies/stray_field/stray_field.toml --out output/stray_field
+step "$BIN/temperature" --config studies/temperature/temperature.toml --out output/temperature
+step "$BIN/steel_parts" --config studies/steel_parts/steel_parts.toml --out output/steel_parts
+step "$BIN/design" --config studies/design/design.toml --out output/design
 # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
 step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
   --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv

@@ -22,7 +22,7 @@
 #include "core/format.hpp"
 #include "fields/field_factory.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 namespace {
 

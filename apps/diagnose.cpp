@@ -17,16 +17,12 @@
 #include <optional>
 #include <sstream>
 
-#include "analysis/sweep.hpp"
-#include "analysis/diagnosis_fit.hpp"
-#include "analysis/measured_curve.hpp"
+#include "analysis/diagnose_run.hpp"
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/omp_wait.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
-#include "fields/field_factory.hpp"
 #include "report/diagnosis_report.hpp"
 #include "report/study_output.hpp"
 
@@ -102,55 +98,37 @@ int run(int argc, char** argv) {
   app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   magenc::parse_cli(app, argc, argv);
-  if (!(f.max_gap_deg > 0 && f.max_gap_deg <= 180))
-    throw InputError("--max-gap " + magenc::num(f.max_gap_deg) + " is out of range: allowed (0, 180] deg");
 
-  // 2. Configuration and curves (all read and checked before any output exists).
+  // 2. Configuration, curves and field (all read and checked before any output exists), then the fit.
   magenc::Config cfg = magenc::load_config(schema, common);
   if (f.array) cfg.set("sensor.array=" + *f.array);
   if (f.r0) cfg.set("sensor.r0_mm=" + *f.r0);
-  magenc::CurveReadOptions ro;
-  ro.error_sign = f.error_sign;
-  ro.max_gap_deg = f.max_gap_deg;
-  magenc::ModelState base{magenc::Mount::from_config(cfg),
-                          magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"), f.array ? "--array" : "sensor.array")};
-  std::vector<magenc::CurveInput> curves;
-  for (const auto& path : f.measured) curves.push_back({magenc::read_measured_curve(path, ro), base, {}});
-  for (const auto& cs : f.curve_sets) {
-    const auto [c, o] = magenc::parse_curve_set(cs, static_cast<int>(curves.size()));
-    curves[c].overrides.push_back(o);
-  }
-  magenc::DiagnosisOptions opts;
-  opts.free = split_commas(f.free);
-  for (const auto& n : magenc::expand_free_names(opts.free)) magenc::fit_parameter(n);  // unknown: one-line error
-  opts.free_zero = !f.fixed_zero;
-  opts.starts = f.starts;
-  opts.seed = f.seed;
-  opts.cond_limit = f.cond_limit;
-  magenc::FieldOptions fo;
-  fo.interp = magenc::parse_interp(f.interp, "--interp");
-  const magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, fo);
+  magenc::DiagnoseRequest req;
+  req.measured = f.measured;
+  req.field = f.field;
+  req.interp = f.interp;
+  req.free = split_commas(f.free);
+  req.curve_sets = f.curve_sets;
+  req.fixed_zero = f.fixed_zero;
+  req.error_sign = f.error_sign;
+  req.max_gap_deg = f.max_gap_deg;
+  req.starts = f.starts;
+  req.seed = f.seed;
+  req.cond_limit = f.cond_limit;
+  req.fd_step = f.fd_step;
+  req.array_name = f.array ? "--array" : "sensor.array";
+  const magenc::DiagnoseRun run = magenc::run_diagnose(req, cfg);
+  const auto& curves = run.curves;
+  const magenc::DiagnosisResult& res = run.result;
 
-  // 3. Fit. On a discretised field (fem:, grid:, table:) the Jacobian uses a larger step (1e-2 typical sizes,
-  // see DiagnosisOptions::fd_step), and the default free set is chosen on the exact field of the same magnet.
-  magenc::FieldSourcePtr exact;
-  if (field->name() != "analytic" && field->name() != "linear") {
-    exact = magenc::make_field_source("analytic", cfg);
-    opts.identifiability_field = exact.get();
-    opts.fd_step = f.fd_step > 0 ? f.fd_step : 1e-2;
-  } else if (f.fd_step > 0) {
-    opts.fd_step = f.fd_step;
-  }
-  const magenc::DiagnosisResult res = magenc::diagnose_curves(*field, curves, opts);
-
-  // 4. Outputs, all or nothing.
+  // 3. Outputs, all or nothing.
   magenc::DiagnosisRunInfo info;
   for (int i = 0; i < argc; ++i) info.command_line += (i ? " " : "") + std::string(argv[i]);
   info.field_spec = f.field;
   info.config_json = cfg.to_json();
   info.config_toml = cfg.to_toml();
   info.curve_sets = f.curve_sets;
-  info.options = opts;
+  info.options = run.options;
   info.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   magenc::AtomicDir out(common.out.empty() ? std::string("output/diagnose") : common.out);
   magenc::write_diagnosis_outputs(out.path(), curves, res, info);

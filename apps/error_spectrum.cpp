@@ -41,7 +41,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
 #include "io/probe_paths_vtk.hpp"

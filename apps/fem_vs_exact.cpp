@@ -14,14 +14,14 @@
 #include <cmath>
 #include <iostream>
 #include "fields/analytic_field.hpp"
-#include "fem_config.hpp"
-#include "validation.hpp"
+#include "field_solver/solve/fem_config.hpp"
+#include "field_solver/field_io/validation.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/text_table.hpp"
 #include "core/atomic_output.hpp"
-#include "field_outputs.hpp"
+#include "field_solver/field_io/field_outputs.hpp"
 #include <filesystem>
 #include <fstream>
 #include <sstream>

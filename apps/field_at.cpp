@@ -21,7 +21,7 @@
 #include "fields/field_factory.hpp"
 #include "io/points_csv.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 namespace {
 

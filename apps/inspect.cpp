@@ -12,12 +12,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "analysis/inspect_fit.hpp"
+#include "analysis/inspect_run.hpp"
 #include "core/atomic_output.hpp"
 #include "core/cli.hpp"
 #include "core/errors.hpp"
-#include "fields/magnet.hpp"
-#include "io/points_csv.hpp"
 #include "probe/common_keys.hpp"
 #include "report/inspect_report.hpp"
 
@@ -34,22 +32,16 @@ int run(int argc, char** argv) {
   app.add_option("--free", free, "free groups: offset, rotation, polarization, direction (default the first three)");
   app.add_option("--cond-limit", cond_limit, "condition number above which directions count as not identifiable (default 1e6)");
   magenc::parse_cli(app, argc, argv);
-  if (!(cond_limit > 1 && std::isfinite(cond_limit)))
-    throw magenc::InputError("--cond-limit " + magenc::num(cond_limit) + " is out of range: allowed (1, inf)");
 
   const magenc::Config cfg = magenc::load_config(schema, common);
-  const magenc::Magnet magnet = magenc::Magnet::from_config(cfg);
-  magenc::InspectOptions opts;
-  opts.groups = magenc::parse_inspect_groups(free, "--free");
-  opts.cond_limit = cond_limit;
-  const magenc::ScanTable table = magenc::read_scan_csv(scan_file);
-  const magenc::FieldScan scan{table.p_mm, table.B_T};
-  const magenc::InspectResult res = magenc::inspect_scan(magnet, scan, opts);
+  const magenc::InspectRun run = magenc::run_inspect({scan_file, free, cond_limit, "--free", "--cond-limit"}, cfg);
+  const magenc::FieldScan& scan = run.scan;
+  const magenc::InspectResult& res = run.result;
 
   magenc::InspectRunInfo info;
   for (int i = 0; i < argc; ++i) info.command_line += (i ? " " : "") + std::string(argv[i]);
   info.scan_file = scan_file;
-  info.unit = table.unit;
+  info.unit = run.unit;
   info.config_json = cfg.to_json();
   info.config_toml = cfg.to_toml();
   magenc::AtomicDir out(common.out.empty() ? std::string("output/inspect") : common.out);

@@ -10,10 +10,10 @@
 #include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
-#include "fem_config.hpp"
-#include "linear_solver.hpp"
-#include "field_outputs.hpp"
-#include "magnetostatic_solver.hpp"
+#include "field_solver/solve/fem_config.hpp"
+#include "field_solver/solve/linear_solver.hpp"
+#include "field_solver/field_io/field_outputs.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
 
 int main(int argc, char** argv) {
   return magenc::run_main("solve_field", [&] {

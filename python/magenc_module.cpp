@@ -21,8 +21,8 @@
 
 #include "analysis/calibrate_run.hpp"
 #include "analysis/calibration_file.hpp"
-#include "analysis/diagnosis_fit.hpp"
-#include "analysis/inspect_fit.hpp"
+#include "analysis/diagnose_run.hpp"
+#include "analysis/inspect_run.hpp"
 #include "analysis/measured_curve.hpp"
 #include "analysis/sweep.hpp"
 #include "core/config.hpp"
@@ -37,7 +37,7 @@
 #include "io/points_csv.hpp"
 #include "report/diagnosis_report.hpp"
 #include "report/inspect_report.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 namespace py = pybind11;
 using magenc::Config;
@@ -201,56 +201,44 @@ py::dict py_diagnose(const py::object& measured, const std::string& field, const
   Config cfg = make_config(config, keys);
   if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
   if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + value_text(r0_mm));
-  if (!(max_gap_deg > 0 && max_gap_deg <= 180))
-    throw InputError("max_gap_deg " + magenc::num(max_gap_deg) + " is out of range: allowed (0, 180] deg");
-  std::vector<std::string> paths;
+  magenc::DiagnoseRequest req;
   if (py::isinstance<py::str>(measured) || py::hasattr(measured, "__fspath__"))
-    paths.push_back(py::str(measured).cast<std::string>());
+    req.measured.push_back(py::str(measured).cast<std::string>());
   else
-    for (const auto& m : py::iter(measured)) paths.push_back(py::str(m).cast<std::string>());
-  if (paths.empty()) throw InputError("measured: no curve files: allowed one path or a list of paths");
-  magenc::CurveReadOptions ro;
-  ro.error_sign = error_sign;
-  ro.max_gap_deg = max_gap_deg;
-  magenc::ModelState base{magenc::Mount::from_config(cfg),
-                          magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"),
-                                                          array.is_none() ? "sensor.array" : "array")};
-  std::vector<magenc::CurveInput> curves;
-  for (const auto& path : paths) curves.push_back({magenc::read_measured_curve(path, ro), base, {}});
-  magenc::DiagnosisOptions opts;
+    for (const auto& m : py::iter(measured)) req.measured.push_back(py::str(m).cast<std::string>());
   if (!free.is_none()) {
     if (py::isinstance<py::str>(free)) {
       std::stringstream ss(free.cast<std::string>());
       for (std::string x; std::getline(ss, x, ',');)
-        if (!x.empty()) opts.free.push_back(x);
+        if (!x.empty()) req.free.push_back(x);
     } else {
-      for (const auto& n : py::iter(free)) opts.free.push_back(py::str(n).cast<std::string>());
+      for (const auto& n : py::iter(free)) req.free.push_back(py::str(n).cast<std::string>());
     }
   }
-  for (const auto& n : magenc::expand_free_names(opts.free)) magenc::fit_parameter(n);  // unknown: one line
-  opts.free_zero = !fixed_zero;
-  opts.starts = starts;
-  opts.seed = seed;
-  opts.cond_limit = cond_limit;
-  const auto source = open_field(field, cfg, interp);
-  magenc::FieldSourcePtr exact;
-  if (source->name() != "analytic" && source->name() != "linear") {  // as diagnose does
-    exact = magenc::make_field_source("analytic", cfg);
-    opts.identifiability_field = exact.get();
-    opts.fd_step = 1e-2;
-  }
-  magenc::DiagnosisResult res;
+  req.field = field;
+  req.interp = interp;
+  req.fixed_zero = fixed_zero;
+  req.error_sign = error_sign;
+  req.max_gap_deg = max_gap_deg;
+  req.starts = starts;
+  req.seed = seed;
+  req.cond_limit = cond_limit;
+  req.array_name = array.is_none() ? "sensor.array" : "array";
+  req.max_gap_name = "max_gap_deg";
+  magenc::DiagnoseRun run;
   {
     py::gil_scoped_release unlocked;
-    res = magenc::diagnose_curves(*source, curves, opts);
+    run = magenc::run_diagnose(req, cfg);
   }
+  const auto& curves = run.curves;
+  const magenc::DiagnosisResult& res = run.result;
   magenc::DiagnosisRunInfo info;
   info.program = "magenc.diagnose";
   info.command_line = "magenc.diagnose (Python)";
   info.field_spec = field;
   info.config_json = cfg.to_json();
   info.config_toml = cfg.to_toml();
-  info.options = opts;
+  info.options = run.options;
   const std::string json = magenc::diagnosis_json(curves, res, info);
   return py::module_::import("json").attr("loads")(json).cast<py::dict>();
 }
@@ -293,33 +281,27 @@ py::dict py_calibrate(const py::object& measured, const py::object& correction, 
 py::dict py_inspect(const py::object& scan, const py::object& free, const py::object& config, double cond_limit,
                     const py::kwargs& keys) {
   const Config cfg = make_config(config, keys);
-  const magenc::Magnet magnet = magenc::Magnet::from_config(cfg);
-  magenc::InspectOptions opts;
+  magenc::InspectRequest req{py::str(scan).cast<std::string>(), "offset,rotation,polarization", cond_limit, "free",
+                             "cond_limit"};
   if (!free.is_none()) {
-    std::string text;
     if (py::isinstance<py::str>(free)) {
-      text = free.cast<std::string>();
+      req.free = free.cast<std::string>();
     } else {
-      for (const auto& g : py::iter(free)) text += py::str(g).cast<std::string>() + ",";
+      req.free.clear();
+      for (const auto& g : py::iter(free)) req.free += py::str(g).cast<std::string>() + ",";
     }
-    opts.groups = magenc::parse_inspect_groups(text, "free");
   }
-  if (!(cond_limit > 1 && std::isfinite(cond_limit)))
-    throw InputError("cond_limit " + magenc::num(cond_limit) + " is out of range: allowed (1, inf)");
-  opts.cond_limit = cond_limit;
-  const magenc::ScanTable table = magenc::read_scan_csv(py::str(scan).cast<std::string>());
-  const magenc::FieldScan fs{table.p_mm, table.B_T};
-  magenc::InspectResult res;
+  magenc::InspectRun run;
   {
     py::gil_scoped_release unlocked;
-    res = magenc::inspect_scan(magnet, fs, opts);
+    run = magenc::run_inspect(req, cfg);
   }
   magenc::InspectRunInfo info;
   info.command_line = "magenc.inspect (Python)";
   info.scan_file = py::str(scan).cast<std::string>();
-  info.unit = table.unit;
+  info.unit = run.unit;
   info.config_json = cfg.to_json();
-  return py::module_::import("json").attr("loads")(magenc::inspect_json(fs, res, info)).cast<py::dict>();
+  return py::module_::import("json").attr("loads")(magenc::inspect_json(run.scan, run.result, info)).cast<py::dict>();
 }
 
 py::list py_config_keys() {

@@ -53,16 +53,16 @@ cmd_run() {
   local coarse; coarse=$(realpath meshes/coarse.toml)
   local fem=(--set "fem_field.dir=$field")
 
-  run_one "$bin" "$root" linear_model_small linear_model --config studies/linear_model.toml \
+  run_one "$bin" "$root" linear_model_small linear_model --config studies/linear_model/linear_model.toml \
     --set sensor.steps=360 --set sweep.points=6 --set sweep.offsets=sx_mm,dx_mm,dz_mm
-  run_one "$bin" "$root" exact_field_small exact_field --config studies/exact_field.toml \
+  run_one "$bin" "$root" exact_field_small exact_field --config studies/exact_field/exact_field.toml \
     --set sensor.steps=360 --set sweep.points=6 --set dz_sweep.points=5 --set study.arrays=two,ring:5
-  run_one "$bin" "$root" real_field_small real_field --config studies/real_field.toml "${fem[@]}" \
+  run_one "$bin" "$root" real_field_small real_field --config studies/real_field/real_field.toml "${fem[@]}" \
     --set sensor.steps=360 --set sweep.points=6 --set study.arrays=two,diff4
-  run_one "$bin" "$root" airgap_small airgap --config studies/airgap.toml "${fem[@]}" \
+  run_one "$bin" "$root" airgap_small airgap --config studies/airgap/airgap.toml "${fem[@]}" \
     --set sensor.steps=360 --set dz_sweep.points=5 --set study.arrays=two,diff4
   run_one "$bin" "$root" harmonic_provenance_small harmonic_provenance \
-    --config studies/harmonic_provenance.toml --set sensor.steps=360 \
+    --config studies/harmonic_provenance/harmonic_provenance.toml --set sensor.steps=360 \
     --set provenance.spacings_mm=0.2,0.1 --set provenance.interps=nearest,cubic \
     --set "provenance.fem_variants=[{ label = \"coarse P1\", config = \"$coarse\", set = { fem.order = 1 } }]" \
     --set "provenance.fem_dirs=$field"
@@ -70,21 +70,21 @@ cmd_run() {
   run_one "$bin" "$root" error_sources_small error_sources --set study.arrays=two,diff4,ring:8 \
     --set study.sources=tilt_x_deg,tilt_y_deg,magnet_tilt_deg,magnetization_elevation_deg,offset_cos_mT,offset_sin_mT,gain_mismatch,phase_error_deg \
     --set sweep.points=4 --set sensor.steps=360
-  run_one "$bin" "$root" radius_small radius --config studies/radius.toml --set radius.fem_dir= \
+  run_one "$bin" "$root" radius_small radius --config studies/radius/radius.toml --set radius.fem_dir= \
     --set radius.r0_min_mm=1.5 --set radius.r0_max_mm=2.5 --set radius.r0_step_mm=0.25 --set radius.samples=500 \
     --set sensor.steps=720
-  run_one "$bin" "$root" diagnosis_small diagnosis --config studies/diagnosis.toml "${fem[@]}" \
+  run_one "$bin" "$root" diagnosis_small diagnosis --config studies/diagnosis/diagnosis.toml "${fem[@]}" \
     --set roundtrip.cases=4 --set roundtrip.fem_cases=2 --set roundtrip.all_free_cases=1
   # No FE variants and no directories: the FE section is absent.
   run_one "$bin" "$root" harmonic_provenance_nofe harmonic_provenance \
-    --config studies/harmonic_provenance.toml --set sensor.steps=360 \
+    --config studies/harmonic_provenance/harmonic_provenance.toml --set sensor.steps=360 \
     --set provenance.spacings_mm=0.2,0.1,0.05 --set provenance.fem_variants= \
     --set provenance.fem_grid_interp=none
   [[ $quick == 1 ]] && return 0
-  run_one "$bin" "$root" linear_model_default linear_model --config studies/linear_model.toml
-  run_one "$bin" "$root" exact_field_default exact_field --config studies/exact_field.toml
-  run_one "$bin" "$root" real_field_default real_field --config studies/real_field.toml "${fem[@]}"
-  run_one "$bin" "$root" airgap_default airgap --config studies/airgap.toml "${fem[@]}"
+  run_one "$bin" "$root" linear_model_default linear_model --config studies/linear_model/linear_model.toml
+  run_one "$bin" "$root" exact_field_default exact_field --config studies/exact_field/exact_field.toml
+  run_one "$bin" "$root" real_field_default real_field --config studies/real_field/real_field.toml "${fem[@]}"
+  run_one "$bin" "$root" airgap_default airgap --config studies/airgap/airgap.toml "${fem[@]}"
 }
 
 # summary.md with the run's times blanked: table columns headed "solve s" or "... [s]"

@@ -3,7 +3,7 @@
 
 magenc interpolates the table with monotone cubic Hermite (Fritsch-Carlson slopes, the end slopes
 by the three-point formula clamped to [0, 3 d]) and extends it beyond the last row with slope mu0
-(field_solver/bh_curve.cpp). This script evaluates the same interpolant at N log-spaced H values and
+(field_solver/mesh/bh_curve.cpp). This script evaluates the same interpolant at N log-spaced H values and
 writes a GetDP list of (g^2, mu_r) pairs, g = mu0 |H| in T (the gradient of the total potential psi
 in T*mm), mu_r = B / (mu0 H) the secant relative permeability (the initial slope / mu0 at H = 0), so
 GetDP's InterpolationLinear on it follows magenc's curve to ~1e-4 relative.

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 namespace magenc {
 
@@ -141,6 +143,45 @@ double max_abs_difference(const SweepResult& fem, const SweepResult& exact, cons
   double worst = 0;
   for (std::size_t i = 0; i < v.size(); ++i) worst = std::max(worst, std::abs(v[i] - e[i]));
   return worst;
+}
+
+FemSources fem_sources_from_config(const Config& cfg) {
+  namespace fs = std::filesystem;
+  FemSources r;
+  const fs::path dir = cfg.str("fem_field.dir");
+  r.dir = dir.string();
+  const auto labels = cfg.strings("fem_field.sources");
+  const std::string hint = ": run solve_field first (solve_field --out " + dir.string() + ")";
+  if (!fs::is_directory(dir)) throw InputError("fem_field.dir '" + dir.string() + "' is not a directory" + hint);
+  FieldOptions opts;
+  opts.interp = parse_interp(cfg.str("fem_field.interp"), "fem_field.interp");
+  for (const auto& l : labels) {
+    std::string file, spec;
+    if (l == "fem") {
+      file = "mesh.vtu";
+      spec = "fem:" + dir.string();
+    } else if (l == "grid") {
+      file = cfg.str("fem_field.grid_file");
+      spec = "grid:" + (dir / file).string();
+    } else {
+      throw InputError("fem_field.sources: '" + l + "' is not a FEM source: allowed grid, fem");
+    }
+    if (!fs::exists(dir / file))
+      throw InputError("fem_field.dir '" + dir.string() + "' has no " + file +
+                       (l == "fem" ? ": run solve_field --set output.mesh_vtu=true --out " + dir.string() : hint));
+    if (std::any_of(r.sources.begin(), r.sources.end(), [&](const FemSource& s) { return s.label == l; }))
+      throw InputError("fem_field.sources: '" + l + "' listed twice");
+    r.sources.push_back({l, spec, nullptr});
+  }
+  // The solve's magnet and plane must be the study's: the exact field beside it
+  // is built from the study's [magnet] keys.
+  const SolvedFieldDir solved(dir);
+  if (const std::string why = solved.mismatch(cfg); !why.empty())
+    throw InputError("fem_field.dir '" + dir.string() + "' " + why);
+  for (auto& s : r.sources) s.field = open_field_source(s.spec, cfg, opts);
+  r.description = solved.description();
+  r.mu_r = solved.mu_r();
+  return r;
 }
 
 }  // namespace magenc

@@ -4,7 +4,7 @@
 // beside the exact one and their difference. This header holds the computation
 // they share (the tables, plots and summaries are report/comparison_run.hpp's):
 //   FemSources                     the solved directory and its FEM field sources
-//                                  (opened by field_solver/solved_field.hpp)
+//                                  (opened by field_solver/field_io/solved_field.hpp)
 //   comparison_inputs_from_config  the FEM sources with the exact field, base mount
 //                                  and probe setups of the configuration
 //   run_comparison                 all sweeps on all sources, fits, FEM/exact pairs
@@ -42,14 +42,20 @@ struct FemSource {
   FieldSourcePtr field;
 };
 
-// The FEM field sources of a study and what its solve.json says, opened by
-// field_solver's fem_sources_from_config (src/ cannot read FE solutions).
+// The FEM field sources of a study and what its solve.json says (fem_sources_from_config).
 struct FemSources {
   std::string dir;                // fem_field.dir (solve_field output directory)
   std::vector<FemSource> sources; // fem_field.sources, in order; the first is plotted
   std::string description;        // facts of the solve for summaries ("order 2, ..."; "" when unreadable)
   double mu_r = 0;                // magnet.mu_r of the solve (NaN if not recorded)
 };
+
+// Checks that fem_field.dir holds what the listed fem_field.sources need
+// (mesh.vtu for fem, the grid file for grid), that it is a solve of the
+// configured magnet and plane, and opens the sources. A missing directory or
+// file throws one InputError line, e.g.
+//   "fem_field.dir 'output/field' has no mesh.vtu: run solve_field --set output.mesh_vtu=true --out output/field".
+FemSources fem_sources_from_config(const Config& cfg);
 
 // The acceptance rule for a FEM coefficient against the exact one:
 // |value - exact| <= max(rel * |exact|, abs_deg).
@@ -92,7 +98,7 @@ struct ComparisonInputs {
   std::vector<ProbeSetup> setups;               // one per study.arrays entry ([sensor] keys for r0, plane, steps)
 };
 
-// Takes the opened FEM sources (field_solver's fem_sources_from_config, called
+// Takes the opened FEM sources (fem_sources_from_config, called
 // first so a missing solve directory is the error reported), reads [magnet],
 // [mount], study.arrays (comma list of probe arrays) and checks sensor.array
 // (unused by these studies, still validated).

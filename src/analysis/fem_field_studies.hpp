@@ -7,7 +7,7 @@
 //               offset (AcceptanceRule, cell by cell)
 //   airgap      dz swept over dz_sweep.min_mm..max_mm alone and with residual
 //               eccentricities sx, dx and both; eps(theta) at three air gaps
-// The FEM sources come opened (field_solver/solved_field.hpp fem_sources_from_config).
+// The FEM sources come opened (field_solver/field_io/solved_field.hpp fem_sources_from_config).
 #pragma once
 #include <string>
 #include <vector>

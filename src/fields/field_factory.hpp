@@ -4,7 +4,7 @@
 //   grid:FILE.vti   samples a solve_field grid
 //   table:FILE      a text table of B on a regular grid from another tool (field_table.hpp)
 // fem:DIR (the FE solution in DIR) is field_solver's: executables that link it
-// call open_field_source (field_solver/solved_field.hpp), which adds fem:DIR
+// call open_field_source (field_solver/field_io/solved_field.hpp), which adds fem:DIR
 // to these. Unknown names throw an InputError listing the allowed values.
 #pragma once
 #include <string>

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "analysis/diagnosis_fit.hpp"
-#include "analysis/diagnosis_study.hpp"
 #include "probe/spectrum.hpp"
 #include "report/study_output.hpp"
 
@@ -40,9 +39,5 @@ void write_diagnosis_plots(const std::filesystem::path& dir, const std::vector<C
 // Everything above into dir (which must exist; diagnose passes an AtomicDir's temporary path).
 void write_diagnosis_outputs(const std::filesystem::path& dir, const std::vector<CurveInput>& curves,
                              const DiagnosisResult& res, const DiagnosisRunInfo& info);
-
-// The diagnosis study's outputs (studies/diagnosis.cpp) into its folder: coverage.csv, anomalies.csv,
-// example_fit.png, example_harmonics.png (the example fit), summary.md.
-void write_diagnosis_study_report(StudyOutput& out, const DiagnosisStudyResult& res);
 
 }  // namespace magenc

@@ -8,7 +8,7 @@
 #include <omp.h>
 
 #include "analysis/calibration.hpp"
-#include "analysis/calibration_study.hpp"
+#include "studies/calibration/calibration_study.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"

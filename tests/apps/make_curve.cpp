@@ -9,10 +9,10 @@
 #include <fstream>
 
 #include "analysis/sweep.hpp"
-#include "analysis/diagnosis_study.hpp"
+#include "studies/diagnosis/diagnosis_study.hpp"
 #include "core/errors.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 #include "fields/field_factory.hpp"
 #include "report/study_output.hpp"
 

@@ -1,4 +1,4 @@
-// bench_assembly: wall time of the stiffness assembly (field_solver/assembly.cpp) on
+// bench_assembly: wall time of the stiffness assembly (field_solver/fe/assembly.cpp) on
 // solve_field's default domain meshed whole (the quadrant mirrored into four, as with
 // fem.quadrant_solve = false: ~1.8M P2 tets, ~2.4M dofs), not a ctest test.
 //   build/bin/bench_assembly [--threads N] [--repeat R] [--order 1|2] [--chunk CELLS] [--set key=value ...]
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "assembly.hpp"
+#include "field_solver/fe/assembly.hpp"
 #include "core/format.hpp"
-#include "fem_config.hpp"
+#include "field_solver/solve/fem_config.hpp"
 
 namespace {
 

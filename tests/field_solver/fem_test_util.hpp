@@ -1,6 +1,6 @@
 // Shared helpers of the FEM tests: small, fast domains.
 #pragma once
-#include "geometry.hpp"
+#include "field_solver/mesh/geometry.hpp"
 
 namespace magenc::fem::test {
 

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "core/cli.hpp"
-#include "fem_config.hpp"
+#include "field_solver/solve/fem_config.hpp"
 #include "fields/grid.hpp"
-#include "magnetostatic_solver.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
 
 namespace magenc::fem::test {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "bh_curve.hpp"
+#include "field_solver/mesh/bh_curve.hpp"
 #include "core/errors.hpp"
 
 using namespace magenc::fem;

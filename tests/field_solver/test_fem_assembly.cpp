@@ -6,8 +6,8 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "assembly.hpp"
-#include "fe_solution.hpp"
+#include "field_solver/fe/assembly.hpp"
+#include "field_solver/fe/fe_solution.hpp"
 #include "fem_test_util.hpp"
 
 using namespace magenc::fem;

@@ -10,8 +10,8 @@
 
 #include "fields/analytic_field.hpp"
 #include "fem_test_util.hpp"
-#include "magnetostatic_solver.hpp"
-#include "validation.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
+#include "field_solver/field_io/validation.hpp"
 
 using namespace magenc::fem;
 

@@ -1,12 +1,12 @@
-// FE variants of a study (field_solver/fem_variant.hpp): [[provenance.fem_variants]] tables
+// FE variants of a study (field_solver/field_io/fem_variant.hpp): [[provenance.fem_variants]] tables
 // {label, config, set} to solve_field configurations, checked before anything is solved.
 #include <catch2/catch.hpp>
 #include <string>
 
-#include "analysis/provenance.hpp"
+#include "studies/harmonic_provenance/provenance.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
-#include "fem_variant.hpp"
+#include "field_solver/field_io/fem_variant.hpp"
 #include "probe/common_keys.hpp"
 
 using namespace magenc;
@@ -44,7 +44,7 @@ TEST_CASE("fem variants: label config and set of each table become the solve_fie
   CHECK(variants[1].label == "defaults P1");
   CHECK(variants[1].solve_cfg.integer("fem.order") == 1);
   CHECK(variants[1].solve_cfg.real("mesh.h_zone_mm") == defaults.real("mesh.h_zone_mm"));
-  // The default of the key is the four variants of studies/harmonic_provenance.toml.
+  // The default of the key is the four variants of studies/harmonic_provenance/harmonic_provenance.toml.
   const Config def = study_config("");
   const auto d = fem::fem_variants_from_config(def, kFemVariantsKey, kSearch);
   REQUIRE(d.size() == 4);

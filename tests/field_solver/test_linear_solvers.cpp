@@ -9,9 +9,9 @@
 #include <string>
 
 #include "core/cli.hpp"
-#include "fem_config.hpp"
-#include "linear_solver.hpp"
-#include "magnetostatic_solver.hpp"
+#include "field_solver/solve/fem_config.hpp"
+#include "field_solver/solve/linear_solver.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
 #include "solver_fixtures.hpp"
 
 using namespace magenc::fem;

@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "bh_curve.hpp"
+#include "field_solver/mesh/bh_curve.hpp"
 #include "core/cli.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
-#include "fem_config.hpp"
+#include "field_solver/solve/fem_config.hpp"
 
 using namespace magenc::fem;
 

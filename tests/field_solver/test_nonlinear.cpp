@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "assembly.hpp"
-#include "bh_curve.hpp"
-#include "fe_space.hpp"
-#include "nonlinear.hpp"
+#include "field_solver/fe/assembly.hpp"
+#include "field_solver/mesh/bh_curve.hpp"
+#include "field_solver/fe/fe_space.hpp"
+#include "field_solver/solve/nonlinear.hpp"
 #include "solver_fixtures.hpp"
 
 using namespace magenc::fem;

@@ -20,16 +20,16 @@
 #include <unistd.h>
 #include <vector>
 
-#include "bh_curve.hpp"
+#include "field_solver/mesh/bh_curve.hpp"
 #include "core/errors.hpp"
-#include "field_outputs.hpp"
+#include "field_solver/field_io/field_outputs.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/grid.hpp"
-#include "geometry.hpp"
-#include "magnetostatic_solver.hpp"
+#include "field_solver/mesh/geometry.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
 #include "solver_fixtures.hpp"
-#include "validation.hpp"
-#include "vtk_io.hpp"
+#include "field_solver/field_io/validation.hpp"
+#include "field_solver/field_io/vtk_io.hpp"
 
 using namespace magenc::fem;
 using namespace magenc::fem::test;

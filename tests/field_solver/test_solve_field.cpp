@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "core/errors.hpp"
-#include "fem_field.hpp"
-#include "tetgen_mesher.hpp"
+#include "field_solver/field_io/fem_field.hpp"
+#include "field_solver/mesh/tetgen_mesher.hpp"
 
 namespace fs = std::filesystem;
 

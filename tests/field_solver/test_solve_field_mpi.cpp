@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "fem_field.hpp"
+#include "field_solver/field_io/fem_field.hpp"
 
 namespace fs = std::filesystem;
 

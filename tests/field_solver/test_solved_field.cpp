@@ -1,4 +1,4 @@
-// The solved field directory (field_solver/solved_field.hpp): the one reader of
+// The solved field directory (field_solver/field_io/solved_field.hpp): the one reader of
 // solve.json, its consistency check against the configured magnet, the fem: sources.
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include "core/config.hpp"
 #include "core/errors.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 using namespace magenc;
 

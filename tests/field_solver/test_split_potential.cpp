@@ -19,14 +19,14 @@
 
 #include "core/cli.hpp"
 #include "core/errors.hpp"
-#include "fem_config.hpp"
+#include "field_solver/solve/fem_config.hpp"
 #include "fields/analytic_field.hpp"
-#include "fe_solution.hpp"
-#include "magnetostatic_solver.hpp"
-#include "reduced_potential.hpp"
+#include "field_solver/fe/fe_solution.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
+#include "field_solver/solve/reduced_potential.hpp"
 #include "solver_fixtures.hpp"
-#include "validation.hpp"
-#include "vtk_io.hpp"
+#include "field_solver/field_io/validation.hpp"
+#include "field_solver/field_io/vtk_io.hpp"
 
 using namespace magenc::fem;
 using magenc::GridData;

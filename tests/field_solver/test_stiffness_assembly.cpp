@@ -1,4 +1,4 @@
-// Stiffness assembly (field_solver/assembly.cpp) against an independent reference on a
+// Stiffness assembly (field_solver/fe/assembly.cpp) against an independent reference on a
 // mesh of meshes/coarse.toml's size: the CSR assembly (pattern from the cell dofs,
 // element matrices in chunks, row-wise scatter in element order, Robin faces last)
 // must give exactly the matrix of a plain std::map assembly that sums every entry's
@@ -16,8 +16,8 @@
 #include <random>
 #include <utility>
 
-#include "assembly.hpp"
-#include "element.hpp"
+#include "field_solver/fe/assembly.hpp"
+#include "field_solver/fe/element.hpp"
 #include "fem_test_util.hpp"
 
 using namespace magenc::fem;

@@ -1,4 +1,4 @@
-// Mirror-symmetric meshing (field_solver/symmetric_mesh.hpp).
+// Mirror-symmetric meshing (field_solver/mesh/symmetric_mesh.hpp).
 //  - the quadrant PLC, meshed and mirrored, fills the same domain as a mesh of
 //    the whole PLC: total and per-region volumes agree to rounding, for every
 //    geometry the solver builds (zone box, zone core down to the magnet,
@@ -29,8 +29,8 @@
 
 #include "core/errors.hpp"
 #include "fem_test_util.hpp"
-#include "magnetostatic_solver.hpp"
-#include "symmetric_mesh.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
+#include "field_solver/mesh/symmetric_mesh.hpp"
 #include "core/units.hpp"
 
 using namespace magenc::fem;

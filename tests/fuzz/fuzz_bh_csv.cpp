@@ -1,5 +1,5 @@
 // libFuzzer target: the B-H curve reader (bh_curve.hpp), and the curve it returns evaluated.
-#include "bh_curve.hpp"
+#include "field_solver/mesh/bh_curve.hpp"
 #include "core/errors.hpp"
 #include "fuzz_common.hpp"
 

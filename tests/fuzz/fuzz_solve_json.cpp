@@ -1,10 +1,10 @@
 // libFuzzer target: the solve.json reader of a solve_field output directory
-// (field_solver/solved_field.hpp: the facts, the magnet/plane consistency check,
+// (field_solver/field_io/solved_field.hpp: the facts, the magnet/plane consistency check,
 // the summaries' description and mu_r).
 #include "core/errors.hpp"
 #include "fuzz_common.hpp"
 #include "probe/common_keys.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const magenc::Config cfg(magenc::common_keys());

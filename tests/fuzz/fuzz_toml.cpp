@@ -1,8 +1,8 @@
 // libFuzzer target: the TOML configuration reader (Config::load_toml_string, --config) and the --set
 // parser, with solve_field's full key table (common keys + [fem] + [mesh] ...) and the [provenance] keys
 // (list keys and the table-list key provenance.fem_variants).
-#include "analysis/provenance.hpp"
-#include "fem_config.hpp"
+#include "studies/harmonic_provenance/provenance.hpp"
+#include "field_solver/solve/fem_config.hpp"
 #include "core/errors.hpp"
 #include "fuzz_common.hpp"
 

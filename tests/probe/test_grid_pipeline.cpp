@@ -13,7 +13,7 @@
 #include "fields/analytic_field.hpp"
 #include "core/errors.hpp"
 #include "fields/field_factory.hpp"
-#include "analysis/provenance.hpp"
+#include "studies/harmonic_provenance/provenance.hpp"
 #include "probe/common_keys.hpp"
 #include "support/spectrum_compare.hpp"
 #include "support/study_test_util.hpp"

@@ -12,9 +12,9 @@
 #include "core/errors.hpp"
 #include "core/fp_trap.hpp"
 #include "fields/grid_field.hpp"
-#include "magnetostatic_solver.hpp"
+#include "field_solver/solve/magnetostatic_solver.hpp"
 #include "reliability/run_process.hpp"
-#include "vtk_io.hpp"
+#include "field_solver/field_io/vtk_io.hpp"
 
 using namespace magenc_test;
 

@@ -23,7 +23,7 @@
 #include "fields/grid_field.hpp"
 #include "probe/common_keys.hpp"
 #include "reliability/run_process.hpp"
-#include "solved_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define MAGENC_ASAN 1

@@ -1,4 +1,4 @@
-// The stray_field and temperature studies (studies/stray_field.cpp, studies/temperature.cpp) with tiny
+// The stray_field and temperature studies (studies/stray_field/stray_field.cpp, studies/temperature/temperature.cpp) with tiny
 // configurations: the files, docs/physics.md's reference values through the tables (uniform Bz on `two`:
 // c1 1.774 deg per mT; 100 A along y at 10 mm: `diff4` c1 0.639 deg), and bad input (one line, exit 2,
 // no output folder).

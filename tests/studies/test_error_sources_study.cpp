@@ -1,4 +1,4 @@
-// error_sources study (studies/error_sources.cpp) with a tiny configuration:
+// error_sources study (studies/error_sources/error_sources.cpp) with a tiny configuration:
 // the docs/physics.md reference values ("Beyond the five offsets": exact field,
 // default magnet, r0 = 2.4 mm, `two`), the symmetry statements (elevation
 // gives nothing on diff4), the fits table naming the source, the harmonic

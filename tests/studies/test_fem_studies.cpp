@@ -309,7 +309,7 @@ TEST_CASE("airgap study: tiny run on a coarse solve", "[studies][cli]") {
   fs::remove_all(out);
 }
 
-// The study solves its FE variants in-process (field_solver/fem_variant.hpp); the variant "coarse P2" below has the
+// The study solves its FE variants in-process (field_solver/field_io/fem_variant.hpp); the variant "coarse P2" below has the
 // settings of coarse_field() (coarse.toml, order 2, mu_r = 1), so both paths must give the same spectra: the
 // in-process solve evaluated directly against fem:DIR (mesh.vtu written and read back), and its in-memory plane grid
 // against DIR/plane.vti. Same mesh (TetGen is deterministic), same CG up to OpenMP summation order: agreement to

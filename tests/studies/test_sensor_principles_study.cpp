@@ -1,4 +1,4 @@
-// sensor_principles study (studies/sensor_principles.cpp) with a tiny
+// sensor_principles study (studies/sensor_principles/sensor_principles.cpp) with a tiny
 // configuration: the files, the spectra table's extra columns, docs/physics.md's
 // in-plane reference value through the study (sx 0.1 mm: c2 0.0340 deg), the
 // in-plane spot's indifference to dynamic eccentricity, the window counts, and

@@ -1,0 +1,114 @@
+#include "field_solver/mesh/bh_curve.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "core/text_table.hpp"
+
+namespace magenc::fem {
+namespace {
+
+constexpr std::size_t kMinRows = 4;
+
+// Fritsch-Carlson slopes at the rows of a strictly increasing table (monotone cubic Hermite).
+std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector<double>& y) {
+  const std::size_t n = x.size();
+  std::vector<double> h(n - 1), d(n - 1), m(n, 0.0);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    h[i] = x[i + 1] - x[i];
+    d[i] = (y[i + 1] - y[i]) / h[i];
+  }
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    // Weighted harmonic mean of the neighbouring secants (all > 0 here).
+    const double w1 = 2 * h[i] + h[i - 1], w2 = h[i] + 2 * h[i - 1];
+    m[i] = (w1 + w2) / (w1 / d[i - 1] + w2 / d[i]);
+  }
+  // End slopes: the three-point formula, kept within [0, 3 d] (monotone).
+  auto end = [](double h0, double h1, double d0, double d1) {
+    double s = ((2 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
+    if (s < 0) s = 0;
+    if (s > 3 * d0) s = 3 * d0;
+    return s;
+  };
+  // At the origin (the first row is (0, 0)) at least mu0: a measured curve whose first rows are still in the
+  // convex (Rayleigh) start gives a three-point slope <= 0, and B would fall below mu0 H near H = 0.
+  m[0] = std::max(end(h[0], h[1], d[0], d[1]), kMu0_T_m_per_A);
+  m[n - 1] = end(h[n - 2], h[n - 3], d[n - 2], d[n - 3]);
+  return m;
+}
+
+}  // namespace
+
+BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string& where)
+    : H_(std::move(H)), B_(std::move(B)) {
+  const std::string allowed = "allowed rows H_A_per_m,B_T starting at 0,0, both strictly increasing, at least " +
+                              std::to_string(kMinRows) + " rows, B >= mu0 H";
+  if (H_.size() != B_.size()) throw InputError(where + ": H and B columns differ in length: " + allowed);
+  if (H_.size() < kMinRows)
+    throw InputError(where + ": " + std::to_string(H_.size()) + " rows are too few: " + allowed);
+  for (std::size_t i = 0; i < H_.size(); ++i)
+    if (!std::isfinite(H_[i]) || !std::isfinite(B_[i]))
+      throw InputError(where + ": row " + std::to_string(i + 1) + " is not finite: " + allowed);
+  if (H_[0] != 0.0 || B_[0] != 0.0)
+    throw InputError(where + ": the first row is (" + num(H_[0]) + ", " + num(B_[0]) + "), not (0, 0): " + allowed);
+  for (std::size_t i = 1; i < H_.size(); ++i) {
+    if (!(H_[i] > H_[i - 1]) || !(B_[i] > B_[i - 1]))
+      throw InputError(where + ": row " + std::to_string(i + 1) + " (H " + num(H_[i]) + " A/m, B " + num(B_[i]) +
+                       " T) does not increase over the row before: " + allowed);
+    if (B_[i] < kMu0_T_m_per_A * H_[i] * (1 - 1e-12))
+      throw InputError(where + ": row " + std::to_string(i + 1) + " has B " + num(B_[i]) + " T < mu0 H = " +
+                       num(kMu0_T_m_per_A * H_[i]) + " T (relative permeability below 1): " + allowed);
+  }
+  slope_ = pchip_slopes(H_, B_);
+}
+
+double BhCurve::B_T(double H) const {
+  if (H < 0) return -B_T(-H);
+  const std::size_t n = H_.size();
+  if (H >= H_[n - 1]) return B_[n - 1] + kMu0_T_m_per_A * (H - H_[n - 1]);
+  const std::size_t i = static_cast<std::size_t>(std::upper_bound(H_.begin(), H_.end(), H) - H_.begin()) - 1;
+  const double h = H_[i + 1] - H_[i], t = (H - H_[i]) / h;
+  const double t2 = t * t, t3 = t2 * t;
+  return (2 * t3 - 3 * t2 + 1) * B_[i] + (t3 - 2 * t2 + t) * h * slope_[i] + (-2 * t3 + 3 * t2) * B_[i + 1] +
+         (t3 - t2) * h * slope_[i + 1];
+}
+
+double BhCurve::dB_dH(double H) const {
+  if (H < 0) return dB_dH(-H);
+  const std::size_t n = H_.size();
+  if (H >= H_[n - 1]) return kMu0_T_m_per_A;
+  const std::size_t i = static_cast<std::size_t>(std::upper_bound(H_.begin(), H_.end(), H) - H_.begin()) - 1;
+  const double h = H_[i + 1] - H_[i], t = (H - H_[i]) / h;
+  const double t2 = t * t;
+  return ((6 * t2 - 6 * t) * B_[i] + (3 * t2 - 4 * t + 1) * h * slope_[i] + (-6 * t2 + 6 * t) * B_[i + 1] +
+          (3 * t2 - 2 * t) * h * slope_[i + 1]) /
+         h;
+}
+
+double BhCurve::mu_r(double H) const {
+  if (H == 0.0) return slope_[0] / kMu0_T_m_per_A;
+  return B_T(H) / (kMu0_T_m_per_A * H);
+}
+
+BhCurve parse_bh_csv(const std::string& text, const std::string& where) {
+  const NumericTable t = parse_numeric_table(text, where, {"H_A_per_m", "B_T"});
+  const int ch = t.column("H_A_per_m"), cb = t.column("B_T");
+  if (ch < 0 || cb < 0)
+    throw InputError(where + ": missing column '" + std::string(ch < 0 ? "H_A_per_m" : "B_T") +
+                     "': allowed columns H_A_per_m, B_T");
+  std::vector<double> H, B;
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    H.push_back(t.at(r, static_cast<std::size_t>(ch)));
+    B.push_back(t.at(r, static_cast<std::size_t>(cb)));
+  }
+  return BhCurve(std::move(H), std::move(B), where);
+}
+
+BhCurve read_bh_csv(const std::filesystem::path& file) {
+  const std::string where = "B-H curve " + file.string();
+  return parse_bh_csv(read_text_file(file, where, std::uintmax_t(1) << 24), where);
+}
+
+}  // namespace magenc::fem
