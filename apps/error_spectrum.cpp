@@ -68,10 +68,8 @@ void apply_flag(Config& cfg, const std::string& flag, const std::string& key,
   try {
     cfg.set(key + "=" + *text);
   } catch (const InputError&) {
-    for (const auto& s : cfg.schema())
-      if (s.key == key)
-        throw InputError(flag + " " + *text + " (" + key + ") is invalid: allowed " +
-                         magenc::allowed_range(s));
+    if (const magenc::KeySpec* s = cfg.find(key))
+      throw InputError(flag + " " + *text + " (" + key + ") is invalid: allowed " + magenc::allowed_range(*s));
     throw;
   }
 }

@@ -392,9 +392,7 @@ Config calibration_state(const Config& cfg) {
     };
     if (key.rfind("calibration.", 0) == 0) refuse("a calibration key cannot set the calibration state");
     if (key.rfind("magnet.", 0) == 0) refuse("the field source is the run's, a magnet key would not change it");
-    bool declared = false;
-    for (const auto& k : cfg.schema()) declared = declared || k.key == key;
-    if (!declared) refuse("not a configuration key");
+    if (!cfg.find(key)) refuse("not a configuration key");
     try {
       state.set_value(key, std::visit([](const auto& y) { return ConfigValue(y); }, value));
     } catch (const InputError& e) {
@@ -412,6 +410,30 @@ Correction correction_from_config(const FieldSource& field, const Config& cfg, c
   const ProbeSetup setup = sensor_setup_from_config(state, array_spec, what);
   const AngleErrorResult at = angle_error(field, setup, Mount::from_config(state));
   return calibrate(method, at, setup.principle);
+}
+
+namespace {
+// calibration.at: a table of any configuration keys, set over the run's own values for the calibration state.
+KeySpec calibration_at_key() {
+  KeySpec s;
+  s.key = "calibration.at";
+  s.type = KeySpec::Type::Settings;
+  s.default_value = "{ mount.sx_mm = 0.1, mount.dx_mm = 0.1 }";
+  s.help = "the calibration state: a table of configuration keys (mount, sensor, ...) set over the run's own "
+           "values, e.g. { mount.sx_mm = 0.1, mount.dx_mm = 0.1 }";
+  return s;
+}
+}  // namespace
+
+std::vector<KeySpec> calibration_keys() {
+  return {
+      // Calibration (docs/physics.md "Calibration"; analysis/calibration.hpp).
+      string_key("calibration.method", "none", {},
+                 "factory correction taken at calibration.at: none, harmonics:N (least-squares harmonics of the "
+                 "error over the sensor's angle), lut:K (K-point periodic linear table), ogp (channel offsets, "
+                 "gain ratio, phase)"),
+      calibration_at_key(),
+  };
 }
 
 }  // namespace magenc

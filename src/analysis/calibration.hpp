@@ -117,4 +117,9 @@ Config calibration_state(const Config& cfg);
 Correction correction_from_config(const FieldSource& field, const Config& cfg, const std::string& array_spec,
                                   const std::string& what = "sensor.array");
 
+// calibration.method and calibration.at, declared here beside their reader: only the executables that apply a
+// calibration (error_spectrum, calibrate) declare them; everywhere else they are unknown keys, never silently
+// ignored.
+std::vector<KeySpec> calibration_keys();
+
 }  // namespace magenc

@@ -21,8 +21,10 @@
 // naming the field, the element and the count. Readers take its elements with ConfigTable::numbers().
 #pragma once
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <variant>
 #include <vector>
 
@@ -122,7 +124,12 @@ class Config {
   bool flag(const std::string& key) const;
   bool has(const std::string& key) const;
 
-  const std::vector<KeySpec>& schema() const { return schema_; }
+  // The declaration of key, or nullptr when this configuration does not declare it (one lookup in an
+  // index, not a scan of the schema).
+  const KeySpec* find(const std::string& key) const;
+  // The declared default of key as its declaration writes it; InputError for an undeclared key.
+  const std::string& default_text(const std::string& key) const;
+  const std::vector<KeySpec>& schema() const { return *schema_; }
   // The values in use, as a TOML document (echoed next to outputs).
   std::string to_toml() const;
   // The values in use as JSON text (object of sections).
@@ -133,16 +140,15 @@ class Config {
  private:
   const KeySpec& spec(const std::string& key) const;
   void assign_checked(const KeySpec& s, const ConfigValue& v, const std::string& origin);
-  std::vector<KeySpec> schema_;
+  // The schema and its index by key are shared by the copies of a configuration (a study's per-case copies
+  // copy only the values).
+  std::shared_ptr<const std::vector<KeySpec>> schema_;
+  std::shared_ptr<const std::unordered_map<std::string, std::size_t>> index_;
   std::map<std::string, ConfigValue> values_;
 };
 
 // Text of a key's allowed range, e.g. "(0, 100] mm" or "one of two, diff4, ring:N".
 std::string allowed_range(const KeySpec& s);
-
-// calibration.method and calibration.at: declared only by the executables that apply a calibration
-// (error_spectrum, calibrate); everywhere else they are unknown keys, never silently ignored.
-std::vector<KeySpec> calibration_keys();
 
 // Concatenate schemas (later ones may not redeclare a key).
 std::vector<KeySpec> merge_schemas(std::vector<KeySpec> a, const std::vector<KeySpec>& b);

@@ -420,9 +420,8 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   s.principle = parse_principle(cfg.str("sensor.principle"));
   std::string spec = array_spec;
   if (reads_in_plane(s.principle) && spec != "point") {
-    std::string def;
-    for (const auto& k : cfg.schema())
-      if (k.key == "sensor.array") def = k.default_value;
+    const KeySpec* array_key = cfg.find("sensor.array");
+    const std::string def = array_key ? array_key->default_value : "";
     if (what == "sensor.array" && spec == def) spec = "point";  // the default is not a choice
     else
       throw InputError(what + " = '" + array_spec + "' does not apply to sensor.principle = " +

@@ -26,9 +26,8 @@ void require_finite(const Eigen::Vector3d& v, const std::string& key, const std:
 
 // The declared default of a real key (a key the schema lacks: NaN).
 double default_real(const Config& cfg, const std::string& key) {
-  for (const auto& s : cfg.schema())
-    if (s.key == key) return std::stod(s.default_value);
-  return std::nan("");
+  const KeySpec* s = cfg.find(key);
+  return s ? std::stod(s->default_value) : std::nan("");
 }
 
 }  // namespace

@@ -13,9 +13,8 @@ const char* const kAllowedPrinciples = "allowed bz, inplane, xmr, amr";
 
 // The declared default of a key (its text, as the schema holds it).
 std::string default_text(const Config& cfg, const std::string& key) {
-  for (const auto& s : cfg.schema())
-    if (s.key == key) return s.default_value;
-  return "";
+  const KeySpec* s = cfg.find(key);
+  return s ? s->default_value : "";
 }
 
 // A real key differs from its declared default (a key the schema lacks never does).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "io/plot.hpp"
 #include "report/comparison_run.hpp"
 #include "report/study_plots.hpp"
@@ -159,7 +160,7 @@ void airgap_harmonic_slopes_section(std::ostringstream& md, const AirgapResult& 
 
 }  // namespace
 
-void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const Config& cfg) {
+void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const StudySetup& setup) {
   const ComparisonInputs& in = result.inputs;
   const ComparisonRun& cr = result.run;
   const auto& runs = cr.arrays;
@@ -178,9 +179,7 @@ void write_real_field_report(StudyOutput& out, const RealFieldResult& result, co
   std::ostringstream md;
   md << "# real_field: mounting errors on the FEM field of the magnet, beside the exact field\n\n"
      << fe_solution_text(in.dir, in.solve_description, in.sources, result.interp)
-     << ". Exact field of the same magnet (R = " << fmt(cfg.real("magnet.radius_mm"), 2)
-     << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T, plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face) beside every case. r0 = "
+     << ". Exact field of the same magnet (" << magnet_text(setup) << ", plane " << fmt(setup.plane_height_mm, 2) << " mm above the top face) beside every case. r0 = "
      << fmt(in.setups.front().r0_mm, 3) << " mm, " << in.setups.front().steps << " samples per turn. Each of ";
   for (std::size_t i = 0; i < offsets.size(); ++i) md << (i ? ", " : "") << offset_symbol(offsets[i]);
   md << " alone swept over " << fmt(values.front(), 2) << ".." << fmt(values.back(), 2) << " mm (" << values.size()

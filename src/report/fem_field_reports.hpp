@@ -5,6 +5,7 @@
 //               differences_<offset>.png; the summary carries the acceptance table
 //   airgap      eps.png, coefficients_<case>.png, differences_<case>.png
 #pragma once
+#include "analysis/study_setup.hpp"
 #include "analysis/fem_field_studies.hpp"
 #include "core/config.hpp"
 #include "report/study_output.hpp"
@@ -12,7 +13,7 @@
 namespace magenc {
 
 // cfg: the [magnet] and [sensor] values quoted in the summary.
-void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const Config& cfg);
+void write_real_field_report(StudyOutput& out, const RealFieldResult& result, const StudySetup& setup);
 
 void write_airgap_report(StudyOutput& out, const AirgapResult& result);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "io/plot.hpp"
 #include "probe/spectrum.hpp"
 #include "report/study_plots.hpp"
@@ -57,15 +58,13 @@ std::vector<std::string> write_exact_field_plots(StudyOutput& out, const ExactFi
 }
 
 // summary.md: the field, the arrays and what was swept.
-void exact_field_intro(std::ostringstream& md, const ExactFieldResult& r, const Config& cfg) {
+void exact_field_intro(std::ostringstream& md, const ExactFieldResult& r, const StudySetup& setup) {
   const auto& o = r.options;
   const auto& arrays = r.arrays;
   const ProbeSetup& first = arrays.front().setup;
   const auto& dz_values = r.dz_values_mm;
   md << "# exact_field: mounting errors on the exact field of the magnet\n\n"
-     << "Field `" << r.field << "` (magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2)
-     << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T; sensing plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face), r0 = "
+     << "Field `" << r.field << "` (magnet " << magnet_text(setup) << "; sensing plane " << fmt(setup.plane_height_mm, 2) << " mm above the top face), r0 = "
      << fmt(first.r0_mm, 3) << " mm, " << first.steps << " samples per turn, arrays ";
   for (std::size_t i = 0; i < arrays.size(); ++i) md << (i ? ", " : "") << "`" << arrays[i].setup.array.name << "`";
   md << " (`sensor.array` is not used; `study.arrays` lists them).\n"
@@ -253,7 +252,7 @@ void write_linear_model_report(StudyOutput& out, const LinearModelResult& r) {
   out.write_text("summary.md", md.str());
 }
 
-void write_exact_field_report(StudyOutput& out, const ExactFieldResult& r, const Config& cfg) {
+void write_exact_field_report(StudyOutput& out, const ExactFieldResult& r, const StudySetup& setup) {
   // 1. Tables.
   std::vector<SpectrumRow> rows;
   for (const auto& a : r.arrays) {
@@ -268,7 +267,7 @@ void write_exact_field_report(StudyOutput& out, const ExactFieldResult& r, const
 
   // 3. Summary.
   std::ostringstream md;
-  exact_field_intro(md, r, cfg);
+  exact_field_intro(md, r, setup);
   exact_field_ideal_section(md, r);
   exact_field_dominant_section(md, r);
   exact_field_linear_section(md, r);

@@ -5,6 +5,7 @@
 //   exact_field   spectra.csv, fits.csv, eps.png, harmonics.png,
 //                 coefficients_<offset>.png, summary.md
 #pragma once
+#include "analysis/study_setup.hpp"
 #include "analysis/offset_sweeps.hpp"
 #include "core/config.hpp"
 #include "report/study_output.hpp"
@@ -14,6 +15,6 @@ namespace magenc {
 void write_linear_model_report(StudyOutput& out, const LinearModelResult& result);
 
 // cfg: the [magnet] and [sensor] values quoted in the summary.
-void write_exact_field_report(StudyOutput& out, const ExactFieldResult& result, const Config& cfg);
+void write_exact_field_report(StudyOutput& out, const ExactFieldResult& result, const StudySetup& setup);
 
 }  // namespace magenc

@@ -20,7 +20,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const CalibrationStudyOptions opt = CalibrationStudyOptions::from_config(cfg);
   const FieldSourcePtr field = make_field_source(cfg.str("study.field"), cfg);
   const CalibrationStudyResult result = run_calibration_study(*field, cfg, opt);
-  write_calibration_report(result, opt, cfg, out);
+  write_calibration_report(result, opt, StudySetup::from_config(cfg), out);
 }
 
 }  // namespace

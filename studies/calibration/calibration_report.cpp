@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "io/plot.hpp"
 
 namespace magenc {
@@ -109,7 +110,7 @@ void write_spectra_plot(const CalibrationStudyResult& r, StudyOutput& out) {
 }
 
 // summary.md: the residual at the drift box beside the uncalibrated p99, and the budget per drift key.
-void write_summary(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const Config& cfg, StudyOutput& out) {
+void write_summary(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const StudySetup& setup, StudyOutput& out) {
   const auto nm = static_cast<Eigen::Index>(r.methods.size());
   std::ostringstream md;
   md << "# calibration: what is left of the factory correction after a drift\n\n"
@@ -117,7 +118,7 @@ void write_summary(const CalibrationStudyResult& r, const CalibrationStudyOption
      << "sx, sy +-" << g6(opt.box.sx_mm) << " mm, dx, dy +-" << g6(opt.box.dx_mm) << "/" << g6(opt.box.dy_mm)
      << " mm, dz +-" << g6(opt.box.dz_mm) << " mm; each calibrated there and run after one drift draw from the drift box:";
   for (const auto& d : opt.drift) md << " " << d.key << " +-" << g6(d.half_width) << ";";
-  md << " " << opt.mc_steps << " samples per turn; r0 " << g6(cfg.real("sensor.r0_mm")) << " mm for the bz arrays. "
+  md << " " << opt.mc_steps << " samples per turn; r0 " << g6(setup.r0_mm) << " mm for the bz arrays. "
      << "Wall time " << fmt_sig(r.wall_s, 3) << " s.\n\n";
   md << "## Residual pp at the drift box (p50 / p99, deg) beside the uncalibrated p99\n\n";
   std::vector<std::string> head{"sensor", "uncalibrated p99"};
@@ -164,12 +165,12 @@ void write_summary(const CalibrationStudyResult& r, const CalibrationStudyOption
 
 }  // namespace
 
-void write_calibration_report(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const Config& cfg,
+void write_calibration_report(const CalibrationStudyResult& r, const CalibrationStudyOptions& opt, const StudySetup& setup,
                               StudyOutput& out) {
   write_tables(r, out);
   write_drift_plot(r, opt, out);
   write_spectra_plot(r, out);
-  write_summary(r, opt, cfg, out);
+  write_summary(r, opt, setup, out);
 }
 
 }  // namespace magenc

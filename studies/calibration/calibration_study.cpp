@@ -12,12 +12,6 @@ namespace magenc {
 
 namespace {
 
-const KeySpec* find_key(const Config& cfg, const std::string& key) {
-  for (const auto& k : cfg.schema())
-    if (k.key == key) return &k;
-  return nullptr;
-}
-
 // Uniform in [-1, 1) for (seed, sample, drift key).
 double drift_unit(std::uint64_t seed, std::uint64_t i, std::uint64_t j) {
   const std::uint64_t h = splitmix64(splitmix64(seed ^ 0xC0FFEE1234567ULL) + i * 1024 + j);
@@ -93,7 +87,7 @@ CalibrationStudyOptions CalibrationStudyOptions::from_config(const Config& cfg) 
     DriftKey d{t.text("key"), 0};
     for (const auto& e : t.entries)
       if (e.field == "half_width") d.half_width = std::get<double>(e.value);
-    const KeySpec* k = find_key(cfg, d.key);
+    const KeySpec* k = cfg.find(d.key);
     const std::string allowed = ": allowed a declared real key other than calibration.*, magnet.*, study.*, tol.*, drift.*";
     if (!k || k->type != KeySpec::Type::Real) throw InputError("drift.keys key '" + d.key + "' is not a real configuration key" + allowed);
     for (const char* bad : {"calibration.", "magnet.", "study.", "tol.", "drift."})

@@ -45,7 +45,7 @@ void run(const Config& cfg, StudyOutput& out) {
   // 2. Every source alone on every array, cubic fits.
   const ErrorSourcesRun result = run_error_sources(cfg, setups, kStudy);
   // 3. Tables, plots, summary.
-  write_error_sources_report(result, cfg, out);
+  write_error_sources_report(result, StudySetup::from_config(cfg), out);
 }
 
 }  // namespace

@@ -117,6 +117,9 @@ ErrorSourcesRun run_error_sources(const Config& cfg, const std::vector<ProbeSetu
     run.sources.push_back(&src);
   }
   run.coefs = cfg.strings("sweep.coefs");
+  run.sweep_points = cfg.integer("sweep.points");
+  run.floor_deg = cfg.real("summary.floor_deg");
+  run.relative = cfg.real("summary.relative");
   check_coef_names(run.coefs, "sweep.coefs");
   const int points = static_cast<int>(cfg.integer("sweep.points"));
   // 2. Each source alone on each array; cubic fits.

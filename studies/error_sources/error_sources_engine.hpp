@@ -84,6 +84,8 @@ struct ErrorSourcesRun {
   std::vector<std::vector<SweepResult>> sweeps;    // [source][array]
   std::vector<FitRow> fits;                        // every sweep's fits
   std::vector<std::string> coefs;                  // fitted columns
+  long sweep_points = 0;                           // sweep.points: values per source
+  double floor_deg = 0, relative = 0;              // summary.floor_deg, summary.relative
 };
 // Reads study.field, study.sources, sweep.points, the range keys and
 // sweep.coefs from cfg; the setups (array, r0, plane, steps) come from the caller.

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "io/plot.hpp"
 #include "io/tables.hpp"
 #include "report/study_plots.hpp"
@@ -141,15 +142,13 @@ std::vector<std::string> write_source_coefficient_plots(StudyOutput& out, const 
 }
 
 // summary.md: the field, the arrays and the swept sources.
-void error_sources_intro(std::ostringstream& md, const ErrorSourcesRun& run, const Config& cfg) {
+void error_sources_intro(std::ostringstream& md, const ErrorSourcesRun& run, const StudySetup& setup) {
   md << "# error_sources: the error sources beyond the five offsets, one at a time\n\n"
-     << "Field `" << run.field << "` (magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2)
-     << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T; sensing plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face), r0 = "
+     << "Field `" << run.field << "` (magnet " << magnet_text(setup) << "; sensing plane " << fmt(setup.plane_height_mm, 2) << " mm above the top face), r0 = "
      << fmt(run.setups.front().r0_mm, 3) << " mm, " << run.setups.front().steps << " samples per turn, arrays ";
   for (std::size_t a = 0; a < run.setups.size(); ++a) md << (a ? ", " : "") << "`" << sensor_label(run.setups[a]) << "`";
   md << ". Each source is swept alone from 0 (every other key as configured: an ideal mount by default) in "
-     << cfg.integer("sweep.points") << " values:\n\n";
+     << run.sweep_points << " values:\n\n";
   {
     std::vector<std::vector<std::string>> t;
     for (std::size_t s = 0; s < run.sources.size(); ++s) {
@@ -238,8 +237,8 @@ void error_sources_references(std::ostringstream& md, const ErrorSourcesRun& run
 
 }  // namespace
 
-void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, StudyOutput& out) {
-  const double floor_deg = cfg.real("summary.floor_deg"), rel = cfg.real("summary.relative");
+void write_error_sources_report(const ErrorSourcesRun& run, const StudySetup& setup, StudyOutput& out) {
+  const double floor_deg = run.floor_deg, rel = run.relative;
   // 1. Tables.
   std::vector<SpectrumRow> rows;
   for (const auto& per_array : run.sweeps)
@@ -256,7 +255,7 @@ void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, S
 
   // 4. summary.md.
   std::ostringstream md;
-  error_sources_intro(md, run, cfg);
+  error_sources_intro(md, run, setup);
   error_sources_matrix(md, run, sig, floor_deg, rel);
   error_sources_references(md, run);
   md << "## Coefficients against each source (cubic fits)\n\n";

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/study_setup.hpp"
 #include "studies/error_sources/error_sources_engine.hpp"
 #include "core/config.hpp"
 #include "report/study_output.hpp"
@@ -34,6 +35,6 @@ std::string harmonics_csv(const ErrorSourcesRun& run, double floor_deg, double r
 std::string signature_text(const HarmonicSignature& h, double floor_deg, double rel, int max_count = 3);
 
 // Writes every output file of the study into out.
-void write_error_sources_report(const ErrorSourcesRun& run, const Config& cfg, StudyOutput& out);
+void write_error_sources_report(const ErrorSourcesRun& run, const StudySetup& setup, StudyOutput& out);
 
 }  // namespace magenc

@@ -34,7 +34,7 @@ std::vector<KeySpec> study_keys() {
 
 void run(const Config& cfg, StudyOutput& out) {
   const ExactFieldResult result = run_exact_field(cfg, kStudy);
-  write_exact_field_report(out, result, cfg);
+  write_exact_field_report(out, result, StudySetup::from_config(cfg));
 }
 
 }  // namespace

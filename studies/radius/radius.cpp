@@ -50,7 +50,7 @@ void run(const Config& cfg, StudyOutput& out) {
   out.write_text("radius_budget.csv", budget_csv(result));
   write_radius_plots(result, opt, out.dir());
   write_budget_plot(result, out.dir());
-  out.write_text("summary.md", radius_summary_md(result, opt, cfg, notes, wall_s));
+  out.write_text("summary.md", radius_summary_md(result, opt, StudySetup::from_config(cfg), notes, wall_s));
 }
 
 }  // namespace

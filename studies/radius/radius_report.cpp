@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "core/format.hpp"
 #include "io/plot.hpp"
 #include "report/study_output.hpp"
@@ -324,11 +325,10 @@ void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& d
 namespace {
 
 // What ran: magnet, sensor, arrays, tolerance box and window.
-void summary_what_ran(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg, const std::vector<std::string>& notes, const std::vector<std::string>& arrays) {
+void summary_what_ran(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt, const StudySetup& setup, const std::vector<std::string>& notes, const std::vector<std::string>& arrays) {
   md << "## What ran\n\n";
-  md << "- Magnet: R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = " << fmt(cfg.real("magnet.height_mm"), 2)
-     << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2) << " T, mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
-     << " (FEM only); sensing plane h = " << fmt(cfg.real("sensor.plane_height_mm"), 2)
+  md << "- Magnet: " << magnet_text(setup) << ", mu_r = " << fmt(setup.magnet_mu_r, 2)
+     << " (FEM only); sensing plane h = " << fmt(setup.plane_height_mm, 2)
      << " mm above the top face (z_s = " << fmt(opt.plane_z_mm, 3) << " mm).\n";
   md << "- Fields run:";
   for (const auto& f : r.fields) md << " `" << f.spec << "`";
@@ -446,7 +446,7 @@ void summary_recommendation(std::ostringstream& md, const RadiusScanResult& r, c
 }
 
 // Exact vs FEM field (only with more than one field).
-void summary_exact_vs_fem(std::ostringstream& md, const RadiusScanResult& r, const Config& cfg, const std::vector<std::string>& arrays) {
+void summary_exact_vs_fem(std::ostringstream& md, const RadiusScanResult& r, const StudySetup& setup, const std::vector<std::string>& arrays) {
   if (r.fields.size() > 1) {
     md << "## Exact vs FEM field\n\n";
     const std::string f0 = r.fields.front().field;
@@ -475,7 +475,7 @@ void summary_exact_vs_fem(std::ostringstream& md, const RadiusScanResult& r, con
                     "max rel diff [%]", "max rel diff Bz amplitude [%]"},
                    t)
        << "\n";
-    md << "The exact field has mu_r = 1; the FEM uses magnet.mu_r = " << fmt(cfg.real("magnet.mu_r"), 2)
+    md << "The exact field has mu_r = 1; the FEM uses magnet.mu_r = " << fmt(setup.magnet_mu_r, 2)
        << ", so part of the difference is physics, not discretization.\n\n";
   }
 }
@@ -591,15 +591,15 @@ void summary_plots(std::ostringstream& md, const RadiusScanResult& r, const std:
 
 }  // namespace
 
-std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
+std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const StudySetup& setup,
                               const std::vector<std::string>& notes, double wall_s) {
   std::ostringstream md;
   const auto arrays = array_names(opt);
   md << "# Probe radius study (`radius`)\n\n";
   md << "Which probe radius r0 to choose for this magnet, and what a mounting tolerance costs.\n\n";
-  summary_what_ran(md, r, opt, cfg, notes, arrays);
+  summary_what_ran(md, r, opt, setup, notes, arrays);
   summary_recommendation(md, r, opt);
-  summary_exact_vs_fem(md, r, cfg, arrays);
+  summary_exact_vs_fem(md, r, setup, arrays);
   summary_field_artefacts(md, r, arrays);
   summary_surrogate(md, r, opt);
   summary_budget(md, r, opt);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/study_setup.hpp"
 #include "analysis/radius_scan.hpp"
 
 namespace magenc {
@@ -48,7 +49,7 @@ void write_budget_plot(const RadiusScanResult& r, const std::filesystem::path& d
 void write_radius_plots(const RadiusScanResult& r, const RadiusScanOptions& opt, const std::filesystem::path& dir);
 
 // summary.md. notes: lines about which fields ran; wall_s: scan wall time.
-std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const Config& cfg,
+std::string radius_summary_md(const RadiusScanResult& r, const RadiusScanOptions& opt, const StudySetup& setup,
                               const std::vector<std::string>& notes, double wall_s);
 
 }  // namespace magenc

@@ -41,7 +41,7 @@ std::vector<KeySpec> study_keys() {
 
 void run(const Config& cfg, StudyOutput& out) {
   const RealFieldResult result = run_real_field(cfg, kStudy, fem_sources_from_config(cfg));
-  write_real_field_report(out, result, cfg);
+  write_real_field_report(out, result, StudySetup::from_config(cfg));
 }
 
 }  // namespace

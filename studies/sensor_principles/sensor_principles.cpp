@@ -24,7 +24,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const FieldSourcePtr field = make_field_source(cfg.str("study.field"), cfg);
   // 2. The comparison; 3. tables, plots, summary.
   const SensorPrinciplesResult result = run_sensor_principles(*field, base, opt);
-  write_sensor_principles_report(result, opt, cfg, out);
+  write_sensor_principles_report(result, opt, StudySetup::from_config(cfg), out);
 }
 
 }  // namespace

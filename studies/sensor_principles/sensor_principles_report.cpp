@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "core/format.hpp"
 #include "io/plot.hpp"
 #include "io/tables.hpp"
@@ -185,21 +186,19 @@ void write_box_plot(const SensorPrinciplesResult& r, const SensorPrinciplesOptio
 }
 
 // summary.md: What ran.
-void summary_what_ran(std::ostringstream& md, const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt, const Config& cfg) {
+void summary_what_ran(std::ostringstream& md, const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt, const StudySetup& setup) {
   const std::size_t S = r.sensors.size();
   md << "## What ran\n\n";
-  md << "- Field `" << r.field << "`: magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = "
-     << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T; sensing plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face.\n";
+  md << "- Field `" << r.field << "`: magnet " << magnet_text(setup) << "; sensing plane " << fmt(setup.plane_height_mm, 2) << " mm above the top face.\n";
   md << "- Sensors: ";
   for (std::size_t i = 0; i < S; ++i) {
     const auto& s = r.sensors[i];
     md << (i ? ", " : "") << "`" << s.label << "` ("
        << (reads_in_plane(s.principle) ? principle_name(s.principle) + ", one spot at the die centre"
-                                        : "bz, probes on r0 = " + fmt(cfg.real("sensor.r0_mm"), 2) + " mm")
+                                        : "bz, probes on r0 = " + fmt(setup.r0_mm, 2) + " mm")
        << ")";
   }
-  md << "; " << cfg.integer("sensor.steps") << " samples per turn for the single errors, " << opt.mc_steps
+  md << "; " << setup.steps << " samples per turn for the single errors, " << opt.mc_steps
      << " for the Monte Carlo.\n";
   md << "- Tolerance box: |sx| <= " << fmt(opt.box.sx_mm, 3) << ", |sy| <= " << fmt(opt.box.sy_mm, 3) << ", |dx| <= "
      << fmt(opt.box.dx_mm, 3) << ", |dy| <= " << fmt(opt.box.dy_mm, 3) << ", |dz| <= " << fmt(opt.box.dz_mm, 3)
@@ -333,7 +332,7 @@ void summary_tolerance_box(std::ostringstream& md, const SensorPrinciplesResult&
 }  // namespace
 
 void write_sensor_principles_report(const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt,
-                                    const Config& cfg, StudyOutput& out) {
+                                    const StudySetup& setup, StudyOutput& out) {
   // 1. Tables.
   out.write_text("spectra.csv", spectra_csv(r.spectra));
   out.write_text("principles.csv", principles_csv(r));
@@ -348,7 +347,7 @@ void write_sensor_principles_report(const SensorPrinciplesResult& r, const Senso
   // 4. summary.md.
   std::ostringstream md;
   md << "# sensor_principles: Hall arrays, in-plane Hall, xMR and AMR on the same magnet and mount\n\n";
-  summary_what_ran(md, r, opt, cfg);
+  summary_what_ran(md, r, opt, setup);
   summary_each_error_alone(md, r);
   summary_which_principle(md, r);
   summary_tolerance_box(md, r, opt);

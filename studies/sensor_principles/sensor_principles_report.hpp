@@ -8,6 +8,7 @@
 #pragma once
 #include <string>
 
+#include "analysis/study_setup.hpp"
 #include "analysis/sensor_principles.hpp"
 #include "core/config.hpp"
 #include "report/study_output.hpp"
@@ -16,6 +17,6 @@ namespace magenc {
 
 std::string principles_csv(const SensorPrinciplesResult& r);
 void write_sensor_principles_report(const SensorPrinciplesResult& r, const SensorPrinciplesOptions& opt,
-                                    const Config& cfg, StudyOutput& out);
+                                    const StudySetup& setup, StudyOutput& out);
 
 }  // namespace magenc

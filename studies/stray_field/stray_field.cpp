@@ -20,7 +20,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const StudyCase in = StudyCase::from_config(cfg);
   // 2. The computation; 3. tables, plots, summary.
   const StrayFieldResult result = run_stray_field(*in.field, in.base, in.mount, opt);
-  write_stray_field_report(result, opt, cfg, out);
+  write_stray_field_report(result, opt, StudySetup::from_config(cfg), out);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "core/format.hpp"
 #include "io/plot.hpp"
 
@@ -114,13 +115,11 @@ std::string wires_csv(const StrayFieldResult& r) {
 }
 
 // summary.md, "What ran".
-void summary_what_ran(const StrayFieldResult& r, const StrayFieldOptions& opt, std::ostringstream& md, const Config& cfg) {
+void summary_what_ran(const StrayFieldResult& r, const StrayFieldOptions& opt, std::ostringstream& md, const StudySetup& setup) {
   md << "# stray_field: angle error in homogeneous stray fields and beside a conductor\n\n";
   md << "## What ran\n\n";
-  md << "- Field `" << r.field << "`: magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = "
-     << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T; sensing plane " << fmt(cfg.real("sensor.plane_height_mm"), 2) << " mm above the top face; bz arrays on r0 = "
-     << fmt(cfg.real("sensor.r0_mm"), 2) << " mm; " << opt.steps << " samples per turn.\n";
+  md << "- Field `" << r.field << "`: magnet " << magnet_text(setup) << "; sensing plane " << fmt(setup.plane_height_mm, 2) << " mm above the top face; bz arrays on r0 = "
+     << fmt(setup.r0_mm, 2) << " mm; " << opt.steps << " samples per turn.\n";
   md << "- Mount: sx " << fmt(r.mount.sx_mm, 3) << ", sy " << fmt(r.mount.sy_mm, 3) << ", dx " << fmt(r.mount.dx_mm, 3)
      << ", dy " << fmt(r.mount.dy_mm, 3) << ", dz " << fmt(r.mount.dz_mm, 3) << " mm; tilts " << fmt(r.mount.tilt_x_deg, 2)
      << ", " << fmt(r.mount.tilt_y_deg, 2) << " deg (the `mount.*` keys).\n";
@@ -251,7 +250,7 @@ std::string stray_tolerated_csv(const StrayFieldResult& r) {
   return os.str();
 }
 
-void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions& opt, const Config& cfg,
+void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions& opt, const StudySetup& setup,
                               StudyOutput& out) {
   // 1. Tables.
   out.write_text("levels.csv", stray_levels_csv(r, opt));
@@ -263,7 +262,7 @@ void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions
   write_direction_maps(r, opt, out.dir());
   // 3. summary.md, one function per section.
   std::ostringstream md;
-  summary_what_ran(r, opt, md, cfg);
+  summary_what_ran(r, opt, md, setup);
   summary_levels(r, opt, md);
   summary_tolerated(r, opt, md);
   summary_maps_and_wires(r, opt, md);

@@ -4,6 +4,7 @@
 // |B| per sensor), wires.png (pp vs current per distance and orientation), direction_map_<sensor>.png
 // (pp over the sphere of directions at one magnitude), summary.md.
 #pragma once
+#include "analysis/study_setup.hpp"
 #include "studies/stray_field/stray_field_engine.hpp"
 #include "core/config.hpp"
 #include "report/study_output.hpp"
@@ -12,7 +13,7 @@ namespace magenc {
 
 std::string stray_levels_csv(const StrayFieldResult& r, const StrayFieldOptions& opt);
 std::string stray_tolerated_csv(const StrayFieldResult& r);
-void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions& opt, const Config& cfg,
+void write_stray_field_report(const StrayFieldResult& r, const StrayFieldOptions& opt, const StudySetup& setup,
                               StudyOutput& out);
 
 }  // namespace magenc

@@ -19,7 +19,7 @@ void run(const Config& cfg, StudyOutput& out) {
   const StudyCase in = StudyCase::from_config(cfg);
   // 2. The sweep; 3. tables, plots, summary.
   const TemperatureResult result = run_temperature_sweep(*in.field, in.base, in.mount, opt);
-  write_temperature_report(result, opt, cfg, out);
+  write_temperature_report(result, opt, StudySetup::from_config(cfg), out);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "report/setup_text.hpp"
 #include "core/format.hpp"
 #include "io/plot.hpp"
 
@@ -92,18 +93,16 @@ void write_field_plot(const TemperatureResult& r, StudyOutput& out) {
 }
 
 // summary.md: what ran, pp and the field margin at the extremes.
-void write_summary(const TemperatureResult& r, const TemperatureOptions& opt, const Config& cfg, StudyOutput& out) {
+void write_summary(const TemperatureResult& r, const TemperatureOptions& opt, const StudySetup& setup, StudyOutput& out) {
   const Environment& e = r.coefficients;
   std::ostringstream md;
   md << "# temperature: error spectra and field margin from " << fmt(opt.temperature_min_C, 0) << " to "
      << fmt(opt.temperature_max_C, 0) << " C\n\n## What ran\n\n";
-  md << "- Field `" << r.field << "`: magnet R = " << fmt(cfg.real("magnet.radius_mm"), 2) << " mm, L = "
-     << fmt(cfg.real("magnet.height_mm"), 2) << " mm, Br = " << fmt(cfg.real("magnet.br_T"), 2)
-     << " T at 20 C; Br(T) = Br (1 + " << fmt_sig(e.br_tc_per_K, 4) << " (T - 20))"
-     << (cfg.str("magnet.material") != "none" ? " (magnet.material `" + cfg.str("magnet.material") + "`)" : "")
+  md << "- Field `" << r.field << "`: magnet " << magnet_text(setup) << " at 20 C; Br(T) = Br (1 + " << fmt_sig(e.br_tc_per_K, 4) << " (T - 20))"
+     << (setup.magnet_material != "none" ? " (magnet.material `" + setup.magnet_material + "`)" : "")
      << "; offset drift " << fmt_sig(e.offset_cos_tc_uT_per_K, 4) << " / " << fmt_sig(e.offset_sin_tc_uT_per_K, 4)
-     << " uT/K (cos / sin) on offsets " << fmt_sig(cfg.real("sensor.offset_cos_mT"), 4) << " / "
-     << fmt_sig(cfg.real("sensor.offset_sin_mT"), 4) << " mT at 20 C; air-gap drift " << fmt_sig(e.dz_tc_um_per_K, 4)
+     << " uT/K (cos / sin) on offsets " << fmt_sig(setup.offset_cos_mT, 4) << " / "
+     << fmt_sig(setup.offset_sin_mT, 4) << " mT at 20 C; air-gap drift " << fmt_sig(e.dz_tc_um_per_K, 4)
      << " um/K.\n";
   md << "- Temperatures every " << fmt_sig(opt.temperature_step_K, 4) << " K; " << opt.steps
      << " samples per turn; field window " << mT_text(r.window.min_mT) << " .. " << mT_text(r.window.max_mT)
@@ -163,12 +162,12 @@ std::string temperature_csv(const TemperatureResult& r) {
   return os.str();
 }
 
-void write_temperature_report(const TemperatureResult& r, const TemperatureOptions& opt, const Config& cfg,
+void write_temperature_report(const TemperatureResult& r, const TemperatureOptions& opt, const StudySetup& setup,
                               StudyOutput& out) {
   out.write_text("temperature.csv", temperature_csv(r));
   write_pp_plot(r, out);
   write_field_plot(r, out);
-  write_summary(r, opt, cfg, out);
+  write_summary(r, opt, setup, out);
 }
 
 }  // namespace magenc

@@ -2,6 +2,7 @@
 
 #include <functional>
 
+#include "analysis/calibration.hpp"
 #include "core/config.hpp"
 #include "core/errors.hpp"
 #include "probe/common_keys.hpp"
