@@ -99,7 +99,7 @@ void SpeedChain::apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int 
   const double tau_c_s = delay_us * 1e-6, tau_s_s = (delay_us + skew_us) * 1e-6;
   // 1. Both channels in one complex DFT (z = u_c + i u_s), split, filtered and delayed, recombined.
   const ComplexDft& dft = ComplexDft::of(M);
-  std::vector<cd> z(static_cast<std::size_t>(M)), Z(z.size()), Uc(z.size()), Us(z.size());
+  std::vector<cd> z(static_cast<std::size_t>(M)), Z(z.size()), Uc(z.size()), Us(z.size()), Zout(z.size());
   for (int m = 0; m < M; ++m) z[std::size_t(m)] = cd(channels(m, 0), channels(m, 1));
   dft.forward(z.data(), Z.data());
   for (int k = 0; k < M; ++k) {
@@ -112,9 +112,9 @@ void SpeedChain::apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int 
     }
     Uc[std::size_t(k)] = Hc * 0.5 * (a + b);
     Us[std::size_t(k)] = Hs * cd(0.0, -0.5) * (a - b);
-    Z[std::size_t(k)] = Uc[std::size_t(k)] + cd(0.0, 1.0) * Us[std::size_t(k)];
+    Zout[std::size_t(k)] = Uc[std::size_t(k)] + cd(0.0, 1.0) * Us[std::size_t(k)];
   }
-  dft.backward(Z.data(), z.data());
+  dft.backward(Zout.data(), z.data());
   // 2. The angle and the prediction: eps = wrap(psi + p lead - p theta) / p.
   const double lead_deg = prediction == Prediction::Ideal ? lag_deg(p) : 0.0;
   auto error_deg = [&](double u_c, double u_s, double theta_deg) {

@@ -204,7 +204,9 @@ TEST_CASE("speed: the lag 6 n tau, atan(omega / omega_c), skew and hold closed f
         }
         CAPTURE(fs, rpm);
         CHECK(worst < 1e-9);
-        CHECK(r.spectrum.pp_deg == Approx(360.0 / S).epsilon(0.01));
+        // pp: one sample interval less at most one grid step (0.1 deg) where the samples fall on the grid
+        CHECK(r.spectrum.pp_deg <= 360.0 / S + 1e-9);
+        CHECK(r.spectrum.pp_deg >= 360.0 / S - 0.1 - 1e-9);
       }
     }
   }
@@ -282,12 +284,12 @@ TEST_CASE("speed: a brute-force simulation in time agrees with the steady state"
   // M = 360 grid angles of a +-rotation: eps at theta_k = 360 k / M (the time grid visits them in order).
   const double worst = (steady.eps_deg - brute).cwiseAbs().maxCoeff();
   CAPTURE(worst);
-  CHECK(worst < 1e-6);
+  CHECK(worst < 1e-7);  // measured 8e-9 deg (the filter's discretization, O(step^2))
   s.speed.prediction = Prediction::Ideal;
   s.speed.sample_hz = 0;
   const double worst_pred = (run(s, m).eps_deg - simulate_in_time(s, m, 36000, 4, 360)).cwiseAbs().maxCoeff();
   CAPTURE(worst_pred);
-  CHECK(worst_pred < 1e-6);
+  CHECK(worst_pred < 1e-7);
 }
 
 TEST_CASE("speed: bad input is one line naming the keys", "[probe][bad-input]") {
