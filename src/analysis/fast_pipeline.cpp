@@ -314,14 +314,24 @@ void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalCha
         ch(m, 0) = C[m];
         ch(m, 1) = S[m];
       }
-      speed_.apply(ch, e, 1);
+      const SpeedChain::FilteredTurn turn = speed_.filter(ch);
+      channel_angles(ch.col(0).data(), ch.col(1).data(), cos_theta_.data(), sin_theta_.data(), std::size_t(N),
+                     e.data(), nullptr, nullptr);
+      e *= 180.0 / kPi;
+      speed_.output(turn, e, 1);
       if (psi) {
         (*psi)[a].cos_psi.resize(N);
         (*psi)[a].sin_psi.resize(N);
-        for (int m = 0; m < N; ++m) {
-          const double out_rad = 2.0 * kPi * m / N + deg_to_rad(e[m]);
-          (*psi)[a].cos_psi[m] = std::cos(out_rad);
-          (*psi)[a].sin_psi[m] = std::sin(out_rad);
+        double prev_deg = std::numeric_limits<double>::quiet_NaN(), c = 1, s = 0;
+        for (int m = 0; m < N; ++m) {  // the output's angle theta + eps (held: one sincos per sample)
+          const double out_deg = wrap_deg(360.0 * m / N + e[m]);
+          if (!(std::abs(out_deg - prev_deg) < 1e-12)) {
+            c = std::cos(deg_to_rad(out_deg));
+            s = std::sin(deg_to_rad(out_deg));
+            prev_deg = out_deg;
+          }
+          (*psi)[a].cos_psi[m] = c;
+          (*psi)[a].sin_psi[m] = s;
         }
       }
       continue;

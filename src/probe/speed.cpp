@@ -1,5 +1,6 @@
 #include "probe/speed.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -15,30 +16,23 @@ namespace {
 
 using cd = std::complex<double>;
 
-// The per-turn frequency of DFT bin k of length M: 0..M/2, then negative.
-int frequency(int k, int M) { return 2 * k <= M ? k : k - M; }
-
-// H_k = exp(-i k omega tau) / (1 + i k omega / omega_c) (omega_c = 0: no filter).
-cd transfer(int k, double omega_rad_s, double tau_s, double omega_c_rad_s) {
-  const double kw = k * omega_rad_s;
-  const cd delay = std::polar(1.0, -kw * tau_s);
-  return omega_c_rad_s > 0 ? delay / cd(1.0, kw / omega_c_rad_s) : delay;
-}
-
-// The value at theta (rad) of the real trigonometric interpolant with DFT coefficients U (length M,
-// unscaled): (1/M) [Re U_0 + 2 sum_{0<k<M/2} Re(U_k e^{ik theta}) + Re(U_{M/2} e^{i M/2 theta})].
-double interpolant_at(const std::vector<cd>& U, double theta_rad) {
-  const int M = static_cast<int>(U.size());
+// The values at theta (rad) of the two real trigonometric interpolants of the turn (unscaled DFT coefficients,
+// k = 0..kmax): (1/M) [Re U_0 + 2 sum_{0<k<M/2} Re(U_k e^{ik theta}) + Re(U_{M/2} e^{i M/2 theta})], both channels
+// in one pass over k.
+void interpolants_at(const SpeedChain::FilteredTurn& t, double theta_rad, double& u_c, double& u_s) {
+  const int M = t.M;
   const cd step = std::polar(1.0, theta_rad);
-  cd e = step;
-  double sum = U[0].real();
-  for (int k = 1; 2 * k < M; ++k) {
-    sum += 2.0 * (U[static_cast<std::size_t>(k)] * e).real();
+  cd e = 1.0;
+  double sc = 0, ss = 0;
+  for (int k = 0; k <= t.kmax; ++k) {
+    if (k % 64 == 0 && k > 0) e = std::polar(1.0, k * theta_rad);  // (keeps the recurrence's round-off small)
+    const double weight = k == 0 || 2 * k == M ? 1.0 : 2.0;
+    sc += weight * (t.c[std::size_t(k)] * e).real();
+    ss += weight * (t.s[std::size_t(k)] * e).real();
     e *= step;
-    if (k % 64 == 0) e = std::polar(1.0, (k + 1) * theta_rad);  // (keeps the recurrence's round-off small)
   }
-  if (M % 2 == 0) sum += (U[static_cast<std::size_t>(M / 2)] * std::polar(1.0, M / 2 * theta_rad)).real();
-  return sum / M;
+  u_c = sc / M;
+  u_s = ss / M;
 }
 
 }  // namespace
@@ -93,44 +87,72 @@ void SpeedChain::validate() const {
                      num(rpm) + ": allowed 0 or >= " + num(2.0 * f_rot_hz) + " Hz");
 }
 
-void SpeedChain::apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int p) const {
-  const int M = static_cast<int>(channels.rows());
+SpeedChain::FilteredTurn SpeedChain::filter(Eigen::MatrixXd& channels) const {
+  FilteredTurn t;
+  const int M = t.M = static_cast<int>(channels.rows());
   const double w = omega_rad_s(), wc = 2.0 * kPi * filter_hz;
-  const double tau_c_s = delay_us * 1e-6, tau_s_s = (delay_us + skew_us) * 1e-6;
-  // 1. Both channels in one complex DFT (z = u_c + i u_s), split, filtered and delayed, recombined.
+  // H_k for k = 0..M/2 (negative k: the conjugate): the delays by recurrence, e^{-i k omega tau} = r^k.
+  const cd rc = std::polar(1.0, -w * delay_us * 1e-6), rs = std::polar(1.0, -w * (delay_us + skew_us) * 1e-6);
+  thread_local std::vector<cd> z, Z, out;
+  z.resize(std::size_t(M));
+  Z.resize(z.size());
+  out.resize(z.size());
+  t.c.resize(std::size_t(M / 2 + 1));
+  t.s.resize(t.c.size());
+  // Both channels in one complex DFT (z = u_c + i u_s), split into the real channels' coefficients, each
+  // multiplied by its H_k, recombined; the cos(M/2 theta) term of an even M takes Re H (its half weight).
   const ComplexDft& dft = ComplexDft::of(M);
-  std::vector<cd> z(static_cast<std::size_t>(M)), Z(z.size()), Uc(z.size()), Us(z.size()), Zout(z.size());
   for (int m = 0; m < M; ++m) z[std::size_t(m)] = cd(channels(m, 0), channels(m, 1));
   dft.forward(z.data(), Z.data());
-  for (int k = 0; k < M; ++k) {
-    const cd a = Z[std::size_t(k)], b = std::conj(Z[std::size_t((M - k) % M)]);
-    const int f = frequency(k, M);
-    cd Hc = transfer(f, w, tau_c_s, wc), Hs = transfer(f, w, tau_s_s, wc);
-    if (2 * k == M) {  // the cos(M/2 theta) term of a real channel: the half-weight split between +-M/2
+  cd dc = 1.0, ds = 1.0;
+  double largest = 0;
+  for (int k = 0; 2 * k <= M; ++k) {
+    if (k % 64 == 0) {  // (keeps the recurrence's round-off small)
+      dc = std::polar(1.0, -k * w * delay_us * 1e-6);
+      ds = std::polar(1.0, -k * w * (delay_us + skew_us) * 1e-6);
+    }
+    const cd lp = wc > 0 ? 1.0 / cd(1.0, k * w / wc) : cd(1.0);
+    cd Hc = dc * lp, Hs = ds * lp;
+    if (2 * k == M) {
       Hc = Hc.real();
       Hs = Hs.real();
     }
-    Uc[std::size_t(k)] = Hc * 0.5 * (a + b);
-    Us[std::size_t(k)] = Hs * cd(0.0, -0.5) * (a - b);
-    Zout[std::size_t(k)] = Uc[std::size_t(k)] + cd(0.0, 1.0) * Us[std::size_t(k)];
+    const std::size_t kp = std::size_t(k), km = std::size_t((M - k) % M);
+    const cd a = Z[kp], b = std::conj(Z[km]);
+    const cd uc = Hc * 0.5 * (a + b), us = Hs * cd(0.0, -0.5) * (a - b);  // the channels' component k
+    t.c[kp] = uc;
+    t.s[kp] = us;
+    out[kp] = uc + cd(0.0, 1.0) * us;
+    out[km] = std::conj(uc) + cd(0.0, 1.0) * std::conj(us);  // component -k (k = 0, M/2: the same value)
+    largest = std::max(largest, std::abs(uc) + std::abs(us));
+    dc *= rc;
+    ds *= rs;
   }
-  dft.backward(Zout.data(), z.data());
-  // 2. The angle and the prediction: eps = wrap(psi + p lead - p theta) / p.
-  const double lead_deg = prediction == Prediction::Ideal ? lag_deg(p) : 0.0;
-  auto error_deg = [&](double u_c, double u_s, double theta_deg) {
-    return wrap_deg(rad_to_deg(std::atan2(u_s, u_c)) + p * lead_deg - p * theta_deg) / p;
-  };
-  Eigen::VectorXd eps(M);
+  dft.backward(out.data(), z.data());
   for (int m = 0; m < M; ++m) {
     channels(m, 0) = z[std::size_t(m)].real() / M;
     channels(m, 1) = z[std::size_t(m)].imag() / M;
-    eps[m] = error_deg(channels(m, 0), channels(m, 1), 360.0 * m / M);
   }
-  eps_deg = eps;
+  // The hold's evaluations between grid angles stop at the last component above 1e-15 of the largest: the
+  // components left out (round-off of the transforms, or a spectrum that has decayed) change a channel by
+  // less than M/2 * 1e-15 of its amplitude.
+  t.kmax = M / 2;
+  while (t.kmax > 1 && std::abs(t.c[std::size_t(t.kmax)]) + std::abs(t.s[std::size_t(t.kmax)]) <= 1e-15 * largest)
+    --t.kmax;
+  return t;
+}
+
+void SpeedChain::output(const FilteredTurn& t, Eigen::VectorXd& eps_deg, int p) const {
+  const int M = t.M;
+  const double lead_deg = prediction == Prediction::Ideal ? lag_deg(p) : 0.0;
+  if (lead_deg != 0.0)
+    for (int m = 0; m < M; ++m) eps_deg[m] = wrap_deg(p * (eps_deg[m] + lead_deg)) / p;
   if (sample_hz <= 0) return;
-  // 3. The zero-order hold: at theta_m the output holds its value of the last sample time t_j = j / sample_hz
-  //    (t = 0 at theta = 0). u: the time of theta_m as a fraction of the turn, v that of its sample.
+  // The zero-order hold: at theta_m the output holds its value of the last sample time t_j = j / sample_hz
+  // (t = 0 at theta = 0). u: the time of theta_m as a fraction of the turn, v that of its sample.
+  const double w = omega_rad_s();
   const double S = sample_hz * 60.0 / std::abs(rpm);  // samples per turn (>= 2)
+  const Eigen::VectorXd eps = eps_deg;
   long last_j = -1;
   double last_eps = 0;
   for (int m = 0; m < M; ++m) {
@@ -142,16 +164,26 @@ void SpeedChain::apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int 
       const double gr = std::round(g);
       if (std::abs(g - gr) < 1e-6) {
         last_eps = eps[static_cast<Eigen::Index>(static_cast<long>(gr) % M)];
-      } else {
+      } else {  // between grid angles: the channels from their interpolants, then the angle and the lead
         const double theta_s_deg = 360.0 * g / M;
-        const double th = deg_to_rad(theta_s_deg);
-        last_eps = error_deg(interpolant_at(Uc, th), interpolant_at(Us, th), theta_s_deg);
+        double u_c = 0, u_s = 0;
+        interpolants_at(t, deg_to_rad(theta_s_deg), u_c, u_s);
+        last_eps = wrap_deg(rad_to_deg(std::atan2(u_s, u_c)) + p * lead_deg - p * theta_s_deg) / p;
       }
       last_j = j;
     }
     const double ahead_deg = 360.0 * (w > 0 ? v - u : u - v);  // theta_sample - theta_m
     eps_deg[m] = wrap_deg(p * (last_eps + ahead_deg)) / p;
   }
+}
+
+void SpeedChain::apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int p) const {
+  const FilteredTurn t = filter(channels);
+  const int M = t.M;
+  eps_deg.resize(M);
+  for (int m = 0; m < M; ++m)
+    eps_deg[m] = wrap_deg(rad_to_deg(std::atan2(channels(m, 1), channels(m, 0))) - p * (360.0 * m / M)) / p;
+  output(t, eps_deg, p);
 }
 
 std::vector<KeySpec> speed_keys() {

@@ -9,6 +9,7 @@
 // compensation), then a zero-order hold at sample_hz (first sample at theta = 0; 0 = continuous). Every
 // time constant acts only when rpm != 0: at rpm 0 the pipeline never enters the chain.
 #pragma once
+#include <complex>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,17 @@ struct SpeedChain {
   // u_c, u_s) are replaced by the filtered and delayed channels, eps_deg (M) by the angle error of the
   // output: wrap(psi - p theta) / p after the prediction and the hold (p = electrical turns per turn).
   void apply(Eigen::MatrixXd& channels, Eigen::VectorXd& eps_deg, int p = 1) const;
+
+  // apply() in two parts, for callers that take the angles in bulk in between (analysis/fast_pipeline):
+  // filter() replaces the channels by the delayed, filtered ones and returns their spectrum; output() turns
+  // eps_deg, the error of those channels' angle (wrap(psi - p theta) / p), into the output's (prediction, hold).
+  struct FilteredTurn {
+    int M = 0;
+    std::vector<std::complex<double>> c, s;  // unscaled DFT coefficients k = 0..M/2 of u_c', u_s'
+    int kmax = 0;                            // the last k the hold's evaluations between grid angles use
+  };
+  FilteredTurn filter(Eigen::MatrixXd& channels) const;
+  void output(const FilteredTurn& turn, Eigen::VectorXd& eps_deg, int p = 1) const;
 };
 
 std::string prediction_name(Prediction p);

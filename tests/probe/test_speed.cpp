@@ -131,7 +131,7 @@ TEST_CASE("speed: rpm 0 leaves every result bit for bit as the static pipeline's
   m.sx_mm = 0.07;
   m.dy_mm = -0.05;
   m.tilt_x_deg = 0.4;
-  for (const std::string& array : {"two", "diff4", "ring:5", "point"}) {
+  for (const std::string array : {"two", "diff4", "ring:5", "point"}) {
     for (const SensorPrinciple p : all_principles()) {
       if ((array == "point") != reads_in_plane(p)) continue;
       ProbeSetup still = test::probe_setup(array, 720);
@@ -153,7 +153,7 @@ TEST_CASE("speed: rpm 0 leaves every result bit for bit as the static pipeline's
 TEST_CASE("speed: the lag 6 n tau, atan(omega / omega_c), skew and hold closed forms", "[probe][closed-form]") {
   SECTION("delay: eps = -6 n tau deg on every array and principle") {
     for (const double rpm : {1234.0, -20000.0}) {
-      for (const std::string& array : {"two", "diff4", "ring:7"}) {
+      for (const std::string array : {"two", "diff4", "ring:7"}) {
         ProbeSetup s = at_speed(rpm, array, 720);
         s.speed.delay_us = 37;
         CHECK(run(s).spectrum.a0_deg == Approx(-6.0 * rpm * 37e-6).margin(1e-9));
