@@ -107,15 +107,17 @@ void run_attenuation(const FieldSource& field, const ProbeSetup& base, const Mou
 void run_calibration(const FieldSource& field, const ProbeSetup& base, const Mount& mount, SpeedStudyResult& r) {
   const SpeedStudyOptions& o = r.options;
   const CalibrationMethod method = CalibrationMethod::parse(o.calibration_method, "study.calibration_method");
-  const SpeedTiming timing = o.timings.empty() ? SpeedTiming{} : o.timings.front();
-  auto take = [&](double rpm) {
-    return calibrate(method, angle_error(field, with_speed(base, rpm, timing, Prediction::None), mount), base.principle);
-  };
-  const Correction at_rest = take(0.0), moving = take(o.calibration_rpm);
+  SpeedTiming timing = o.timings.empty() ? SpeedTiming{} : o.timings.front();
+  timing.sample_hz = 0;  // (the hold's sawtooth is the sampling's, not a function of the angle)
+  auto at = [&](double rpm) { return angle_error(field, with_speed(base, rpm, timing, Prediction::None), mount); };
+  const Correction at_rest = calibrate(method, at(0.0), base.principle);
+  const Correction moving = calibrate(method, at(o.calibration_rpm), base.principle);
   for (const double rpm : o.rpms()) {
-    const AngleErrorResult run = angle_error(field, with_speed(base, rpm, timing, Prediction::None), mount);
+    const AngleErrorResult run = at(rpm);
+    const Eigen::VectorXd rest = residual_deg(at_rest, run), mov = residual_deg(moving, run);
     auto pp = [](const Eigen::VectorXd& v) { return v.maxCoeff() - v.minCoeff(); };
-    r.calibration.push_back({rpm, run.spectrum.pp_deg, pp(residual_deg(at_rest, run)), pp(residual_deg(moving, run))});
+    r.calibration.push_back({rpm, run.spectrum.pp_deg, pp(rest), pp(mov), run.eps_deg.cwiseAbs().maxCoeff(),
+                             rest.cwiseAbs().maxCoeff(), mov.cwiseAbs().maxCoeff()});
   }
 }
 

@@ -8,7 +8,9 @@
 //  * attenuation: the configured (eccentric) mount behind a first-order filter at study.filter_hz alone:
 //    every harmonic at speed against its static value;
 //  * calibration: a correction (study.calibration_method) taken at rest and one taken at
-//    study.calibration_rpm with the first timing, both run at every speed.
+//    study.calibration_rpm with the first timing's delay and filter (its hold left out: a sawtooth whose
+//    phase is the sampling's, not the angle's, which no table of the angle removes), both run at every
+//    speed: pp and the largest |error| (the mean lag counts) of the residual.
 #pragma once
 #include <string>
 #include <vector>
@@ -66,6 +68,7 @@ struct AttenuationPoint {
 struct SpeedCalibrationPoint {
   double rpm = 0;
   double pp_raw_deg = 0, pp_cal_rest_deg = 0, pp_cal_moving_deg = 0;
+  double max_raw_deg = 0, max_cal_rest_deg = 0, max_cal_moving_deg = 0;  // max |eps|: the lag included
 };
 
 struct SpeedStudyResult {

@@ -54,9 +54,12 @@ std::string attenuation_csv(const SpeedStudyResult& r) {
 
 std::string calibration_csv(const SpeedStudyResult& r) {
   std::ostringstream os;
-  os << "rpm,pp_raw_deg,pp_calibrated_at_rest_deg,pp_calibrated_at_" << g(r.options.calibration_rpm) << "_rpm_deg\n";
+  const std::string at = g(r.options.calibration_rpm);
+  os << "rpm,pp_raw_deg,pp_calibrated_at_rest_deg,pp_calibrated_at_" << at << "_rpm_deg,max_abs_raw_deg,"
+     << "max_abs_calibrated_at_rest_deg,max_abs_calibrated_at_" << at << "_rpm_deg\n";
   for (const auto& c : r.calibration)
-    os << g(c.rpm) << ',' << g(c.pp_raw_deg) << ',' << g(c.pp_cal_rest_deg) << ',' << g(c.pp_cal_moving_deg) << '\n';
+    os << g(c.rpm) << ',' << g(c.pp_raw_deg) << ',' << g(c.pp_cal_rest_deg) << ',' << g(c.pp_cal_moving_deg) << ','
+       << g(c.max_raw_deg) << ',' << g(c.max_cal_rest_deg) << ',' << g(c.max_cal_moving_deg) << '\n';
   return os.str();
 }
 
@@ -76,6 +79,8 @@ void sweep_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
       lag.series.push_back(a);
       pp.series.push_back(b);
     }
+  lag.commands = {"set key bottom left"};
+  pp.commands = {"set key top left"};
   write_plot(dir, "speed_error", PlotSpec{"Angle error against speed (" + plot_literal(r.array) + ")", {lag, pp}, 2, 1400, 600});
 }
 
@@ -96,43 +101,54 @@ void commutation_plot(const SpeedStudyResult& r, const std::filesystem::path& di
         el.series.push_back(a);
         tq.series.push_back(b);
       }
-  write_plot(dir, "commutation", PlotSpec{"Motor commutation at speed", {el, tq}, 2, 1400, 600});
+  el.commands = {"set key below"};
+  tq.commands = {"set key below", "set yrange [-1.05:1.05]"};
+  write_plot(dir, "commutation", PlotSpec{"Motor commutation at speed", {el, tq}, 2, 1400, 900});
 }
 
 void attenuation_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel panel{"first-order filter at " + fmt(r.options.filter_hz, 0) + " Hz, mount of the configuration",
-                  "speed [rpm]", "c_n at speed / c_n at rest", {}};
+  const std::string filter = fmt(r.options.filter_hz, 0) + " Hz";
+  PlotPanel value{"c_n behind a first-order filter at " + filter, "speed [rpm]", "c_n [deg]", {}};
+  PlotPanel ratio{"c_n at speed / c_n at rest (harmonics of at least 1 % of c_1 at rest)", "speed [rpm]", "ratio", {}};
+  value.logy = true;
   const Spectrum& still = r.attenuation.front().spectrum;
   for (int n = 1; n <= 4; ++n) {
-    if (!(still.c_deg[n] > 1e-9)) continue;
-    PlotSeries s{"c" + std::to_string(n), {}, {}, "linespoints"};
+    PlotSeries v{"c" + std::to_string(n), {}, {}, "linespoints"}, q = v;
     for (const auto& a : r.attenuation) {
-      s.x.push_back(a.rpm);
-      s.y.push_back(a.spectrum.c_deg[n] / still.c_deg[n]);
+      v.x.push_back(a.rpm);
+      v.y.push_back(a.spectrum.c_deg[n] > 1e-12 ? a.spectrum.c_deg[n] : std::nan(""));
+      q.x.push_back(a.rpm);
+      q.y.push_back(a.spectrum.c_deg[n] / still.c_deg[n]);
     }
-    panel.series.push_back(s);
+    value.series.push_back(v);
+    if (still.c_deg[n] >= 0.01 * still.c_deg[1] && still.c_deg[n] > 1e-9) ratio.series.push_back(q);
   }
-  write_plot(dir, "attenuation", PlotSpec{"Static harmonics behind the channel filter", {panel}, 1, 1000, 650});
+  write_plot(dir, "attenuation", PlotSpec{"Static harmonics behind the channel filter (mount of the configuration)",
+                                          {value, ratio}, 2, 1400, 600});
 }
 
 void calibration_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel panel{plot_literal(r.options.calibration_method + " correction, timing " +
-                               (r.options.timings.empty() ? std::string("none") : r.options.timings.front().name)),
-                  "speed of the run [rpm]", "pp [deg]", {}};
-  PlotSeries raw{"uncorrected", {}, {}, "linespoints"}, rest = raw, moving = raw;
-  rest.title = "calibrated at rest";
-  moving.title = "calibrated at " + fmt(r.options.calibration_rpm, 0) + " rpm";
-  for (const auto& c : r.calibration) {
-    raw.x.push_back(c.rpm);
-    raw.y.push_back(c.pp_raw_deg);
-    rest.x.push_back(c.rpm);
-    rest.y.push_back(c.pp_cal_rest_deg);
-    moving.x.push_back(c.rpm);
-    moving.y.push_back(c.pp_cal_moving_deg);
+  const std::string timing = r.options.timings.empty() ? std::string("none") : r.options.timings.front().name;
+  PlotPanel max_abs{plot_literal("largest |error|, " + r.options.calibration_method + ", timing " + timing + " (no hold)"),
+                    "speed of the run [rpm]", "max |eps| [deg]", {}};
+  PlotPanel pp{"peak-to-peak", "speed of the run [rpm]", "pp [deg]", {}};
+  const std::string moving = "calibrated at " + fmt(r.options.calibration_rpm, 0) + " rpm";
+  for (PlotPanel* panel : {&max_abs, &pp}) {
+    const bool m = panel == &max_abs;
+    PlotSeries raw{"uncorrected", {}, {}, "linespoints"}, rest{"calibrated at rest", {}, {}, "linespoints"},
+        mov{moving, {}, {}, "linespoints"};
+    for (const auto& c : r.calibration) {
+      raw.x.push_back(c.rpm);
+      raw.y.push_back(m ? c.max_raw_deg : c.pp_raw_deg);
+      rest.x.push_back(c.rpm);
+      rest.y.push_back(m ? c.max_cal_rest_deg : c.pp_cal_rest_deg);
+      mov.x.push_back(c.rpm);
+      mov.y.push_back(m ? c.max_cal_moving_deg : c.pp_cal_moving_deg);
+    }
+    panel->series = {raw, rest, mov};
+    panel->logy = true;
   }
-  panel.series = {raw, rest, moving};
-  panel.logy = true;
-  write_plot(dir, "calibration", PlotSpec{"A calibration taken at one speed, run at another", {panel}, 1, 1000, 650});
+  write_plot(dir, "calibration", PlotSpec{"A calibration taken at one speed, run at another", {max_abs, pp}, 2, 1400, 600});
 }
 
 // The sweep point of a timing and prediction nearest to rpm.
@@ -178,11 +194,18 @@ std::string summary_md(const SpeedStudyResult& r) {
                       fmt_deg(a.spectrum.c_deg[2]), fmt_deg(a.spectrum.c_deg[3])});
   os << md_table({"rpm", "a0 [deg]", "c1 [deg]", "c2 [deg]", "c3 [deg]"}, rows) << "\n"
      << "Static: c1 " << fmt_deg(still.c_deg[1]) << ", c3 " << fmt_deg(still.c_deg[3]) << " deg.\n\n";
-  os << "## Calibration at one speed, run at another (" << o.calibration_method << ")\n\n";
+  os << "## Calibration at one speed, run at another (" << o.calibration_method << ", "
+     << (o.timings.empty() ? std::string("no timing") : o.timings.front().name) << " without its hold)\n\n";
   rows.clear();
+  const double step = o.rpm_max / (o.rpm_points - 1);
   for (const auto& c : r.calibration)
-    rows.push_back({fmt(c.rpm, 0), fmt_deg(c.pp_raw_deg), fmt_deg(c.pp_cal_rest_deg), fmt_deg(c.pp_cal_moving_deg)});
-  os << md_table({"rpm", "pp raw [deg]", "calibrated at rest", "calibrated at " + fmt(o.calibration_rpm, 0) + " rpm"}, rows);
+    if (std::abs(std::remainder(c.rpm, std::max(step, o.rpm_max / 6.0))) < step / 2 || c.rpm == o.calibration_rpm)
+      rows.push_back({fmt(c.rpm, 0), fmt_deg(c.max_raw_deg), fmt_deg(c.max_cal_rest_deg), fmt_deg(c.max_cal_moving_deg),
+                      fmt_deg(c.pp_cal_rest_deg), fmt_deg(c.pp_cal_moving_deg)});
+  os << md_table({"rpm", "max |eps| raw", "max |eps'|, calibrated at rest",
+                  "max |eps'|, calibrated at " + fmt(o.calibration_rpm, 0) + " rpm", "pp', at rest",
+                  "pp', at " + fmt(o.calibration_rpm, 0) + " rpm"},
+                 rows);
   return os.str();
 }
 

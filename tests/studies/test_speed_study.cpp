@@ -15,7 +15,7 @@ TEST_CASE("speed study: tiny run", "[studies][physics][cli]") {
   const StudyRun r = run_study_exe("speed", out,
                                    "--set study.rpm_points=4 --set study.steps=360 --set study.rpm_max=30000 "
                                    "--set 'study.timing_sample_hz=[0, 0]' --set 'study.pole_pairs=[4]' "
-                                   "--set mount.dx_mm=0.1");
+                                   "--set mount.dx_mm=0.1 --set study.calibration_rpm=10000");
   INFO(r.err);
   REQUIRE(r.code == 0);
   check_files_exist(out, {"speed_vs_rpm.csv", "commutation.csv", "attenuation.csv", "calibration_vs_rpm.csv",
@@ -38,7 +38,12 @@ TEST_CASE("speed study: tiny run", "[studies][physics][cli]") {
       CHECK(num(row, "electrical_mean_deg") == Approx(4 * (num(still, "a0_deg") - 17.28)).margin(1e-5));
   const auto cal = read_csv(out / "calibration_vs_rpm.csv");
   REQUIRE(cal.size() == 4);
-  CHECK(num(cal.front(), "pp_calibrated_at_rest_deg") < 1e-3);  // at rest the rest calibration fits
+  // A delay alone (AS5045 fast, no hold): each correction fits its own speed; the one taken at 10,000 rpm
+  // carries that speed's lag 6 n tau = 5.76 deg into a run at rest, and the one taken at rest leaves it.
+  CHECK(num(cal[0], "max_abs_calibrated_at_rest_deg") < 1e-3);
+  CHECK(num(cal[1], "max_abs_calibrated_at_10000_rpm_deg") < 1e-3);
+  CHECK(num(cal[0], "max_abs_calibrated_at_10000_rpm_deg") == Approx(5.76).margin(1e-3));
+  CHECK(num(cal[1], "max_abs_calibrated_at_rest_deg") == Approx(5.76).margin(1e-3));
 }
 
 TEST_CASE("speed study: bad input is refused", "[studies][bad-input][cli]") {
