@@ -24,6 +24,8 @@ std::vector<KeySpec> SpeedStudyOptions::keys() {
       int_list_key("study.pole_pairs", d.pole_pairs, 1, 1000, "motor pole pairs of the commutation part"),
       string_key("study.calibration_method", d.calibration_method, {},
                  "correction taken at rest and at study.calibration_rpm: harmonics:N, lut:K"),
+      string_key("study.calibration_timing", "", {}, "timing of the calibration part (a study.timing_names entry; "
+                 "empty: the first)"),
       real_key("study.calibration_rpm", d.calibration_rpm, -1e6, 1e6, "rpm", "speed of the moving calibration"),
       int_key("study.steps", d.steps, 16, 100000, "theta samples per turn"),
   };
@@ -49,6 +51,14 @@ SpeedStudyOptions SpeedStudyOptions::from_config(const Config& cfg) {
   if (method.none() || method.kind == CalibrationKind::Ogp)
     throw InputError("study.calibration_method = " + o.calibration_method + " is not a table: allowed harmonics:N, lut:K");
   o.calibration_rpm = cfg.real("study.calibration_rpm");
+  const std::string cal_timing = cfg.str("study.calibration_timing");
+  std::string allowed;
+  for (const auto& t : o.timings) {
+    allowed += (allowed.empty() ? "" : ", ") + t.name;
+    if (t.name == cal_timing || (cal_timing.empty() && &t == &o.timings.front())) o.calibration_timing = t;
+  }
+  if (o.calibration_timing.name.empty() && !o.timings.empty())
+    throw InputError("study.calibration_timing = '" + cal_timing + "' is not a timing: allowed one of " + allowed);
   o.steps = static_cast<int>(cfg.integer("study.steps"));
   const double f_rot_hz = std::max(o.rpm_max, std::abs(o.calibration_rpm)) / 60.0;
   for (const auto& t : o.timings)
@@ -107,7 +117,7 @@ void run_attenuation(const FieldSource& field, const ProbeSetup& base, const Mou
 void run_calibration(const FieldSource& field, const ProbeSetup& base, const Mount& mount, SpeedStudyResult& r) {
   const SpeedStudyOptions& o = r.options;
   const CalibrationMethod method = CalibrationMethod::parse(o.calibration_method, "study.calibration_method");
-  SpeedTiming timing = o.timings.empty() ? SpeedTiming{} : o.timings.front();
+  SpeedTiming timing = o.calibration_timing;
   timing.sample_hz = 0;  // (the hold's sawtooth is the sampling's, not a function of the angle)
   auto at = [&](double rpm) { return angle_error(field, with_speed(base, rpm, timing, Prediction::None), mount); };
   const Correction at_rest = calibrate(method, at(0.0), base.principle);

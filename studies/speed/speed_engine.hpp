@@ -8,7 +8,7 @@
 //  * attenuation: the configured (eccentric) mount behind a first-order filter at study.filter_hz alone:
 //    every harmonic at speed against its static value;
 //  * calibration: a correction (study.calibration_method) taken at rest and one taken at
-//    study.calibration_rpm with the first timing's delay and filter (its hold left out: a sawtooth whose
+//    study.calibration_rpm with the delay and filter of study.calibration_timing (its hold left out: a sawtooth whose
 //    phase is the sampling's, not the angle's, which no table of the angle removes), both run at every
 //    speed: pp and the largest |error| (the mean lag counts) of the residual.
 #pragma once
@@ -35,6 +35,7 @@ struct SpeedStudyOptions {
   std::vector<long> pole_pairs = {4};
   std::string calibration_method = "harmonics:8";
   double calibration_rpm = 3000;
+  SpeedTiming calibration_timing;      // study.calibration_timing (one of the timings; "" = the first)
   int steps = 720;
 
   static std::vector<KeySpec> keys();  // study.* keys

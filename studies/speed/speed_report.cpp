@@ -12,6 +12,21 @@ namespace {
 
 std::string g(double v) { return fmt_sig(v, 10); }
 
+PlotPanel panel(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
+  PlotPanel p;
+  p.title = title;
+  p.xlabel = xlabel;
+  p.ylabel = ylabel;
+  return p;
+}
+
+PlotSeries series(const std::string& title) {
+  PlotSeries s;
+  s.title = title;
+  s.style = "linespoints";
+  return s;
+}
+
 std::string label(const std::string& timing, Prediction p) {
   return timing + (p == Prediction::Ideal ? ", ideal prediction" : "");
 }
@@ -64,11 +79,11 @@ std::string calibration_csv(const SpeedStudyResult& r) {
 }
 
 void sweep_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel lag{"mean error a0 (negative: the output lags)", "speed [rpm]", "a0 [deg]", {}};
-  PlotPanel pp{"peak-to-peak error", "speed [rpm]", "pp [deg]", {}};
+  PlotPanel lag = panel("mean error a0 (negative: the output lags)", "speed [rpm]", "a0 [deg]");
+  PlotPanel pp = panel("peak-to-peak error", "speed [rpm]", "pp [deg]");
   for (const auto& t : r.options.timings)
     for (const Prediction p : {Prediction::None, Prediction::Ideal}) {
-      PlotSeries a{plot_literal(label(t.name, p)), {}, {}, "linespoints"}, b = a;
+      PlotSeries a = series(plot_literal(label(t.name, p))), b = a;
       for (const auto& s : r.sweep)
         if (s.timing == t.name && s.prediction == p) {
           a.x.push_back(s.rpm);
@@ -85,12 +100,12 @@ void sweep_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
 }
 
 void commutation_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel el{"electrical error (mean p a0)", "speed [rpm]", "electrical error [deg]", {}};
-  PlotPanel tq{"torque factor cos(p eps), least over the turn", "speed [rpm]", "torque factor", {}};
+  PlotPanel el = panel("electrical error (mean p a0)", "speed [rpm]", "electrical error [deg]");
+  PlotPanel tq = panel("torque factor cos(p eps), least over the turn", "speed [rpm]", "torque factor");
   for (const auto& t : r.options.timings)
     for (const Prediction p : {Prediction::None, Prediction::Ideal})
       for (const long pairs : r.options.pole_pairs) {
-        PlotSeries a{plot_literal(label(t.name, p) + ", p = " + std::to_string(pairs)), {}, {}, "linespoints"}, b = a;
+        PlotSeries a = series(plot_literal(label(t.name, p) + ", p = " + std::to_string(pairs))), b = a;
         for (const auto& c : r.commutation)
           if (c.timing == t.name && c.prediction == p && c.pole_pairs == pairs) {
             a.x.push_back(c.rpm);
@@ -108,12 +123,14 @@ void commutation_plot(const SpeedStudyResult& r, const std::filesystem::path& di
 
 void attenuation_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
   const std::string filter = fmt(r.options.filter_hz, 0) + " Hz";
-  PlotPanel value{"c_n behind a first-order filter at " + filter, "speed [rpm]", "c_n [deg]", {}};
-  PlotPanel ratio{"c_n at speed / c_n at rest (harmonics of at least 1 % of c_1 at rest)", "speed [rpm]", "ratio", {}};
+  PlotPanel value = panel("c_n behind a first-order filter at " + filter, "speed [rpm]", "c_n [deg]");
+  PlotPanel ratio = panel("c_n at speed / c_n at rest (harmonics of at least 1 % of c_1 at rest)", "speed [rpm]", "ratio");
   value.logy = true;
   const Spectrum& still = r.attenuation.front().spectrum;
   for (int n = 1; n <= 4; ++n) {
-    PlotSeries v{"c" + std::to_string(n), {}, {}, "linespoints"}, q = v;
+    std::string name = "c";
+    name += std::to_string(n);
+    PlotSeries v = series(name), q = v;
     for (const auto& a : r.attenuation) {
       v.x.push_back(a.rpm);
       v.y.push_back(a.spectrum.c_deg[n] > 1e-12 ? a.spectrum.c_deg[n] : std::nan(""));
@@ -128,15 +145,14 @@ void attenuation_plot(const SpeedStudyResult& r, const std::filesystem::path& di
 }
 
 void calibration_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  const std::string timing = r.options.timings.empty() ? std::string("none") : r.options.timings.front().name;
-  PlotPanel max_abs{plot_literal("largest |error|, " + r.options.calibration_method + ", timing " + timing + " (no hold)"),
-                    "speed of the run [rpm]", "max |eps| [deg]", {}};
-  PlotPanel pp{"peak-to-peak", "speed of the run [rpm]", "pp [deg]", {}};
+  const std::string timing = r.options.calibration_timing.name;
+  PlotPanel max_abs = panel(plot_literal("largest |error|, " + r.options.calibration_method + ", timing " + timing + " (no hold)"),
+                    "speed of the run [rpm]", "max |eps| [deg]");
+  PlotPanel pp = panel("peak-to-peak", "speed of the run [rpm]", "pp [deg]");
   const std::string moving = "calibrated at " + fmt(r.options.calibration_rpm, 0) + " rpm";
-  for (PlotPanel* panel : {&max_abs, &pp}) {
-    const bool m = panel == &max_abs;
-    PlotSeries raw{"uncorrected", {}, {}, "linespoints"}, rest{"calibrated at rest", {}, {}, "linespoints"},
-        mov{moving, {}, {}, "linespoints"};
+  for (PlotPanel* pn : {&max_abs, &pp}) {
+    const bool m = pn == &max_abs;
+    PlotSeries raw = series("uncorrected"), rest = series("calibrated at rest"), mov = series(moving);
     for (const auto& c : r.calibration) {
       raw.x.push_back(c.rpm);
       raw.y.push_back(m ? c.max_raw_deg : c.pp_raw_deg);
@@ -145,8 +161,8 @@ void calibration_plot(const SpeedStudyResult& r, const std::filesystem::path& di
       mov.x.push_back(c.rpm);
       mov.y.push_back(m ? c.max_cal_moving_deg : c.pp_cal_moving_deg);
     }
-    panel->series = {raw, rest, mov};
-    panel->logy = true;
+    pn->series = {raw, rest, mov};
+    pn->logy = true;
   }
   write_plot(dir, "calibration", PlotSpec{"A calibration taken at one speed, run at another", {max_abs, pp}, 2, 1400, 600});
 }
@@ -195,15 +211,15 @@ std::string summary_md(const SpeedStudyResult& r) {
   os << md_table({"rpm", "a0 [deg]", "c1 [deg]", "c2 [deg]", "c3 [deg]"}, rows) << "\n"
      << "Static: c1 " << fmt_deg(still.c_deg[1]) << ", c3 " << fmt_deg(still.c_deg[3]) << " deg.\n\n";
   os << "## Calibration at one speed, run at another (" << o.calibration_method << ", "
-     << (o.timings.empty() ? std::string("no timing") : o.timings.front().name) << " without its hold)\n\n";
+     << o.calibration_timing.name << " without its hold)\n\n";
   rows.clear();
   const double step = o.rpm_max / (o.rpm_points - 1);
   for (const auto& c : r.calibration)
     if (std::abs(std::remainder(c.rpm, std::max(step, o.rpm_max / 6.0))) < step / 2 || c.rpm == o.calibration_rpm)
       rows.push_back({fmt(c.rpm, 0), fmt_deg(c.max_raw_deg), fmt_deg(c.max_cal_rest_deg), fmt_deg(c.max_cal_moving_deg),
                       fmt_deg(c.pp_cal_rest_deg), fmt_deg(c.pp_cal_moving_deg)});
-  os << md_table({"rpm", "max |eps| raw", "max |eps'|, calibrated at rest",
-                  "max |eps'|, calibrated at " + fmt(o.calibration_rpm, 0) + " rpm", "pp', at rest",
+  os << md_table({"rpm", "max abs(eps) raw", "max abs(eps'), calibrated at rest",
+                  "max abs(eps'), calibrated at " + fmt(o.calibration_rpm, 0) + " rpm", "pp', at rest",
                   "pp', at " + fmt(o.calibration_rpm, 0) + " rpm"},
                  rows);
   return os.str();

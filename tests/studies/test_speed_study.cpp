@@ -47,7 +47,7 @@ TEST_CASE("speed study: tiny run", "[studies][physics][cli]") {
 }
 
 TEST_CASE("speed study: bad input is refused", "[studies][bad-input][cli]") {
-  for (const std::string args : {std::string("--set 'study.timing_delay_us=[96]'"),
+  for (const std::string& args : {std::string("--set 'study.timing_delay_us=[96]'"),
                                  std::string("--set 'study.timing_sample_hz=[500, 500]'"),
                                  std::string("--set sensor.prediction=ideal"),
                                  std::string("--set study.calibration_method=ogp")}) {
