@@ -315,23 +315,24 @@ void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalCha
         ch(m, 1) = S[m];
       }
       const SpeedChain::FilteredTurn turn = speed_.filter(ch);
-      channel_angles(ch.col(0).data(), ch.col(1).data(), cos_theta_.data(), sin_theta_.data(), std::size_t(N),
-                     e.data(), nullptr, nullptr);
-      e *= 180.0 / kPi;
-      speed_.output(turn, e, 1);
+      const bool held = speed_.sample_hz > 0;
+      double *cp = nullptr, *sp = nullptr;
       if (psi) {
         (*psi)[a].cos_psi.resize(N);
         (*psi)[a].sin_psi.resize(N);
-        double prev_deg = std::numeric_limits<double>::quiet_NaN(), c = 1, s = 0;
-        for (int m = 0; m < N; ++m) {  // the output's angle theta + eps (held: one sincos per sample)
-          const double out_deg = wrap_deg(360.0 * m / N + e[m]);
-          if (!(std::abs(out_deg - prev_deg) < 1e-12)) {
-            c = std::cos(deg_to_rad(out_deg));
-            s = std::sin(deg_to_rad(out_deg));
-            prev_deg = out_deg;
-          }
-          (*psi)[a].cos_psi[m] = c;
-          (*psi)[a].sin_psi[m] = s;
+        cp = (*psi)[a].cos_psi.data();
+        sp = (*psi)[a].sin_psi.data();
+      }
+      channel_angles(ch.col(0).data(), ch.col(1).data(), cos_theta_.data(), sin_theta_.data(), std::size_t(N),
+                     e.data(), held ? nullptr : cp, held ? nullptr : sp);
+      e *= 180.0 / kPi;
+      speed_.output(turn, e, 1, held ? cp : nullptr, held ? sp : nullptr);  // (held: the output's direction)
+      if (psi && !held && speed_.prediction == Prediction::Ideal) {  // the channels' angle turned by the lead
+        const double lead = deg_to_rad(speed_.lag_deg(1)), cl = std::cos(lead), sl = std::sin(lead);
+        for (int m = 0; m < N; ++m) {
+          const double c = cp[m], s = sp[m];
+          cp[m] = c * cl - s * sl;
+          sp[m] = s * cl + c * sl;
         }
       }
       continue;

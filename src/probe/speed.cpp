@@ -16,12 +16,12 @@ namespace {
 
 using cd = std::complex<double>;
 
-// The values at theta (rad) of the two real trigonometric interpolants of the turn (unscaled DFT coefficients,
-// k = 0..kmax): (1/M) [Re U_0 + 2 sum_{0<k<M/2} Re(U_k e^{ik theta}) + Re(U_{M/2} e^{i M/2 theta})], both channels
+// The values at theta (rad; step = e^{i theta}) of the two real trigonometric interpolants of the turn (unscaled
+// DFT coefficients, k = 0..kmax): (1/M) [Re U_0 + 2 sum_{0<k<M/2} Re(U_k e^{ik theta}) + Re(U_{M/2} e^{i M/2 theta})], both channels
 // in one pass over k.
-void interpolants_at(const SpeedChain::FilteredTurn& t, double theta_rad, double& u_c, double& u_s) {
+void interpolants_at(const SpeedChain::FilteredTurn& t, double theta_rad, std::complex<double> step, double& u_c,
+                     double& u_s) {
   const int M = t.M;
-  const cd step = std::polar(1.0, theta_rad);
   cd e = 1.0;
   double sc = 0, ss = 0;
   for (int k = 0; k <= t.kmax; ++k) {
@@ -91,8 +91,28 @@ SpeedChain::FilteredTurn SpeedChain::filter(Eigen::MatrixXd& channels) const {
   FilteredTurn t;
   const int M = t.M = static_cast<int>(channels.rows());
   const double w = omega_rad_s(), wc = 2.0 * kPi * filter_hz;
-  // H_k for k = 0..M/2 (negative k: the conjugate): the delays by recurrence, e^{-i k omega tau} = r^k.
-  const cd rc = std::polar(1.0, -w * delay_us * 1e-6), rs = std::polar(1.0, -w * (delay_us + skew_us) * 1e-6);
+  // H_k for k = 0..M/2 (negative k: the conjugate), made once per chain and M on each thread (the Monte Carlo
+  // engine runs one chain over many cases); the cos(M/2 theta) term of an even M takes Re H (its half weight).
+  struct Transfer {
+    int M = -1;
+    double w = 0, tau_c = 0, tau_s = 0, wc = 0;
+    std::vector<cd> Hc, Hs;
+  };
+  thread_local Transfer H;
+  const double tau_c = delay_us * 1e-6, tau_s = (delay_us + skew_us) * 1e-6;
+  if (H.M != M || H.w != w || H.tau_c != tau_c || H.tau_s != tau_s || H.wc != wc) {
+    H = Transfer{M, w, tau_c, tau_s, wc, std::vector<cd>(std::size_t(M / 2 + 1)), std::vector<cd>(std::size_t(M / 2 + 1))};
+    for (int k = 0; 2 * k <= M; ++k) {
+      const cd lp = wc > 0 ? 1.0 / cd(1.0, k * w / wc) : cd(1.0);
+      cd Hc = std::polar(1.0, -k * w * tau_c) * lp, Hs = std::polar(1.0, -k * w * tau_s) * lp;
+      if (2 * k == M) {
+        Hc = Hc.real();
+        Hs = Hs.real();
+      }
+      H.Hc[std::size_t(k)] = Hc;
+      H.Hs[std::size_t(k)] = Hs;
+    }
+  }
   thread_local std::vector<cd> z, Z, out;
   z.resize(std::size_t(M));
   Z.resize(z.size());
@@ -100,80 +120,88 @@ SpeedChain::FilteredTurn SpeedChain::filter(Eigen::MatrixXd& channels) const {
   t.c.resize(std::size_t(M / 2 + 1));
   t.s.resize(t.c.size());
   // Both channels in one complex DFT (z = u_c + i u_s), split into the real channels' coefficients, each
-  // multiplied by its H_k, recombined; the cos(M/2 theta) term of an even M takes Re H (its half weight).
+  // multiplied by its H_k, recombined.
   const ComplexDft& dft = ComplexDft::of(M);
   for (int m = 0; m < M; ++m) z[std::size_t(m)] = cd(channels(m, 0), channels(m, 1));
   dft.forward(z.data(), Z.data());
-  cd dc = 1.0, ds = 1.0;
   double largest = 0;
   for (int k = 0; 2 * k <= M; ++k) {
-    if (k % 64 == 0) {  // (keeps the recurrence's round-off small)
-      dc = std::polar(1.0, -k * w * delay_us * 1e-6);
-      ds = std::polar(1.0, -k * w * (delay_us + skew_us) * 1e-6);
-    }
-    const cd lp = wc > 0 ? 1.0 / cd(1.0, k * w / wc) : cd(1.0);
-    cd Hc = dc * lp, Hs = ds * lp;
-    if (2 * k == M) {
-      Hc = Hc.real();
-      Hs = Hs.real();
-    }
     const std::size_t kp = std::size_t(k), km = std::size_t((M - k) % M);
     const cd a = Z[kp], b = std::conj(Z[km]);
-    const cd uc = Hc * 0.5 * (a + b), us = Hs * cd(0.0, -0.5) * (a - b);  // the channels' component k
+    const cd uc = H.Hc[kp] * 0.5 * (a + b), us = H.Hs[kp] * cd(0.0, -0.5) * (a - b);  // the channels' component k
     t.c[kp] = uc;
     t.s[kp] = us;
     out[kp] = uc + cd(0.0, 1.0) * us;
     out[km] = std::conj(uc) + cd(0.0, 1.0) * std::conj(us);  // component -k (k = 0, M/2: the same value)
-    largest = std::max(largest, std::abs(uc) + std::abs(us));
-    dc *= rc;
-    ds *= rs;
+    largest = std::max(largest, std::norm(uc) + std::norm(us));
   }
   dft.backward(out.data(), z.data());
   for (int m = 0; m < M; ++m) {
     channels(m, 0) = z[std::size_t(m)].real() / M;
     channels(m, 1) = z[std::size_t(m)].imag() / M;
   }
-  // The hold's evaluations between grid angles stop at the last component above 1e-15 of the largest: the
-  // components left out (round-off of the transforms, or a spectrum that has decayed) change a channel by
-  // less than M/2 * 1e-15 of its amplitude.
+  // The hold's evaluations between grid angles stop at the last component whose size (the root of the two
+  // channels' squared moduli) is above 1e-15 of the largest: the components left out (round-off of the
+  // transforms, or a spectrum that has decayed) change a channel by less than M * 1e-15 of its amplitude.
   t.kmax = M / 2;
-  while (t.kmax > 1 && std::abs(t.c[std::size_t(t.kmax)]) + std::abs(t.s[std::size_t(t.kmax)]) <= 1e-15 * largest)
+  while (t.kmax > 1 && std::norm(t.c[std::size_t(t.kmax)]) + std::norm(t.s[std::size_t(t.kmax)]) <= 1e-30 * largest)
     --t.kmax;
   return t;
 }
 
-void SpeedChain::output(const FilteredTurn& t, Eigen::VectorXd& eps_deg, int p) const {
+void SpeedChain::output(const FilteredTurn& t, Eigen::VectorXd& eps_deg, int p, double* cos_out, double* sin_out) const {
   const int M = t.M;
   const double lead_deg = prediction == Prediction::Ideal ? lag_deg(p) : 0.0;
   if (lead_deg != 0.0)
     for (int m = 0; m < M; ++m) eps_deg[m] = wrap_deg(p * (eps_deg[m] + lead_deg)) / p;
   if (sample_hz <= 0) return;
   // The zero-order hold: at theta_m the output holds its value of the last sample time t_j = j / sample_hz
-  // (t = 0 at theta = 0). u: the time of theta_m as a fraction of the turn, v that of its sample.
-  const double w = omega_rad_s();
+  // (t = 0 at theta = 0). u: the time of theta_m as a fraction of the turn, v that of its sample. The sample
+  // angles are +-2 pi j / S: e^{i theta} of the next one by one rotation (a fresh sincos every 32).
+  const double w = omega_rad_s(), sign = w > 0 ? 1.0 : -1.0;
   const double S = sample_hz * 60.0 / std::abs(rpm);  // samples per turn (>= 2)
-  const Eigen::VectorXd eps = eps_deg;
-  long last_j = -1;
-  double last_eps = 0;
+  const cd rot = std::polar(1.0, sign * 2.0 * kPi / S), lead = std::polar(1.0, deg_to_rad(p * lead_deg));
+  thread_local Eigen::VectorXd eps;
+  eps = eps_deg;
+  long last_j = -1, steps = 0;
+  double last_eps = 0, c = 1, s = 0;
+  cd e_s = 1.0;
   for (int m = 0; m < M; ++m) {
     const double u = (w > 0 ? m : (M - m) % M) / double(M);
     const long j = static_cast<long>(std::floor(u * S + 1e-9));
     const double v = j / S;
     if (j != last_j) {
       const double g = (w > 0 ? v : 1.0 - v) * M;  // the sample's angle in grid steps
-      const double gr = std::round(g);
+      const double gr = std::round(g), theta_s_deg = 360.0 * g / M;
+      const bool next = last_j >= 0 && std::abs(j - last_j) == 1 && ++steps % 32 != 0;
+      e_s = next ? (j > last_j ? e_s * rot : e_s * std::conj(rot)) : std::polar(1.0, deg_to_rad(theta_s_deg));
       if (std::abs(g - gr) < 1e-6) {
         last_eps = eps[static_cast<Eigen::Index>(static_cast<long>(gr) % M)];
+        if (cos_out) {
+          c = std::cos(deg_to_rad(theta_s_deg + last_eps));
+          s = std::sin(deg_to_rad(theta_s_deg + last_eps));
+        }
       } else {  // between grid angles: the channels from their interpolants, then the angle and the lead
-        const double theta_s_deg = 360.0 * g / M;
         double u_c = 0, u_s = 0;
-        interpolants_at(t, deg_to_rad(theta_s_deg), u_c, u_s);
+        interpolants_at(t, deg_to_rad(theta_s_deg), e_s, u_c, u_s);
         last_eps = wrap_deg(rad_to_deg(std::atan2(u_s, u_c)) + p * lead_deg - p * theta_s_deg) / p;
+        if (cos_out && p == 1) {  // the output's direction: the channels' turned by the lead
+          const cd out = cd(u_c, u_s) / std::hypot(u_c, u_s) * lead;
+          c = out.real();
+          s = out.imag();
+        } else if (cos_out) {
+          c = std::cos(deg_to_rad(theta_s_deg + last_eps));
+          s = std::sin(deg_to_rad(theta_s_deg + last_eps));
+        }
       }
       last_j = j;
     }
     const double ahead_deg = 360.0 * (w > 0 ? v - u : u - v);  // theta_sample - theta_m
     eps_deg[m] = wrap_deg(p * (last_eps + ahead_deg)) / p;
+    if (cos_out) {
+      cos_out[m] = c;
+      sin_out[m] = s;
+    }
   }
 }
 

@@ -50,14 +50,16 @@ struct SpeedChain {
 
   // apply() in two parts, for callers that take the angles in bulk in between (analysis/fast_pipeline):
   // filter() replaces the channels by the delayed, filtered ones and returns their spectrum; output() turns
-  // eps_deg, the error of those channels' angle (wrap(psi - p theta) / p), into the output's (prediction, hold).
+  // eps_deg, the error of those channels' angle (wrap(psi - p theta) / p), into the output's (prediction, hold);
+  // with the hold and cos_out, sin_out (M values each), also the output's direction theta + eps as a unit vector.
   struct FilteredTurn {
     int M = 0;
     std::vector<std::complex<double>> c, s;  // unscaled DFT coefficients k = 0..M/2 of u_c', u_s'
     int kmax = 0;                            // the last k the hold's evaluations between grid angles use
   };
   FilteredTurn filter(Eigen::MatrixXd& channels) const;
-  void output(const FilteredTurn& turn, Eigen::VectorXd& eps_deg, int p = 1) const;
+  void output(const FilteredTurn& turn, Eigen::VectorXd& eps_deg, int p = 1, double* cos_out = nullptr,
+              double* sin_out = nullptr) const;
 };
 
 std::string prediction_name(Prediction p);
