@@ -162,6 +162,7 @@ int run(int argc, char** argv) {
     row.extra.push_back({"field_min_mT", g10(res.field_min_mT)});
     row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});
     row.extra.push_back({"in_window", res.in_window ? "1" : "0"});
+    if (setup.speed.moving()) row.extra.push_back({"rpm", g10(setup.speed.rpm)});  // a run at speed
     if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));
   }

@@ -105,6 +105,9 @@ CASES = [
     ("diff4", {"mount.sy_mm": 0.08, "mount.dz_mm": 0.2, "mount.tilt_x_deg": 1.0,
                "magnet.magnetization_elevation_deg": 3.0}),
     ("ring:6", {"mount.dy_mm": 0.05, "sensor.r0_mm": 2.0, "sensor.steps": 720, "sensor.gain_mismatch": 0.01}),
+    # a turning encoder (docs/physics.md "Speed"): delay, skew, filter, ideal prediction and a hold
+    ("two", {"mount.dx_mm": 0.1, "speed.rpm": 6000.0, "sensor.delay_us": 96.0, "sensor.skew_us": 2.0,
+             "sensor.filter_hz": 1000.0, "sensor.sample_hz": 7777.0, "sensor.prediction": "ideal"}),
 ]
 
 

@@ -307,6 +307,36 @@ void FastPipeline::angles_of_channels(const Eigen::MatrixXd& cs, const SignalCha
     // whose cosine and sine are the normalized channels (core/vector_math.hpp, all nodes at once).
     Eigen::VectorXd& e = eps_deg[a];
     e.resize(N);
+    if (speed_.acts()) {  // the steady state at speed on this array's channels (probe/speed.hpp)
+      thread_local Eigen::MatrixXd ch;
+      ch.resize(N, 2);
+      for (int m = 0; m < N; ++m) {
+        ch(m, 0) = C[m];
+        ch(m, 1) = S[m];
+      }
+      const SpeedChain::FilteredTurn turn = speed_.filter(ch);
+      const bool held = speed_.sample_hz > 0;
+      double *cp = nullptr, *sp = nullptr;
+      if (psi) {
+        (*psi)[a].cos_psi.resize(N);
+        (*psi)[a].sin_psi.resize(N);
+        cp = (*psi)[a].cos_psi.data();
+        sp = (*psi)[a].sin_psi.data();
+      }
+      channel_angles(ch.col(0).data(), ch.col(1).data(), cos_theta_.data(), sin_theta_.data(), std::size_t(N),
+                     e.data(), held ? nullptr : cp, held ? nullptr : sp);
+      e *= 180.0 / kPi;
+      speed_.output(turn, e, 1, held ? cp : nullptr, held ? sp : nullptr);  // (held: the output's direction)
+      if (psi && !held && speed_.prediction == Prediction::Ideal) {  // the channels' angle turned by the lead
+        const double lead = deg_to_rad(speed_.lag_deg(1)), cl = std::cos(lead), sl = std::sin(lead);
+        for (int m = 0; m < N; ++m) {
+          const double c = cp[m], s = sp[m];
+          cp[m] = c * cl - s * sl;
+          sp[m] = s * cl + c * sl;
+        }
+      }
+      continue;
+    }
     double *cp = nullptr, *sp = nullptr;
     if (psi) {
       (*psi)[a].cos_psi.resize(N);
@@ -437,10 +467,14 @@ void peak_to_peak(const std::vector<Eigen::VectorXd>& e, double* pp_deg) {
 
 void FastPipeline::pp_mount(const Mount& mt, const SignalChain::Applied& chain, double elevation_deg,
                             const EnvReadings* env, double* pp_deg, std::vector<double>* peak_T) const {
+  std::vector<Eigen::VectorXd> e;
+  if (speed_.acts()) {  // pp of the output at speed: from eps (the PpTrack knows only the static angle)
+    eps_mount(mt, chain, elevation_deg, e, peak_T, env);
+    return peak_to_peak(e, pp_deg);
+  }
   PpTrack track;
   track.t_lo.assign(arrays_.size(), std::numeric_limits<double>::infinity());
   track.t_hi.assign(arrays_.size(), -std::numeric_limits<double>::infinity());
-  std::vector<Eigen::VectorXd> e;
   eps_mount(mt, chain, elevation_deg, e, peak_T, env, &track);
   if (!track.wrapped) {
     for (std::size_t a = 0; a < arrays_.size(); ++a)

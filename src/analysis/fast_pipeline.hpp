@@ -12,6 +12,7 @@
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
 #include "probe/signal_chain.hpp"
+#include "probe/speed.hpp"
 
 namespace magenc {
 
@@ -52,6 +53,15 @@ class FastPipeline {
   static long bounded_pp_count();
   std::size_t arrays() const { return arrays_.size(); }
   int steps() const { return model_.nodes(); }
+  // A turning encoder (probe/speed.hpp): every eps, psi and pp of this pipeline is then that of the steady
+  // state at speed.rpm, the chain applied to each array's channels over the N nodes of the turn after the
+  // signal chain, as angle_error() does (psi: theta + eps of the output as unit vectors). The field window
+  // is the static one (the readings do not depend on the speed). Static by default. validate() first.
+  void set_speed(const SpeedChain& s) {
+    s.validate();
+    speed_ = s;
+  }
+  const SpeedChain& speed() const { return speed_; }
   // eps_deg[a] (N samples, theta_m = 360 m/N) of every array a for mount m
   // (ideal signal chain, the nominal elevation).
   // A tilted mount (sensor or magnet tilt) needs a full_vector model
@@ -99,6 +109,7 @@ class FastPipeline {
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
   int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
+  SpeedChain speed_;                            // the turning encoder (static by default)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array
   Eigen::MatrixXd coef_map_;                    // coarse samples -> the interpolant's real coefficients
   // The environment's part of each distinct probe's reading: B' = br_scale B + stray_T[i].

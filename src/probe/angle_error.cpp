@@ -399,6 +399,10 @@ Eigen::Matrix3Xd probe_paths_mm(const ProbeSetup& setup, const Mount& mount) {
 
 AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
                                 const Eigen::VectorXd& theta_deg) {
+  setup.speed.validate();
+  if (setup.speed.acts())
+    throw InputError("speed.rpm = " + num(setup.speed.rpm) +
+                     " needs the uniform samples of a whole turn, not arbitrary angles: allowed 0 here");
   return angle_error_at_rad(field, setup, mount, theta_deg, theta_deg * (kPi / 180.0));
 }
 
@@ -406,7 +410,16 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
   validate_setup(setup, mount);  // before the sample grid is built from setup.steps
   AngleErrorResult res = angle_error_at_rad(field, setup, mount, uniform_theta_deg(setup.steps),
                                             uniform_theta_rad(setup.steps), /*check_winding=*/true);
-  // 4. Spectrum of the uniform samples.
+  // 4. At a speed: the chip's timing on the channels of the whole turn (probe/speed.hpp).
+  setup.speed.validate();
+  if (setup.speed.acts()) {
+    setup.speed.apply(res.channels, res.eps_deg, electrical_turns(setup.principle));
+    for (Eigen::Index m = 0; m < res.eps_deg.size(); ++m)
+      if (!std::isfinite(res.eps_deg[m]))
+        throw ComputeError(field.name() + " field gave a non-finite angle at speed, theta = " +
+                           num(res.theta_deg[m]) + " deg");
+  }
+  // 5. Spectrum of the uniform samples.
   res.spectrum = spectrum_of(res.eps_deg);
   return res;
 }
@@ -445,6 +458,7 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   s.window.validate();
   s.env = Environment::from_config(cfg);
   s.env.validate_for(s.principle);
+  s.speed = SpeedChain::from_config(cfg);
   return s;
 }
 

@@ -11,6 +11,7 @@
 #include "probe/probe_array.hpp"
 #include "probe/sensor.hpp"
 #include "probe/signal_chain.hpp"
+#include "probe/speed.hpp"
 #include "probe/spectrum.hpp"
 
 namespace magenc {
@@ -36,6 +37,9 @@ struct ProbeSetup {
   // stray field added at every probe before the reading, the offsets and the air gap at T. Neutral
   // by default (no stray field, 20 C): then the pipeline is exactly the one without it.
   Environment env{};
+  // A turning encoder (probe/speed.hpp, docs/physics.md "Speed"): the chip's timing at speed.rpm, applied to
+  // the channels of a whole turn after the signal chain. Static by default (rpm 0): then never entered.
+  SpeedChain speed{};
 };
 
 // The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),
@@ -121,6 +125,8 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
 // setup.steps is not used. Same validation and errors as angle_error().
 AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setup, const Mount& mount,
                                 const Eigen::VectorXd& theta_deg);
+// At a speed (setup.speed.acts()) angle_error() applies the steady-state chain of probe/speed.hpp to the
+// channels of the whole turn; angle_error_at() has no whole turn and refuses a speed (InputError).
 // Convenience: only the spectrum.
 Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const Mount& mount);
 

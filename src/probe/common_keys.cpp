@@ -6,12 +6,13 @@
 #include "probe/environment.hpp"
 #include "probe/mounting.hpp"
 #include "probe/sensor.hpp"
+#include "probe/speed.hpp"
 
 namespace magenc {
 
 std::vector<KeySpec> common_keys() {
   std::vector<KeySpec> keys = Magnet::keys();
-  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys()})
+  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys(), speed_keys()})
     keys = merge_schemas(std::move(keys), group);  // throws if a group redeclares a key
   return keys;
 }

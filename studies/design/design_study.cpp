@@ -76,6 +76,7 @@ std::vector<KeySpec> DesignOptions::keys() {
 
 DesignOptions DesignOptions::from_config(const Config& cfg) {
   DesignOptions o;
+  o.speed = SpeedChain::from_config(cfg);
   o.space.materials = cfg.strings("design.materials");
   o.space.br_T = cfg.reals("design.br_T");
   o.space.magnet_radius_mm = cfg.reals("design.magnet_radius_mm");
@@ -300,6 +301,9 @@ class WindowExtremes {
 DesignResult evaluate_with(const DesignOptions& o, const Design& d, const CircleFieldModel& model,
                            const ToleranceBox& box, bool drift) {
   const FastPipeline fast(model, {o.space.sensors[d.sensor]}, d.magnet_height_mm);
+  FastPipeline fast_run = fast;  // the run state: at speed.rpm when the encoder turns
+  fast_run.set_speed(o.speed);
+  const bool moving = o.speed.acts();
   const std::uint64_t seed = design_seed(o, d.index);
   const std::vector<ToleranceCase> factory = monte_carlo_cases(box, o.samples, seed);
   const ToleranceBox run_box = o.run_box(d.br_tc_per_K);
@@ -329,12 +333,14 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
       rc.mount.dy_mm += dc.mount.dy_mm;
       rc.mount.dz_mm += dc.mount.dz_mm;
       rc.env = dc.env;
-      fast.eps(rc, er, cal ? &pr : nullptr);
+      fast_run.eps(rc, er, cal ? &pr : nullptr);
+    } else if (moving) {
+      fast_run.eps(fc, er, cal ? &pr : nullptr);
     }
-    const Eigen::VectorXd& run = has_run ? er[0] : ef[0];
+    const Eigen::VectorXd& run = has_run || moving ? er[0] : ef[0];
     out[0] = run.maxCoeff() - run.minCoeff();
     if (cal) {
-      const UnitAngles& run_psi = has_run ? pr[0] : pf[0];
+      const UnitAngles& run_psi = has_run || moving ? pr[0] : pf[0];
       out[1] = calibrated_pp_deg(o.req.calibration, theta, ef[0], pf[0].cos_psi, pf[0].sin_psi, run, run_psi.cos_psi,
                                  run_psi.sin_psi);
     } else {

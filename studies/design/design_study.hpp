@@ -33,6 +33,7 @@
 #include "core/config.hpp"
 #include "probe/probe_array.hpp"
 #include "probe/sensor.hpp"
+#include "probe/speed.hpp"
 
 namespace magenc {
 
@@ -69,6 +70,9 @@ struct DesignOptions {
   bool seed_per_design = true;
   int fast_steps = 360;
   int surrogate_order = 4;
+  // The run state at a speed (speed.rpm and the sensor's timing keys, probe/speed.hpp): the uncalibrated and
+  // calibrated pp are those of the turning encoder; the correction is taken at the factory state, at rest.
+  SpeedChain speed;
   // How the local field models are built (design.surrogate_build; the exact field): automatic (= symmetry:
   // readings at 24 theta, interpolated exactly, FastPipeline::coarse_steps), symmetry or axis_aligned.
   CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::automatic;

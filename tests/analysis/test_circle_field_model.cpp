@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
 
 using namespace magenc;
 
@@ -297,4 +298,51 @@ TEST_CASE("fast pipeline: pp from the bounded intervals equals pp over every nod
   CAPTURE(calls, bounded, fallbacks);
   CHECK(bounded >= calls / 2);  // the bounded route is the usual one
   CHECK(fallbacks > 0);         // and the large errors take the full pass
+}
+
+// At a speed the fast pipeline applies the same steady-state chain (probe/speed.hpp) to each array's
+// channels: its eps equals angle_error()'s at speed to the surrogate's own static accuracy, its pp is
+// max - min of that eps, and the psi it returns is theta + eps.
+TEST_CASE("fast pipeline at a speed agrees with the direct pipeline", "[analysis][cross-check]") {
+  const AnalyticField field{Magnet{}};
+  const CircleFieldModel model(field, 2.4, kPlaneZ, 360, 0.3, 0.3, 4, false);
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two", "arrays"), ProbeArray::parse("diff4", "arrays")};
+  FastPipeline fast(model, arrays);
+  SpeedChain speed;
+  speed.rpm = 6000;
+  speed.delay_us = 96;
+  speed.skew_us = 2;
+  speed.filter_hz = 1000;
+  speed.sample_hz = 7777;  // off the 360-node grid
+  ToleranceCase c;
+  c.mount.sx_mm = 0.04;
+  c.mount.dx_mm = 0.07;
+  c.mount.dz_mm = 0.1;
+  std::vector<Eigen::VectorXd> still, moving;
+  fast.eps(c, still);
+  fast.set_speed(speed);
+  std::vector<UnitAngles> psi;
+  fast.eps(c, moving, &psi);
+  double pp[2];
+  fast.pp(c, pp);
+  for (std::size_t a = 0; a < arrays.size(); ++a) {
+    ProbeSetup s;
+    s.array = arrays[a];
+    s.r0_mm = 2.4;
+    s.plane_z_mm = kPlaneZ;
+    s.steps = 360;
+    const double static_diff = (angle_error(field, s, c.mount).eps_deg - still[a]).cwiseAbs().maxCoeff();
+    s.speed = speed;
+    const AngleErrorResult direct = angle_error(field, s, c.mount);
+    const double moving_diff = (direct.eps_deg - moving[a]).cwiseAbs().maxCoeff();
+    CAPTURE(a, static_diff, moving_diff);
+    CHECK(moving_diff <= 2 * static_diff + 1e-9);
+    CHECK((moving[a] - still[a]).cwiseAbs().maxCoeff() > 0.5);  // the speed acts
+    CHECK(pp[a] == moving[a].maxCoeff() - moving[a].minCoeff());
+    for (int m = 0; m < 360; m += 37) {
+      const double out = deg_to_rad(360.0 * m / 360 + moving[a][m]);
+      CHECK(psi[a].cos_psi[m] == Approx(std::cos(out)).margin(1e-12));
+      CHECK(psi[a].sin_psi[m] == Approx(std::sin(out)).margin(1e-12));
+    }
+  }
 }

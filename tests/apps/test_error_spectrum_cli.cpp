@@ -198,6 +198,19 @@ TEST_CASE("error_spectrum: sensing principles and field windows", "[apps][contra
   CHECK(r.out.substr(r.out.size() - 3) == ",1\n");
 }
 
+TEST_CASE("error_spectrum at a speed: the rpm column and docs/physics.md's delay", "[apps][contract][cli]") {
+  Scratch s;
+  RunResult r = s.run("--field analytic --array two --r0 2.4 --set speed.rpm=6000 --set sensor.delay_us=100");
+  REQUIRE(r.exit_code == 0);
+  const auto header = r.out.substr(0, r.out.find('\n'));
+  CHECK(header.substr(header.size() - 4) == ",rpm");
+  CHECK(r.out.find(",-3.6,") != std::string::npos);  // a0 = -6 n tau exactly
+  CHECK(r.out.substr(r.out.size() - 6) == ",6000\n");
+  r = s.run("--field analytic --array two --r0 2.4 --set sensor.delay_us=100");  // at rest: no rpm column
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.substr(0, r.out.find('\n')).find("rpm") == std::string::npos);
+}
+
 TEST_CASE("error_spectrum: sensing-principle bad input, one line, exit 2, no output", "[apps][bad-input][cli]") {
   struct Bad {
     std::string args;
@@ -217,6 +230,10 @@ TEST_CASE("error_spectrum: sensing-principle bad input, one line, exit 2, no out
       {"--principle hall", "--principle"},
       {"--field linear --principle inplane", "linear"},                               // Bz-only source
       {"--principle inplane --paths p.vtp", "--paths"},
+      {"--set sensor.prediction=ideal", "speed.rpm"},                                 // prediction at rest
+      {"--set speed.rpm=6000 --set sensor.sample_hz=150", "sensor.sample_hz"},      // < 2 x 100 Hz
+      {"--set speed.rpm=6000 --set sensor.delay_us=-1", "sensor.delay_us"},
+      {"--set sensor.filter_hz=-5", "sensor.filter_hz"},
   };
   for (const auto& b : cases) {
     Scratch s;

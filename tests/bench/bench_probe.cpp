@@ -7,12 +7,20 @@
 //                  arrays `two` and `ring:8` (static + dynamic eccentricity)
 //   MountingCaseChainElev  the same plus magnetization elevation 2 deg and a
 //                  signal chain (offsets, gain, phase): no tilt, so the Bz path
+//   MountingCaseSpeed      MountingCase at 6000 rpm with AS5045-like timing (delay 96 us, skew 2 us,
+//                  filter 1 kHz, hold at 10416.67 Hz, off the 3600-step grid): the steady-state chain of
+//                  probe/speed.hpp on top of the static case (docs/benchmarks.md: at most 2x)
+//   FastCase/FastCaseSpeed the Monte Carlo engine's case (FastPipeline::eps with the angles as unit
+//                  vectors, `two`, 360 nodes, the surrogate on the exact field): static, and at 6000 rpm
+//                  with the same timing (hold) and without the hold
 //   MountingCaseTilted     the same plus sensor tilt (0.5, 0.3 deg) and magnet
 //                  tilt 0.5 deg: every term of "Beyond the five offsets", full-B path
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "analysis/circle_field_model.hpp"
+#include "analysis/fast_pipeline.hpp"
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 #include "core/units.hpp"
@@ -58,6 +66,54 @@ void MountingCase(benchmark::State& state, const char* array) {
 }
 BENCHMARK_CAPTURE(MountingCase, two, "two")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(MountingCase, ring8, "ring:8")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void MountingCaseSpeed(benchmark::State& state, const char* array) {
+  const magenc::AnalyticField f{magenc::Magnet{}};
+  magenc::ProbeSetup setup;
+  setup.array = magenc::ProbeArray::parse(array);
+  setup.steps = 3600;
+  setup.speed.rpm = 6000;
+  setup.speed.delay_us = 96;
+  setup.speed.skew_us = 2;
+  setup.speed.filter_hz = 1000;
+  setup.speed.sample_hz = 10416.67;
+  magenc::Mount m;
+  m.sx_mm = 0.03;
+  m.dx_mm = 0.05;
+  for (auto _ : state) benchmark::DoNotOptimize(magenc::error_spectrum(f, setup, m).c_deg[1]);
+  state.SetItemsProcessed(state.iterations());  // items = mounting cases
+}
+BENCHMARK_CAPTURE(MountingCaseSpeed, two, "two")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(MountingCaseSpeed, ring8, "ring:8")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// hold_hz < 0: static; 0: at speed without the hold; > 0: at speed with the hold at hold_hz.
+void FastCase(benchmark::State& state, double hold_hz) {
+  const magenc::AnalyticField f{magenc::Magnet{}};
+  const magenc::CircleFieldModel model(f, 2.4, 4.55, 360, 0.3, 0.3, 4, false);
+  magenc::FastPipeline fast(model, {magenc::ProbeArray::parse("two")});
+  if (hold_hz >= 0) {
+    magenc::SpeedChain s;
+    s.rpm = 6000;
+    s.delay_us = 96;
+    s.skew_us = 2;
+    s.filter_hz = 1000;
+    s.sample_hz = hold_hz;
+    fast.set_speed(s);
+  }
+  magenc::ToleranceCase c;
+  c.mount.sx_mm = 0.03;
+  c.mount.dx_mm = 0.05;
+  std::vector<Eigen::VectorXd> eps;
+  std::vector<magenc::UnitAngles> psi;
+  for (auto _ : state) {
+    fast.eps(c, eps, &psi);
+    benchmark::DoNotOptimize(eps[0].data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK_CAPTURE(FastCase, static, -1.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(FastCase, speed_no_hold, 0.0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(FastCase, speed_hold, 10416.67)->Unit(benchmark::kMicrosecond);
 
 // The one-spot principles on the same mount (point array: M field vectors per case against the
 // two-probe array's 2M Bz values); plate: a 0.2 mm sensing area, 4 x 4 points per reading.

@@ -34,8 +34,9 @@ PRINCIPLES = ("bz", "inplane", "xmr", "amr")
 NUMERIC_KEYS = {
     "r0_mm", "field_min_mT", "field_max_mT", "offset_cos_mT", "offset_sin_mT", "offset_cos_rel",
     "offset_sin_rel", "gain_mismatch", "phase_error_deg", "offset_cos_tc_uT_per_K",
-    "offset_sin_tc_uT_per_K",
+    "offset_sin_tc_uT_per_K", "delay_us", "skew_us", "filter_hz", "sample_hz",
 }
+TIMING_KEYS = {"delay_us", "skew_us", "filter_hz", "sample_hz"}
 STRING_KEYS = {"principle", "array"}
 MT_OFFSETS = {"offset_cos_mT", "offset_sin_mT"}
 REL_OFFSETS = {"offset_cos_rel", "offset_sin_rel"}
@@ -131,6 +132,8 @@ def check_file(root, rel):
             problems.append(f"{at(key)}: sensor.r0_mm does not apply to principle {principle!r} (bz arrays only)")
         if key == "r0_mm" and not v > 0:
             problems.append(f"{at(key)}: sensor.r0_mm = {v} must be > 0")
+        if key in TIMING_KEYS and not v >= 0:
+            problems.append(f"{at(key)}: sensor.{key} = {v} must be >= 0")
         if key in ("field_min_mT", "field_max_mT") and not v >= 0:
             problems.append(f"{at(key)}: sensor.{key} = {v} must be >= 0")
         if key in MT_OFFSETS and principle in ("xmr", "amr"):
@@ -170,7 +173,8 @@ def self_test():
     good_bz = ('[sensor]\nprinciple = "bz"\narray = "diff4"\n'
                'r0_mm = 1.1   # source: Some DS Rev 1, sec. 2\n'
                '# The window: a block of comments,\n# source: Some DS Rev 1, table 3\n'
-               'field_min_mT = 35\nfield_max_mT = 70  # source: Some DS Rev 1, table 3\n')
+               'field_min_mT = 35\nfield_max_mT = 70  # source: Some DS Rev 1, table 3\n'
+               'delay_us = 96  # source: Some DS Rev 1, sec. 17\n')
     good_amr = ('[sensor]\nprinciple = "amr"\narray = "point"\n'
                 'field_min_mT = 31.42  # source: Other DS Rev 6, sec. 2\n'
                 'offset_cos_rel = 0.01 # source: Other DS Rev 6, table 9\n')
@@ -210,6 +214,10 @@ def self_test():
                              'offset_cos_mT = 0.1 # source: x DS\n', "(mT) does not apply to principle 'amr'"),
         "relative offset on bz": ("chips/a.toml", '[sensor]\nprinciple = "bz"\n'
                                   'offset_sin_rel = 0.1 # source: x DS\n', "(relative) does not apply"),
+        "negative delay": ("chips/a.toml", '[sensor]\nprinciple = "bz"\ndelay_us = -96 # source: x DS\n',
+                           "sensor.delay_us = -96 must be >= 0"),
+        "timing without source": ("chips/a.toml", '[sensor]\nprinciple = "bz"\nsample_hz = 1000\n',
+                                  "sensor.sample_hz has no 'source:' comment"),
         "negative r0": ("chips/a.toml", '[sensor]\nprinciple = "bz"\nr0_mm = -1 # source: x DS\n', "must be > 0"),
         "file missing from README": ("chips/c.toml", '[sensor]\nprinciple = "xmr"\n', "not listed in chips/README.md"),
     }
