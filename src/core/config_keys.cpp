@@ -1,5 +1,5 @@
 // The configuration's declarations: key factories, table fields, allowed ranges, merging schemas.
-#include "core/config.hpp"
+#include "core/config_keys.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -14,7 +14,6 @@
 #include <sstream>
 #include <type_traits>
 
-#include "core/config_detail.hpp"
 #include "core/defaults.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -22,7 +21,18 @@
 
 namespace magenc {
 
-using namespace config_detail;
+bool is_list(KeySpec::Type t) {
+  return t == KeySpec::Type::RealList || t == KeySpec::Type::IntList || t == KeySpec::Type::StringList;
+}
+
+bool fixed_length(const KeySpec& s) { return is_list(s.type) && s.max_elements > 0 && s.max_elements == s.min_elements; }
+
+KeySpec::Type element_type(KeySpec::Type t) {
+  if (t == KeySpec::Type::RealList) return KeySpec::Type::Real;
+  if (t == KeySpec::Type::IntList) return KeySpec::Type::Int;
+  if (t == KeySpec::Type::StringList) return KeySpec::Type::String;
+  return t;
+}
 
 KeySpec real_key(std::string key, double def, double min, double max, std::string unit,
                  std::string help, bool min_exclusive, bool max_exclusive) {
