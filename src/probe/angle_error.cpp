@@ -302,6 +302,7 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
   const bool identity = setup.orientation.identity();
   AngleErrorResult res;
   res.theta_deg = theta_deg;
+  res.orientation = setup.orientation;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
   res.channels.resize(M, 2);

@@ -77,6 +77,9 @@ struct AngleErrorResult {
   // hypot(b1, b2), min and max over theta. in_window: both lie in setup.window (always true when it is off).
   double field_min_mT = 0, field_max_mT = 0;
   bool in_window = true;
+  // The chip's direction and zero the angle was taken with ("auto" resolved): what a correction of the
+  // channels (ogp) applies to its own angle.
+  ChipOrientation orientation{};
 };
 
 // Probe positions for every theta: returns 3 x (M*K) in the magnet frame (mm),

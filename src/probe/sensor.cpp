@@ -176,6 +176,20 @@ ChipOrientation ChipOrientation::from_config(const Config& cfg) {
   return o;
 }
 
+void require_on_axis_layout(const Config& cfg, const std::string& who) {
+  const std::string tail = ": " + who + " assumes a solid magnet and an array centred on the axis: allowed ";
+  if (cfg.has("magnet.inner_radius_mm") && cfg.real("magnet.inner_radius_mm") != 0.0)
+    throw InputError("magnet.inner_radius_mm = " + num(cfg.real("magnet.inner_radius_mm")) + tail + "0");
+  if (!cfg.has("sensor.center_mm")) return;
+  const std::vector<double> c = cfg.reals("sensor.center_mm");
+  if (c.at(0) != 0.0 || c.at(1) != 0.0)
+    throw InputError("sensor.center_mm = [" + num(c.at(0)) + ", " + num(c.at(1)) + "]" + tail + "[0, 0]");
+  if (!ChipOrientation::from_config(cfg).identity())
+    throw InputError("sensor.direction = " + cfg.str("sensor.direction") + ", sensor.zero_deg = " +
+                     cfg.str("sensor.zero_deg") + ", sensor.gain_trim = " + cfg.str("sensor.gain_trim") + tail +
+                     "1, 0 and none");
+}
+
 std::vector<KeySpec> sensor_keys() {
   const double big = defaults::kMaxLength_mm;
   const double inf = std::numeric_limits<double>::infinity();

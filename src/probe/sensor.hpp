@@ -87,6 +87,11 @@ struct ChipOrientation {
   static ChipOrientation from_config(const Config& cfg);
 };
 
+// Studies whose fast paths assume a solid magnet and an array centred on the axis (radius, design): an
+// InputError naming the key (magnet.inner_radius_mm, sensor.center_mm, sensor.direction, sensor.zero_deg,
+// sensor.gain_trim) when the configuration leaves that layout; `who` says which study.
+void require_on_axis_layout(const Config& cfg, const std::string& who);
+
 // A key that does not apply to the configured principle must keep its default (which means "not
 // used"): sensor.r0_mm for the point principles, the mT offsets for xmr/amr, the relative offsets for
 // bz/inplane. InputError naming the key and the principle otherwise. (A key at its default is not
