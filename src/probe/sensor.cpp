@@ -15,7 +15,8 @@ KeySpec center_key(double big) {
                             "nominal die centre [x, y] in the fixed frame: the probe circle or spot is centred "
                             "there, the static offsets add",
                             false, 2);
-  k.max_elements = 2;
+  k.max_elements = 2;  // a fixed-length array: a TOML array only, its default written as one
+  k.default_value = "[0, 0]";
   return k;
 }
 
@@ -180,6 +181,9 @@ void require_on_axis_layout(const Config& cfg, const std::string& who) {
   const std::string tail = ": " + who + " assumes a solid magnet and an array centred on the axis: allowed ";
   if (cfg.has("magnet.inner_radius_mm") && cfg.real("magnet.inner_radius_mm") != 0.0)
     throw InputError("magnet.inner_radius_mm = " + num(cfg.real("magnet.inner_radius_mm")) + tail + "0");
+  if (cfg.has("sensor.plane_height_mm") && !(cfg.real("sensor.plane_height_mm") > 0))
+    throw InputError("sensor.plane_height_mm = " + num(cfg.real("sensor.plane_height_mm")) + tail +
+                     "a plane above the top face (> 0 mm)");
   if (!cfg.has("sensor.center_mm")) return;
   const std::vector<double> c = cfg.reals("sensor.center_mm");
   if (c.at(0) != 0.0 || c.at(1) != 0.0)

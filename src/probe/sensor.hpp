@@ -88,8 +88,9 @@ struct ChipOrientation {
 };
 
 // Studies whose fast paths assume a solid magnet and an array centred on the axis (radius, design): an
-// InputError naming the key (magnet.inner_radius_mm, sensor.center_mm, sensor.direction, sensor.zero_deg,
-// sensor.gain_trim) when the configuration leaves that layout; `who` says which study.
+// InputError naming the key (magnet.inner_radius_mm, sensor.plane_height_mm <= 0, sensor.center_mm,
+// sensor.direction, sensor.zero_deg, sensor.gain_trim) when the configuration leaves that layout; `who` says
+// which study.
 void require_on_axis_layout(const Config& cfg, const std::string& who);
 
 // A key that does not apply to the configured principle must keep its default (which means "not

@@ -12,9 +12,13 @@ namespace magenc {
 
 std::vector<KeySpec> OffAxisOptions::keys() {
   const OffAxisOptions d;
+  KeySpec center = real_list_key("off_axis.side_center_mm", {18.0, 0.0}, -1000, 1000, "mm",
+                                 "side-shaft chip: die centre [x, y] beside the ring (sensor.center_mm of those readers)",
+                                 false, 2);
+  center.max_elements = 2;
+  center.default_value = "[18, 0]";
   std::vector<KeySpec> k = {
-      real_list_key("off_axis.side_center_mm", {18.0, 0.0}, -1000, 1000, "mm",
-                    "side-shaft chip: die centre [x, y] beside the ring (sensor.center_mm of those readers)", false, 2),
+      center,
       real_key("off_axis.side_height_mm", -2.0, -1000, 1000, "mm",
                "side-shaft chip: sensing plane height above the top face (-L/2 = the ring's mid-plane)"),
       string_list_key("off_axis.side_principles", d.side_principles, {"inplane", "xmr"},
@@ -89,7 +93,13 @@ ProbeSetup reader_setup(const FieldSource& field, const Config& cfg, const OffAx
   c.set("sensor.direction=auto");
   c.set("sensor.zero_deg=auto");
   c.set(std::string("sensor.gain_trim=") + (trim ? "auto" : "none"));
-  return resolve_orientation(field, sensor_setup_from_config(c, array, "off_axis"));
+  try {
+    return resolve_orientation(field, sensor_setup_from_config(c, array, "off_axis"));
+  } catch (const InputError& e) {
+    throw InputError(std::string("off_axis reader ") + principle + " " + array +
+                     " (sensor keys from off_axis.side_center_mm, side_height_mm, bore_r0_mm, bore_height_mm, "
+                     "scan_side_x_mm, scan_gap_mm): " + e.what());
+  }
 }
 
 // Per mount: pp, c_1..c_8, field min and max (mT) of the reader (after its correction).

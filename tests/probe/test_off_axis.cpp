@@ -2,8 +2,8 @@
 // side-shaft point sensor and Bz arrays around the bore, against the reference values and the
 // ellipse law; the chip's direction, zero and gain trim ("auto"); refusals.
 //
-// Tolerances of the reference values: the references are printed to 6 significant digits, so a value
-// agrees when it lies within half a unit of the last printed digit (plus 1e-12 for rounding here).
+// Tolerances of the reference values: a value agrees with a reference when it lies within half a unit of
+// the reference's last printed decimal (the reference is that rounding of the exact number), plus 1e-12.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -57,11 +57,13 @@ double ellipse_k(const AngleErrorResult& r) {
   return std::abs(ac / as);
 }
 
-// Within half a unit of the last of 6 significant digits of ref.
-void check_ref(double got, double ref, const std::string& what) {
-  const double digit = std::pow(10.0, std::floor(std::log10(std::abs(ref))) - 5);
-  INFO(what << ": " << got << " against " << ref);
-  CHECK(std::abs(got - ref) <= 0.5 * digit + 1e-12);
+// Within half a unit of the last printed decimal of ref (given as printed, e.g. "0.052257").
+void check_ref(double got, const std::string& ref, const std::string& what) {
+  const std::size_t dot = ref.find('.');
+  const int decimals = dot == std::string::npos ? 0 : static_cast<int>(ref.size() - dot - 1);
+  const double half_unit = 0.5 * std::pow(10.0, -decimals);
+  INFO(what << ": " << got << " against " << ref << " (+-" << half_unit << ")");
+  CHECK(std::abs(got - std::stod(ref)) <= half_unit + 1e-12);
 }
 
 }  // namespace
@@ -70,10 +72,10 @@ TEST_CASE("side-shaft sensor beside a ring reproduces the reference ellipse (k, 
           "[probe][physics][regression]") {
   const AnalyticField field(reference_ring());
   const AngleErrorResult r = angle_error(field, side_shaft(), Mount{});
-  check_ref(ellipse_k(r), 4.19468, "k");
-  check_ref(r.spectrum.c_deg[2], 35.2364, "c2");
-  check_ref(r.spectrum.c_deg[4], 10.8350, "c4");
-  check_ref(r.spectrum.pp_deg, 75.9024, "pp");
+  check_ref(ellipse_k(r), "4.19468", "k");
+  check_ref(r.spectrum.c_deg[2], "35.2364", "c2");
+  check_ref(r.spectrum.c_deg[4], "10.8350", "c4");
+  check_ref(r.spectrum.pp_deg, "75.9024", "pp");
   for (int n : {1, 3, 5, 7}) CHECK(r.spectrum.c_deg[n] < 1e-9);  // even harmonics only
   std::cout << "side-shaft reference: k " << ellipse_k(r) << ", c2 " << r.spectrum.c_deg[2] << ", c4 "
             << r.spectrum.c_deg[4] << ", pp " << r.spectrum.pp_deg << " deg\n";
@@ -85,24 +87,27 @@ TEST_CASE("side-shaft sensor after the gain trim: zero on the ideal mount, the r
   ProbeSetup s = side_shaft();
   s.chain.gain_mismatch = 3.194679;  // k - 1 as physics.md prints it
   CHECK(angle_error(field, s, Mount{}).spectrum.pp_deg < 1e-5);  // k - 1 printed to 7 digits
-  s.chain.gain_mismatch = ellipse_k(angle_error(field, side_shaft(), Mount{})) - 1.0;
-  CHECK(angle_error(field, s, Mount{}).spectrum.pp_deg < 1e-9);
+  ProbeSetup exact = s;  // the trim by the exact k: nothing left
+  exact.chain.gain_mismatch = ellipse_k(angle_error(field, side_shaft(), Mount{})) - 1.0;
+  CHECK(angle_error(field, exact, Mount{}).spectrum.pp_deg < 1e-9);
+  // The offsets with gain_mismatch = 3.194679 as the references were taken (a change of g by 5e-7 moves c2
+  // by ~1.4e-5 deg, more than half a unit of the references' last digit).
   Mount dx;
   dx.dx_mm = 0.05;
   const Spectrum a = angle_error(field, s, dx).spectrum;
-  check_ref(a.c_deg[1], 0.26898, "dx 0.05: c1");
-  check_ref(a.c_deg[3], 0.07189, "dx 0.05: c3");
-  check_ref(a.pp_deg, 0.48511, "dx 0.05: pp");
+  check_ref(a.c_deg[1], "0.26898", "dx 0.05: c1");
+  check_ref(a.c_deg[3], "0.07189", "dx 0.05: c3");
+  check_ref(a.pp_deg, "0.48511", "dx 0.05: pp");
   Mount sx;
   sx.sx_mm = 0.2;
   const Spectrum b = angle_error(field, s, sx).spectrum;
-  check_ref(b.c_deg[2], 0.67669, "sx 0.2: c2");
-  check_ref(b.pp_deg, 1.35342, "sx 0.2: pp");
+  check_ref(b.c_deg[2], "0.67669", "sx 0.2: c2");
+  check_ref(b.pp_deg, "1.35342", "sx 0.2: pp");
   Mount dz;
   dz.dz_mm = 0.5;
   const Spectrum c = angle_error(field, s, dz).spectrum;
-  check_ref(c.c_deg[2], 0.41162, "dz 0.5: c2");
-  check_ref(c.pp_deg, 0.82324, "dz 0.5: pp");
+  check_ref(c.c_deg[2], "0.41162", "dz 0.5: c2");
+  check_ref(c.pp_deg, "0.82324", "dz 0.5: pp");
 }
 
 TEST_CASE("bore arrays above a ring reproduce the reference values (ring:4, ring:8, diff4)",
@@ -122,12 +127,12 @@ TEST_CASE("bore arrays above a ring reproduce the reference values (ring:4, ring
   Mount dx;
   dx.dx_mm = 0.1;
   const Spectrum r4 = bore("ring:4", sx), r8 = bore("ring:8", sx), d4 = bore("diff4", dx);
-  check_ref(r4.c_deg[2], 0.052257, "ring:4 sx 0.1: c2");
-  check_ref(r4.pp_deg, 0.104514, "ring:4 sx 0.1: pp");
-  check_ref(r8.c_deg[2], 0.011466, "ring:8 sx 0.1: c2");
-  check_ref(r8.pp_deg, 0.022932, "ring:8 sx 0.1: pp");
-  check_ref(d4.c_deg[4], 0.063700, "diff4 dx 0.1: c4");
-  check_ref(d4.pp_deg, 0.127401, "diff4 dx 0.1: pp");
+  check_ref(r4.c_deg[2], "0.052257", "ring:4 sx 0.1: c2");
+  check_ref(r4.pp_deg, "0.104514", "ring:4 sx 0.1: pp");
+  check_ref(r8.c_deg[2], "0.011466", "ring:8 sx 0.1: c2");
+  check_ref(r8.pp_deg, "0.022932", "ring:8 sx 0.1: pp");
+  check_ref(d4.c_deg[4], "0.063700", "diff4 dx 0.1: c4");
+  check_ref(d4.pp_deg, "0.127401", "diff4 dx 0.1: pp");
   // Below the ring (mirror image): Bz is odd in z, the zero moves by 180 deg and nothing else changes.
   ProbeSetup below;
   below.array = ProbeArray::parse("ring:8");
@@ -182,8 +187,8 @@ TEST_CASE("direction, zero and gain trim 'auto' find -1, 180 deg and k - 1 on th
   Mount dx;
   dx.dx_mm = 0.05;
   const Spectrum a = angle_error(field, s, dx).spectrum;
-  check_ref(a.c_deg[1], 0.26898, "auto, dx 0.05: c1");
-  check_ref(a.pp_deg, 0.48511, "auto, dx 0.05: pp");
+  check_ref(a.c_deg[1], "0.26898", "auto, dx 0.05: c1");
+  check_ref(a.pp_deg, "0.48511", "auto, dx 0.05: pp");
   // On the axis the defaults are what auto finds: direction 1 and (with the default magnet) zero 0.
   ProbeSetup axis;
   axis.array = ProbeArray::parse("two");
