@@ -26,7 +26,7 @@ struct OffAxisOptions {
   double side_height_mm = -2.0;  // sensing plane of the side-shaft chip above the top face (mid-plane: -L/2)
   std::vector<std::string> side_principles = {"inplane", "xmr"};
   std::vector<std::string> methods = {"ogp", "harmonics:16", "lut:64"};
-  std::vector<std::string> bore_arrays = {"ring:4", "ring:8", "diff4"};
+  std::vector<std::string> bore_arrays = {"diff4", "ring:8", "ring:16"};
   double bore_r0_mm = 13.5;
   double bore_height_mm = 1.0;
   ToleranceBox box;

@@ -1,5 +1,6 @@
 #include "off_axis_report.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/format.hpp"
@@ -65,12 +66,15 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   PlotSpec curves;
   curves.title = "Nominal mount: angle error of each reader";
   curves.columns = 2;
-  PlotPanel raw{"side-shaft raw (the ellipse)", "{/Symbol q} [deg]", "error [deg]"};
-  PlotPanel fixed{"side-shaft trimmed / calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]"};
-  for (const auto& x : r.readers) (x.treatment == "raw" ? raw : fixed).series.push_back(curve(x.label, r.theta_deg, x.nominal_eps_deg));
+  PlotPanel raw{"pp above 5 deg: raw, and what a correction leaves of it", "{/Symbol q} [deg]", "error [deg]"};
+  PlotPanel fixed{"pp below 5 deg: trimmed or calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]"};
+  raw.commands = {"set xrange [0:360]", "set xtics 90", "set key outside bottom"};
+  fixed.commands = raw.commands;
+  for (const auto& x : r.readers)
+    (x.nominal_pp_deg > 5.0 ? raw : fixed).series.push_back(curve(x.label, r.theta_deg, x.nominal_eps_deg));
   curves.panels = {raw, fixed};
-  curves.width_px = 1300;
-  curves.height_px = 550;
+  curves.width_px = 1400;
+  curves.height_px = 750;
   write_plot(out.dir(), "error_curves", curves);
 
   PlotSpec scans;
@@ -107,7 +111,7 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   write_plot(out.dir(), "spectra", spectra);
 
   HeatmapSpec map;
-  map.title = "In-plane |B| on the ring's mid-plane; S = side-shaft chip, A = bore-array probes (projected)";
+  map.title = "In-plane |B| on the ring's mid-plane (material blank); S = side-shaft chip, A = bore-array probes (above)";
   map.xlabel = "x [mm]";
   map.ylabel = "y [mm]";
   const std::size_t n = r.map_x_mm.size();
@@ -115,7 +119,10 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
     map.column_labels.push_back(i % 8 == 0 ? fmt(r.map_x_mm[i], 0) : "");
     map.row_labels.push_back(i % 8 == 0 ? fmt(r.map_y_mm[n - 1 - i], 0) : "");
   }
-  map.values = r.map_mT;
+  map.values = r.map_mT;  // the material blank: the colours show the field the sensors can reach
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t i = 0; i < n; ++i)
+      if (r.magnet.contains_mm(r.map_x_mm[i], r.map_y_mm[n - 1 - j], 0.0)) map.values[j][i] = std::nan("");
   map.cell_text.assign(n, std::vector<std::string>(n, ""));
   const double step = r.map_x_mm[1] - r.map_x_mm[0], x0 = r.map_x_mm[0];
   auto mark = [&](double x, double y, const char* text) {
@@ -126,7 +133,8 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   mark(o.side_center_mm.x(), o.side_center_mm.y(), "S");
   for (int k = 0; k < 8; ++k) mark(o.bore_r0_mm * std::cos(k * 0.7853981633974483), o.bore_r0_mm * std::sin(k * 0.7853981633974483), "A");
   map.cblabel = "|B_{xy}| [mT]";
-  map.log_colour = false;
+  map.log_colour = true;
+  map.log_floor = 1.0;
   map.cell_font_size = 7;
   write_heatmap(out.dir(), "field_map", map);
 }

@@ -36,7 +36,7 @@ TEST_CASE("off_axis study: tiny run", "[studies][physics][cli]") {
                           "field_map.png"});
   CHECK_FALSE(leftovers(out));
   const auto rows = read_csv(out / "readers.csv");
-  REQUIRE(rows.size() == 4 + 3);  // raw, trimmed, ogp, harmonics:16; three bore arrays
+  REQUIRE(rows.size() == 4 + 3);  // raw, trimmed, ogp, harmonics:16; diff4, ring:8, ring:16
   const auto& raw = reader(rows, "side inplane raw");
   CHECK(num(raw, "direction") == -1);
   CHECK(std::abs(std::remainder(num(raw, "zero_deg") - 180.0, 360.0)) < 1e-6);
