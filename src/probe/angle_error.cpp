@@ -554,7 +554,9 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   s.env = Environment::from_config(cfg);
   s.env.validate_for(s.principle);
   const std::vector<double> center = cfg.reals("sensor.center_mm");
-  s.center_mm = {center.at(0), center.at(1)};
+  if (center.size() != 2)
+    throw InputError("sensor.center_mm has " + std::to_string(center.size()) + " numbers: allowed [x, y] in mm");
+  s.center_mm = {center[0], center[1]};
   s.orientation = ChipOrientation::from_config(cfg);
   check_nominal_points_outside_magnet(cfg, s);
   return s;

@@ -15,8 +15,8 @@ KeySpec center_key(double big) {
                             "nominal die centre [x, y] in the fixed frame: the probe circle or spot is centred "
                             "there, the static offsets add",
                             false, 2);
-  k.max_elements = 2;  // a fixed-length array: a TOML array only, its default written as one
-  k.default_value = "[0, 0]";
+  // [x, y]: two numbers, checked by its readers (a fixed-length key would refuse the "x,y" text that
+  // config.toml echoes).
   return k;
 }
 
@@ -186,8 +186,8 @@ void require_on_axis_layout(const Config& cfg, const std::string& who) {
                      "a plane above the top face (> 0 mm)");
   if (!cfg.has("sensor.center_mm")) return;
   const std::vector<double> c = cfg.reals("sensor.center_mm");
-  if (c.at(0) != 0.0 || c.at(1) != 0.0)
-    throw InputError("sensor.center_mm = [" + num(c.at(0)) + ", " + num(c.at(1)) + "]" + tail + "[0, 0]");
+  if (c.size() != 2 || c[0] != 0.0 || c[1] != 0.0)
+    throw InputError("sensor.center_mm = " + cfg.str("sensor.center_mm") + tail + "[0, 0]");
   if (!ChipOrientation::from_config(cfg).identity())
     throw InputError("sensor.direction = " + cfg.str("sensor.direction") + ", sensor.zero_deg = " +
                      cfg.str("sensor.zero_deg") + ", sensor.gain_trim = " + cfg.str("sensor.gain_trim") + tail +

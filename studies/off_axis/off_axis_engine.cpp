@@ -15,8 +15,6 @@ std::vector<KeySpec> OffAxisOptions::keys() {
   KeySpec center = real_list_key("off_axis.side_center_mm", {18.0, 0.0}, -1000, 1000, "mm",
                                  "side-shaft chip: die centre [x, y] beside the ring (sensor.center_mm of those readers)",
                                  false, 2);
-  center.max_elements = 2;
-  center.default_value = "[18, 0]";
   std::vector<KeySpec> k = {
       center,
       real_key("off_axis.side_height_mm", -2.0, -1000, 1000, "mm",
@@ -54,7 +52,9 @@ std::vector<KeySpec> OffAxisOptions::keys() {
 OffAxisOptions OffAxisOptions::from_config(const Config& cfg) {
   OffAxisOptions o;
   const std::vector<double> c = cfg.reals("off_axis.side_center_mm");
-  o.side_center_mm = {c.at(0), c.at(1)};
+  if (c.size() != 2)
+    throw InputError("off_axis.side_center_mm has " + std::to_string(c.size()) + " numbers: allowed [x, y] in mm");
+  o.side_center_mm = {c[0], c[1]};
   o.side_height_mm = cfg.real("off_axis.side_height_mm");
   o.side_principles = cfg.strings("off_axis.side_principles");
   o.methods = cfg.strings("off_axis.methods");

@@ -227,6 +227,7 @@ TEST_CASE("a sensing point in the ring's material, a bad direction or zero are r
     Config cfg(common_keys());
     cfg.set("sensor.direction=2");
   }(), InputError);
+  refused({"sensor.center_mm=[1, 2, 3]"}, "sensor.center_mm");
   refused({"sensor.zero_deg=abc"}, "sensor.zero_deg");
   refused({"sensor.zero_deg=400"}, "sensor.zero_deg");
   // In the bore, beside the material or above it: accepted.
@@ -240,6 +241,11 @@ TEST_CASE("a sensing point in the ring's material, a bad direction or zero are r
   Config toml(common_keys());
   toml.load_toml_string("[sensor]\ndirection = -1\nzero_deg = 180\ncenter_mm = [18, 0]\n");
   const ChipOrientation o = ChipOrientation::from_config(toml);
+  // config.toml echoes list keys as text: it reads back.
+  Config echoed(common_keys());
+  echoed.load_toml_string(toml.to_toml());
+  CHECK(echoed.reals("sensor.center_mm") == std::vector<double>{18.0, 0.0});
+  CHECK(echoed.str("sensor.direction") == "-1");
   CHECK(o.direction == -1);
   CHECK(o.zero_deg == 180.0);
 }
