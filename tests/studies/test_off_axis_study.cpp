@@ -47,7 +47,7 @@ TEST_CASE("off_axis study: tiny run", "[studies][physics][cli]") {
   CHECK(num(reader(rows, "side inplane trimmed"), "gain_mismatch") == Approx(3.194679).margin(5e-7));
   for (const auto& x : rows) CHECK(num(x, "p99_pp_deg") >= num(x, "p50_pp_deg"));
   const std::string md = slurp(out / "summary.md");
-  CHECK(md.find("k = 4.1947") != std::string::npos);
+  CHECK(md.find("k = 4.19468") != std::string::npos);
 }
 
 TEST_CASE("off_axis study: bad input is refused", "[studies][bad-input][cli]") {
