@@ -141,7 +141,12 @@ void fill_statistics(const FieldSource& field, const OffAxisOptions& o, const st
 OffAxisReader make_reader(const FieldSource& field, const OffAxisOptions& o, const std::vector<std::string>& groups,
                           std::string label, std::string layout, std::string principle, std::string treatment,
                           ProbeSetup setup, const CalibrationMethod& method) {
-  OffAxisReader r{std::move(label), std::move(layout), std::move(principle), std::move(treatment), std::move(setup)};
+  OffAxisReader r;
+  r.label = std::move(label);
+  r.layout = std::move(layout);
+  r.principle = std::move(principle);
+  r.treatment = std::move(treatment);
+  r.setup = std::move(setup);
   const AngleErrorResult nominal = angle_error(field, r.setup, Mount{});
   if (!method.none()) r.correction = calibrate(method, nominal, r.setup.principle);
   const AngleErrorResult shown = method.none() ? nominal : corrected(r.correction, nominal);

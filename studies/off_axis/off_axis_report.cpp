@@ -54,6 +54,24 @@ void write_tables(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& 
   out.write_text("field_map.csv", fm.str());
 }
 
+PlotPanel panel(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
+  PlotPanel p;
+  p.title = title;
+  p.xlabel = xlabel;
+  p.ylabel = ylabel;
+  return p;
+}
+
+PlotSeries series(const std::string& title, const std::vector<double>& x, const std::vector<double>& y,
+                  const std::string& style = "linespoints") {
+  PlotSeries s;
+  s.title = title;
+  s.x = x;
+  s.y = y;
+  s.style = style;
+  return s;
+}
+
 PlotSeries curve(const std::string& title, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   PlotSeries s;
   s.title = plot_literal(title);
@@ -66,8 +84,8 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   PlotSpec curves;
   curves.title = "Nominal mount: angle error of each reader";
   curves.columns = 2;
-  PlotPanel raw{"pp above 5 deg: raw, and what a correction leaves of it", "{/Symbol q} [deg]", "error [deg]"};
-  PlotPanel fixed{"pp below 5 deg: trimmed or calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]"};
+  PlotPanel raw = panel("pp above 5 deg: raw, and what a correction leaves of it", "{/Symbol q} [deg]", "error [deg]");
+  PlotPanel fixed = panel("pp below 5 deg: trimmed or calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]");
   raw.commands = {"set xrange [0:360]", "set xtics 90", "set key outside bottom"};
   fixed.commands = raw.commands;
   for (const auto& x : r.readers)
@@ -80,14 +98,14 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   PlotSpec scans;
   scans.title = "p99 of pp over the tolerance box";
   scans.columns = 2;
-  PlotPanel side{"side-shaft: read radius", "die centre x [mm]", "p99 pp [deg]"};
+  PlotPanel side = panel("side-shaft: read radius", "die centre x [mm]", "p99 pp [deg]");
   side.logy = true;
-  side.series.push_back({"raw", o.scan_side_x_mm, r.scan_side_p99_raw, "linespoints"});
-  side.series.push_back({"trimmed (BCT)", o.scan_side_x_mm, r.scan_side_p99_trim, "linespoints"});
-  PlotPanel gap{"bore arrays: gap above the ring", "plane height above the top face [mm]", "p99 pp [deg]"};
+  side.series.push_back(series("raw", o.scan_side_x_mm, r.scan_side_p99_raw));
+  side.series.push_back(series("trimmed (BCT)", o.scan_side_x_mm, r.scan_side_p99_trim));
+  PlotPanel gap = panel("bore arrays: gap above the ring", "plane height above the top face [mm]", "p99 pp [deg]");
   gap.logy = true;
   for (std::size_t a = 0; a < o.bore_arrays.size(); ++a)
-    gap.series.push_back({plot_literal(o.bore_arrays[a]), o.scan_gap_mm, r.scan_gap_p99[a], "linespoints"});
+    gap.series.push_back(series(plot_literal(o.bore_arrays[a]), o.scan_gap_mm, r.scan_gap_p99[a]));
   scans.panels = {side, gap};
   scans.width_px = 1300;
   scans.height_px = 550;
@@ -95,11 +113,11 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
 
   PlotSpec spectra;
   spectra.title = "Mean harmonic amplitude over the box";
-  PlotPanel sp{"", "harmonic n", "mean c_n [deg]"};
+  PlotPanel sp = panel("", "harmonic n", "mean c_n [deg]");
   sp.logy = true;
   sp.commands = {"set xtics 1", "set key outside right"};
   for (const auto& x : r.readers) {
-    PlotSeries s{plot_literal(x.label), {}, {}, "linespoints"};
+    PlotSeries s = series(plot_literal(x.label), {}, {});
     for (int n = 1; n <= 8; ++n) {
       s.x.push_back(n);
       s.y.push_back(std::max(x.mean_c_deg[n - 1], 1e-9));
