@@ -74,6 +74,9 @@ std::string SolvedFieldDir::mismatch(const Config& cfg) const {
       return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
              ": solve again with the study's [magnet] keys";
   }
+  if (cfg.has("magnet.inner_radius_mm") && cfg.real("magnet.inner_radius_mm") > 0)
+    return "was solved for a solid cylinder, the study uses a ring (magnet.inner_radius_mm = " +
+           fmt(cfg.real("magnet.inner_radius_mm"), 4) + "): allowed magnet.inner_radius_mm = 0 with FEM fields";
   {  // solves written before the key existed had no elevation
     const double solved = j["magnet"].value("magnetization_elevation_deg", 0.0);
     const double want = cfg.real("magnet.magnetization_elevation_deg");

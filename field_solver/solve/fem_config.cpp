@@ -314,6 +314,12 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   FemSettings s;
   DomainSpec& d = s.domain;
   d.magnet = Magnet::from_config(cfg);
+  if (d.magnet.is_ring())
+    throw InputError("magnet.inner_radius_mm = " + num(d.magnet.inner_radius_mm) +
+                     ": the FEM meshes solid cylinders only: allowed 0 with the FEM (the exact field serves rings)");
+  if (!(cfg.real("sensor.plane_height_mm") > 0))
+    throw InputError("sensor.plane_height_mm = " + num(cfg.real("sensor.plane_height_mm")) +
+                     ": the FEM's sensing-plane grid lies above the magnet's top face: allowed > 0 mm with the FEM");
   s.plane_z_mm = sensing_plane_z_mm(cfg);
   const double top = 0.5 * d.magnet.height_mm, h = cfg.real("sensor.plane_height_mm");
   MeshSpec& m = d.mesh;

@@ -279,3 +279,30 @@ def test_calibrate_from_a_measured_curve_and_bad_input(tmp_path):
         magenc.calibrate(measured=curve)
     with pytest.raises(ValueError, match="ogp needs the raw channels"):
         magenc.calibrate(measured=curve, method="ogp")
+
+
+# ---- rings and sensors off the axis ----
+def test_side_shaft_ring_keys_pass_through_and_give_the_reference_ellipse():
+    # docs/physics.md "Ring magnets and sensors off the axis": k 4.19468, pp 75.9024 deg (6 digits printed).
+    ring = dict(magnet_radius_mm=16, magnet_inner_radius_mm=11, magnet_height_mm=4, magnet_br_T=1.2)
+    side = dict(sensor_principle="inplane", sensor_center_mm=[18, 0], sensor_plane_height_mm=-2)
+    theta, eps = magenc.angle_error(**ring, **side, sensor_direction=-1, sensor_zero_deg=180)
+    assert abs((eps.max() - eps.min()) - 75.9024) <= 0.5e-4
+    # direction and zero found on the nominal mount, the gain trimmed: the ellipse is gone.
+    theta, eps = magenc.angle_error(**ring, **side, sensor_direction="auto", sensor_zero_deg="auto",
+                                    sensor_gain_trim="auto")
+    assert eps.max() - eps.min() < 1e-9
+    # the ring's field in its bore: B along M, no mu0 M (the bore is air)
+    B = magenc.field_at(np.array([[0.0, 0.0, 0.0]]), **ring)
+    S = lambda a: 2 * 2 / math.hypot(a, 2)  # (z + L/2)/s+ - (z - L/2)/s- at z = 0
+    assert B[0, 0] == pytest.approx(-1.2 / 4 * (S(16) - S(11)), rel=1e-12)
+
+
+def test_off_axis_bad_input_raises_one_line():
+    with pytest.raises(ValueError, match="magnet.inner_radius_mm"):
+        magenc.field_at(np.array([[0.0, 0.0, 9.0]]), magnet_radius_mm=4, magnet_inner_radius_mm=4)
+    with pytest.raises(ValueError, match="sensor.center_mm"):
+        magenc.angle_error(magnet_radius_mm=16, magnet_inner_radius_mm=11, magnet_height_mm=4,
+                           sensor_principle="inplane", sensor_center_mm=[13, 0], sensor_plane_height_mm=-2)
+    with pytest.raises(ValueError, match="sensor.direction"):
+        magenc.angle_error(sensor_direction=2)

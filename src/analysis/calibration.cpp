@@ -359,7 +359,9 @@ Eigen::VectorXd residual_deg(const Correction& c, const AngleErrorResult& run) {
   Eigen::VectorXd r(run.theta_deg.size());
   for (Eigen::Index i = 0; i < r.size(); ++i) {
     const double psi = c.ellipse.angle_deg(run.channels(i, 0), run.channels(i, 1));
-    r[i] = wrap_deg(psi - c.turns * run.theta_deg[i]) / c.turns;
+    const ChipOrientation& o = run.orientation;  // the chip's direction and zero apply to the corrected angle too
+    r[i] = o.identity() ? wrap_deg(psi - c.turns * run.theta_deg[i]) / c.turns
+                        : wrap_deg(o.direction * psi + c.turns * (o.zero_deg - run.theta_deg[i])) / c.turns;
   }
   return r;
 }

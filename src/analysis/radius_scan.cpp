@@ -133,6 +133,7 @@ RadiusScanOptions RadiusScanOptions::from_config(const Config& cfg) {
   o.validate_radii = static_cast<int>(cfg.integer("radius.validate_radii"));
   o.validate_samples = static_cast<int>(cfg.integer("radius.validate_samples"));
   o.band_rel = cfg.real("radius.band_rel");
+  require_on_axis_layout(cfg, "the radius study");
   if (cfg.has("sensor.principle") && cfg.str("sensor.principle") != "bz")
     throw InputError("sensor.principle = " + cfg.str("sensor.principle") +
                      ": the radius study scans the probe radius of Hall arrays: allowed bz (compare the principles "

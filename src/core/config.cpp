@@ -86,6 +86,12 @@ ConfigValue checked_scalar(const KeySpec& s, const ConfigValue& v, const std::st
     }
     case KeySpec::Type::String: {
       auto p = std::get_if<std::string>(&v);
+      std::string number_text;
+      if (!p && s.numbers_as_text) {
+        if (auto q = std::get_if<long>(&v)) number_text = std::to_string(*q);
+        else if (auto d = std::get_if<double>(&v); d && std::isfinite(*d)) number_text = fmt_sig(*d, 17);
+        if (!number_text.empty()) p = &number_text;
+      }
       if (!p) throw InputError(where + s.key + " must be a string: allowed " + allowed_range(s));
       if (!s.choices.empty()) {
         bool ok = false;

@@ -71,6 +71,12 @@ KeySpec string_key(std::string key, std::string def, std::vector<std::string> ch
   return s;
 }
 
+KeySpec number_or_word_key(std::string key, std::string def, std::vector<std::string> choices, std::string help) {
+  KeySpec s = string_key(std::move(key), std::move(def), std::move(choices), std::move(help));
+  s.numbers_as_text = true;
+  return s;
+}
+
 KeySpec bool_key(std::string key, bool def, std::string help) {
   KeySpec s;
   s.key = std::move(key);

@@ -24,6 +24,7 @@ struct KeySpec {
   std::size_t max_elements = 0;      // lists: most elements (0: no limit); == min_elements: a fixed-length array
   std::vector<KeySpec> fields;       // TableList: the fields of each table (scalar keys, arrays, Settings)
   bool required = false;             // a TableList field every table must have
+  bool numbers_as_text = false;      // String: a TOML number is taken as its text (`direction = -1`)
   std::string unit;                  // "mm", "deg", "T", "" for none
   std::string help;
 };
@@ -35,6 +36,9 @@ KeySpec int_key(std::string key, long def, long min, long max, std::string help)
 KeySpec string_key(std::string key, std::string def, std::vector<std::string> choices,
                    std::string help);
 KeySpec bool_key(std::string key, bool def, std::string help);
+// A String key that also takes a TOML number as its text: a number or a word such as "auto"
+// (choices empty: any text, the reader checks it; otherwise the allowed spellings).
+KeySpec number_or_word_key(std::string key, std::string def, std::vector<std::string> choices, std::string help);
 // List keys: elements in [min, max] (numbers) or among choices (strings; empty: any non-empty text).
 KeySpec real_list_key(std::string key, const std::vector<double>& def, double min, double max, std::string unit,
                       std::string help, bool min_exclusive = false, std::size_t min_elements = 1);

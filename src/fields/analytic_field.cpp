@@ -43,6 +43,12 @@ AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&n
   cos_alpha_ = std::cos(alpha_rad);
   sin_alpha_ = std::sin(alpha_rad);
   br_inside_T_ = magnet_.remanence_T();
+  if (magnet_.is_ring()) {
+    Magnet bore = magnet_;
+    bore.radius_mm = magnet_.inner_radius_mm;
+    bore.inner_radius_mm = 0.0;
+    bore_ = std::make_shared<AnalyticField>(bore);
+  }
 }
 
 std::optional<FieldSource::AxisymmetricParts> AnalyticField::axisymmetric_parts() const {
@@ -57,9 +63,7 @@ std::optional<FieldSource::AxisymmetricParts> AnalyticField::axisymmetric_parts(
   return parts;
 }
 
-bool AnalyticField::inside_or_on_magnet(const Vec3& p) const {
-  return std::hypot(p.x(), p.y()) <= magnet_.radius_mm && std::abs(p.z()) <= magnet_.top_z_mm();
-}
+bool AnalyticField::inside_or_on_magnet(const Vec3& p) const { return magnet_.contains_mm(p.x(), p.y(), p.z()); }
 
 const AnalyticField::NodeTable& AnalyticField::table_for(double r_mm, double z_mm) const {
   const double R = magnet_.radius_mm, half = magnet_.top_z_mm();
@@ -169,6 +173,11 @@ Vec3 AnalyticField::B_axial_closed_form_T(double x, double y, double z) const {
 
 double AnalyticField::Bz_axial_closed_form_T(double x, double y, double z) const {
   return B_axial_closed_form_T(x, y, z).z();
+}
+
+Vec3 AnalyticField::B_axial_closed_form_T(const Vec3& p) const {
+  const Vec3 outer = B_axial_closed_form_T(p.x(), p.y(), p.z());
+  return bore_ ? Vec3(outer - bore_->B_axial_closed_form_T(p)) : outer;
 }
 
 namespace {
@@ -344,6 +353,16 @@ MAGENC_NODE_SIMD(reduction(+ : acc_z, acc_ax))
 }
 
 Vec3 AnalyticField::B_T(const Vec3& p) const {
+  if (!bore_) return cylinder_B_T(p);
+  return cylinder_B_T(p) - bore_->cylinder_B_T(p);
+}
+
+double AnalyticField::Bz_T(const Vec3& p) const {
+  if (!bore_) return cylinder_Bz_T(p);
+  return cylinder_Bz_T(p) - bore_->cylinder_Bz_T(p);
+}
+
+Vec3 AnalyticField::cylinder_B_T(const Vec3& p) const {
   // Rotate the point into the frame where M0 is along +x, evaluate, rotate back.
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
@@ -364,7 +383,7 @@ Vec3 AnalyticField::B_T(const Vec3& p) const {
   return B;
 }
 
-double AnalyticField::Bz_T(const Vec3& p) const {
+double AnalyticField::cylinder_Bz_T(const Vec3& p) const {
   const double xa = cos_alpha_ * p.x() + sin_alpha_ * p.y();
   const double ya = -sin_alpha_ * p.x() + cos_alpha_ * p.y();
   if (sin_el_ == 0.0) return Bz_aligned_T(xa, ya, p.z());

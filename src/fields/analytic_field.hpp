@@ -29,6 +29,11 @@
 // cancellation), capped at kMaxNodes: only points within ~36 R / kMaxNodes
 // ~ 1 um of a rim circle (where a -> 0) get less than ~1e-12 relative accuracy.
 //
+// Ring magnets (magnet.inner_radius_mm = Ri > 0): B_ring = B_cyl(R) - B_cyl(Ri), two exact cylinder fields
+// of the same polarization (the bore's cylinder is a second AnalyticField). Inside the material the
+// first adds mu0*M0 and the second does not; in the bore both add it and it cancels. Ri = 0 evaluates the
+// cylinder alone, the same operations as before rings existed.
+//
 // Magnetization elevation el (magnet.magnetization_elevation_deg): M = M0 (cos el
 // cos beta, cos el sin beta, sin el). The diametric part is the kernel above
 // scaled by cos el; the axial part M0 sin el (charges +-M0 sin el on the top and
@@ -37,6 +42,7 @@
 // same nodes (B_aligned_parts_T); an independent closed form with complete
 // elliptic integrals (B_axial_closed_form_T) cross-checks it in the tests.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "fields/field_source.hpp"
@@ -59,16 +65,18 @@ class AnalyticField final : public FieldSource {
   // of this magnet magnetized along x (azimuth 0), y (azimuth 90 deg), z (elevation 90 deg).
   std::optional<AxisymmetricParts> axisymmetric_parts() const override;
 
-  // True when p_mm lies inside the magnet or on its surface (r <= R, |z| <= L/2).
+  // True when p_mm lies inside the magnet's material or on its surface (Ri <= r <= R, |z| <= L/2).
   bool inside_or_on_magnet(const Vec3& p_mm) const;
-  // Number of midpoint nodes the quadrature uses at p_mm (tests, benchmarks).
+  // Number of midpoint nodes the quadrature uses at p_mm for the outer cylinder (tests, benchmarks; a
+  // ring evaluates the bore's cylinder too, with its own count).
   int nodes_at(const Vec3& p_mm) const;
   // Field of the axial magnetization alone with |M| = M0 (elevation 90 deg), total B
   // (inside too), by an independent closed form: the finite solenoid with complete
   // elliptic integrals (Bulirsch's cel). A cross-check of the quadrature (tests); the
   // field itself uses the quadrature, which shares its nodes with the diametric part.
-  Vec3 B_axial_closed_form_T(const Vec3& p_mm) const { return B_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
-  double Bz_axial_closed_form_T(const Vec3& p_mm) const { return Bz_axial_closed_form_T(p_mm.x(), p_mm.y(), p_mm.z()); }
+  // For a ring, the outer cylinder's closed form minus the bore's.
+  Vec3 B_axial_closed_form_T(const Vec3& p_mm) const;
+  double Bz_axial_closed_form_T(const Vec3& p_mm) const { return B_axial_closed_form_T(p_mm).z(); }
 
   static constexpr double kQuadratureExponent = 36.0;  // exp(-36) ~ 2e-16
   static constexpr int kMinNodes = 16;
@@ -85,6 +93,9 @@ class AnalyticField final : public FieldSource {
   // The node ladder 16, 24, 32, 48, ..., kMaxNodes (multiples of 8), built once
   // per process (immutable; shared by all instances, thread-safe initialization).
   static const std::vector<NodeTable>& node_tables();
+  // The solid cylinder of radius R (the ring's outer cylinder), total B.
+  Vec3 cylinder_B_T(const Vec3& p_mm) const;
+  double cylinder_Bz_T(const Vec3& p_mm) const;
   // Field in the frame where M0 is along +x (no interior Br term).
   Vec3 B_aligned_T(double x_mm, double y_mm, double z_mm) const;
   double Bz_aligned_T(double x_mm, double y_mm, double z_mm) const;
@@ -101,6 +112,7 @@ class AnalyticField final : public FieldSource {
   double cos_el_ = 1, sin_el_ = 0;        // elevation of M0 (exactly 1, 0 when it is 0)
   Vec3 br_inside_T_ = Vec3::Zero();       // Magnet::remanence_T()
   const std::vector<NodeTable>* tables_;   // node_tables(), increasing node counts
+  std::shared_ptr<const AnalyticField> bore_;  // the cylinder of radius Ri (rings only), subtracted
 };
 
 // Linear model of the study: Bz = k*x (k = 1 T/mm; it cancels in atan2),

@@ -21,8 +21,10 @@ bool on_magnet_surface(const Magnet& m, const Vec3& p) {
   const double tol = kSurfaceTolerance * std::max(R, half);
   const double r = std::hypot(p.x(), p.y()), az = std::abs(p.z());
   const bool curved = std::abs(r - R) <= tol && az <= half + tol;
-  const bool ends = std::abs(az - half) <= tol && r <= R + tol;
-  return curved || ends;
+  const double Ri = m.inner_radius_mm;
+  const bool ends = std::abs(az - half) <= tol && r <= R + tol && (Ri == 0.0 || r >= Ri - tol);
+  const bool bore = Ri > 0.0 && std::abs(r - Ri) <= tol && az <= half + tol;
+  return curved || ends || bore;
 }
 
 Eigen::Matrix3Xd field_at(const FieldSource& field, const Eigen::Matrix3Xd& p) {
@@ -36,7 +38,8 @@ Eigen::Matrix3Xd field_at(const FieldSource& field, const Eigen::Matrix3Xd& p) {
     for (Eigen::Index j = 0; j < p.cols(); ++j)
       if (on_magnet_surface(*magnet, Vec3(p.col(j))))
         throw InputError(point_label(p, j) + " lies on the magnet's surface (radius " + num(magnet->radius_mm) +
-                         " mm, |z| = " + num(magnet->top_z_mm()) + " mm), where B jumps: allowed points inside or "
+                         " mm" + (magnet->is_ring() ? ", inner radius " + num(magnet->inner_radius_mm) + " mm" : std::string()) +
+                         ", |z| = " + num(magnet->top_z_mm()) + " mm), where B jumps: allowed points inside or "
                          "outside the magnet");
   try {
     return field.B_T(p);  // batch (parallel): any refused point throws

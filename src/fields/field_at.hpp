@@ -15,7 +15,7 @@ namespace magenc {
 // table, off a 2-D plane, outside a FE mesh). Sources that know only Bz (the
 // linear model) are refused too: field_at gives the full vector.
 // Relative distance (times the magnet's larger size, R or L/2) within which a point counts as on the
-// magnet's surface, where B jumps and is not defined.
+// magnet's surface (a ring's bore face included), where B jumps and is not defined.
 inline constexpr double kSurfaceTolerance = 1e-12;
 bool on_magnet_surface(const Magnet& magnet, const Vec3& p_mm);
 

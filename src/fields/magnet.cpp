@@ -16,6 +16,9 @@ void Magnet::validate() const {
   positive("magnet.radius_mm", radius_mm, "mm");
   positive("magnet.height_mm", height_mm, "mm");
   positive("magnet.br_T", br_T, "T");
+  if (!(std::isfinite(inner_radius_mm) && inner_radius_mm >= 0 && inner_radius_mm < radius_mm))
+    throw InputError("magnet.inner_radius_mm = " + num(inner_radius_mm) + " with magnet.radius_mm = " + num(radius_mm) +
+                     " is out of range: allowed 0 <= inner_radius_mm < radius_mm (mm)");
   if (!(std::isfinite(mu_r) && mu_r >= 1))
     throw InputError("magnet.mu_r = " + num(mu_r) + " is out of range: allowed [1, 1e6]");
   if (!std::isfinite(magnetization_deg))
@@ -23,6 +26,11 @@ void Magnet::validate() const {
   if (!(std::isfinite(magnetization_elevation_deg) && std::abs(magnetization_elevation_deg) <= 90.0))
     throw InputError("magnet.magnetization_elevation_deg = " + num(magnetization_elevation_deg) +
                      " is out of range: allowed [-90, 90] deg");
+}
+
+bool Magnet::contains_mm(double x_mm, double y_mm, double z_mm) const {
+  const double r = std::hypot(x_mm, y_mm);
+  return r <= radius_mm && r >= inner_radius_mm && std::abs(z_mm) <= top_z_mm();
 }
 
 Eigen::Vector3d Magnet::remanence_T() const {
@@ -35,6 +43,7 @@ Eigen::Vector3d Magnet::remanence_T() const {
 Magnet Magnet::from_config(const Config& cfg) {
   Magnet m;
   m.radius_mm = cfg.real("magnet.radius_mm");
+  m.inner_radius_mm = cfg.real("magnet.inner_radius_mm");
   m.height_mm = cfg.real("magnet.height_mm");
   m.br_T = cfg.real("magnet.br_T");
   m.mu_r = cfg.real("magnet.mu_r");
@@ -52,6 +61,8 @@ std::vector<KeySpec> Magnet::keys() {
   const double big = defaults::kMaxLength_mm;
   return {
       real_key("magnet.radius_mm", defaults::kMagnetRadius_mm, 0, big, "mm", "magnet radius R", true),
+      real_key("magnet.inner_radius_mm", 0.0, 0, big, "mm",
+               "inner radius Ri of a ring magnet (bore of air); 0 = a solid cylinder; allowed 0 <= Ri < radius_mm"),
       real_key("magnet.height_mm", defaults::kMagnetHeight_mm, 0, big, "mm", "magnet height L (axis z, centred at 0)", true),
       real_key("magnet.br_T", defaults::kMagnetBr_T, 0, 10, "T", "remanence Br = mu0*M0", true),
       real_key("magnet.mu_r", defaults::kMagnetMuR, 1, 1e6, "", "recoil permeability of the magnet (FEM only)"),

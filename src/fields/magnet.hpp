@@ -1,4 +1,4 @@
-// The diametrically magnetized cylindrical magnet and the sensing plane
+// The diametrically magnetized cylindrical magnet (or ring: inner radius Ri > 0) and the sensing plane
 // (docs/physics.md). Magnet frame: axis z, centre at the origin, top face z = +L/2.
 #pragma once
 #include <Eigen/Core>
@@ -10,7 +10,8 @@
 namespace magenc {
 
 struct Magnet {
-  double radius_mm = defaults::kMagnetRadius_mm;  // R
+  double radius_mm = defaults::kMagnetRadius_mm;  // R (outer radius of a ring)
+  double inner_radius_mm = 0.0;                   // Ri: a ring (bore of air) when > 0; 0 <= Ri < R
   double height_mm = defaults::kMagnetHeight_mm;  // L
   double br_T = defaults::kMagnetBr_T;            // remanence Br = mu0*M0 (tesla)
   double mu_r = defaults::kMagnetMuR;             // recoil permeability (FEM only)
@@ -20,10 +21,13 @@ struct Magnet {
   double magnetization_elevation_deg = 0.0;
 
   double top_z_mm() const { return 0.5 * height_mm; }
+  bool is_ring() const { return inner_radius_mm > 0.0; }
+  // The magnet's material holds p (surface included): Ri <= r <= R and |z| <= L/2.
+  bool contains_mm(double x_mm, double y_mm, double z_mm) const;
   // The remanence vector Br = mu0*M0 (T) inside the magnet: br_T (cos al cos beta, cos al sin beta, sin al),
   // with cos al, sin al exactly 1, 0 at al = 0.
   Eigen::Vector3d remanence_T() const;
-  // Throws InputError for non-positive sizes / Br, mu_r < 1, |elevation| > 90, NaN.
+  // Throws InputError for non-positive sizes / Br, Ri outside [0, R), mu_r < 1, |elevation| > 90, NaN.
   void validate() const;
   static Magnet from_config(const Config& cfg);
   // The [magnet] keys from_config reads: geometry, remanence, mu_r, magnetization direction.

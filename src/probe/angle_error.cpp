@@ -37,8 +37,16 @@ void validate_setup(const ProbeSetup& setup, const Mount& mount) {
   if (mount.magnet_tilted() && !(std::isfinite(setup.magnet_height_mm) && setup.magnet_height_mm > 0))
     throw InputError("magnet.height_mm = " + num(setup.magnet_height_mm) +
                      " (pivot of the magnet tilt) is out of range: allowed (0, 1000] mm");
+  if (!setup.center_mm.allFinite())
+    throw InputError("sensor.center_mm is not finite: allowed finite [x, y] in mm");
+  const ChipOrientation& o = setup.orientation;
+  if (!(o.direction == 1 || o.direction == -1) || !(std::isfinite(o.zero_deg) && std::abs(o.zero_deg) <= 360.0))
+    throw InputError("sensor.direction = " + std::to_string(o.direction) + ", sensor.zero_deg = " + num(o.zero_deg) +
+                     ": allowed direction 1 or -1 and zero_deg in [-360, 360] deg");
+  // A probe circle about the axis must not pass over it; a circle centred elsewhere (sensor.center_mm)
+  // is the chip's business (resolve_orientation and the winding checks).
   const double offsets_mm = std::hypot(mount.sx_mm, mount.sy_mm) + std::hypot(mount.dx_mm, mount.dy_mm);
-  if (!point && setup.r0_mm - offsets_mm <= 0)
+  if (!point && setup.center_mm.isZero(0.0) && setup.r0_mm - offsets_mm <= 0)
     throw InputError("mounting offsets |s| + |d| = " + num(offsets_mm) + " mm reach the probe radius r0 = " +
                      num(setup.r0_mm) + " mm (degenerate probe path): allowed |s| + |d| < r0");
 }
@@ -105,25 +113,30 @@ void check_paths_outside_magnet(const Magnet& mag, const ProbeSetup& setup, cons
   const double cg = std::cos(deg_to_rad(mount.magnet_tilt_deg));
   const double half = mag.top_z_mm(), L = mag.height_mm;
   // A sensing area reaches half its diagonal from each probe (conservative: the test uses the centre's circle).
-  const double r_hull = mag.radius_mm + L * sg + (setup.area.point() ? 0.0 : setup.area.plate_mm * std::sqrt(0.5));
+  const double reach = L * sg + (setup.area.point() ? 0.0 : setup.area.plate_mm * std::sqrt(0.5));
+  const double r_hull = mag.radius_mm + reach;
+  // A ring's bore: a path that stays within Ri - reach of the magnet's axis passes through the air inside.
+  const double ri_hull = mag.is_ring() ? mag.inner_radius_mm - reach : -1.0;
   const double z_lo = mount.magnet_tilted() ? -half - mag.radius_mm * sg : -half;
   const double z_hi = mount.magnet_tilted() ? -half + L * cg + mag.radius_mm * sg : half;
-  const MountKinematics kin(mount, setup.plane_z_mm, mag.height_mm);
+  const MountKinematics kin(mount, setup.plane_z_mm, mag.height_mm, setup.center_mm);
   const std::vector<Eigen::Vector3d> fixed = fixed_probe_positions(setup, kin);
   const double d_mm = std::hypot(mount.dx_mm, mount.dy_mm);
   for (std::size_t k = 0; k < fixed.size(); ++k) {
     const double z_mm = fixed[k].z();
     if (z_mm > z_hi || z_mm < z_lo) continue;  // this probe's path passes above (or below) the magnet
-    const double closest_mm = std::abs(std::hypot(fixed[k].x(), fixed[k].y()) - d_mm);
-    if (closest_mm <= r_hull)
+    const double rho_mm = std::hypot(fixed[k].x(), fixed[k].y());
+    const double closest_mm = std::abs(rho_mm - d_mm), farthest_mm = rho_mm + d_mm;
+    if (closest_mm <= r_hull && farthest_mm >= ri_hull)
       throw InputError("probe path enters the magnet: at z = " + num(z_mm) + " mm (mount.dz_mm = " +
                        num(mount.dz_mm) + ") probe " + std::to_string(k) + " comes within " +
                        num(closest_mm) + " mm of the magnet's axis, magnet radius " + num(mag.radius_mm) +
+                       (mag.is_ring() ? " mm, inner radius " + num(mag.inner_radius_mm) : std::string()) +
                        " mm, half height " + num(half) + " mm" +
                        (mount.magnet_tilted() ? " (tilted magnet: hull radius " + num(r_hull) + " mm, z in [" +
                                                     num(z_lo) + ", " + num(z_hi) + "] mm)"
                                               : std::string()) +
-                       ": allowed paths outside the magnet (plane above its top face or radius > R)");
+                       ": allowed paths outside the magnet (plane above its top face, radius > R or within a ring's bore)");
   }
 }
 
@@ -148,7 +161,7 @@ Eigen::Matrix3Xd probe_paths_at_rad(const ProbeSetup& setup, const Mount& mount,
                                     Eigen::Matrix3Xd* normals = nullptr) {
   const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());
-  const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm);
+  const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm, setup.center_mm);
   const std::vector<Eigen::Vector3d> fixed = fixed_probe_positions(setup, kin);
   Eigen::Matrix3Xd p(3, M * K);
   if (normals) normals->resize(3, M * K);
@@ -180,7 +193,7 @@ AreaSamples area_samples(const ProbeSetup& setup, const Mount& mount, const Eige
   const auto M = theta_rad.size();
   const auto K = static_cast<Eigen::Index>(setup.array.size());
   const auto Q = static_cast<Eigen::Index>(a.w.size());
-  const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm);
+  const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm, setup.center_mm);
   std::vector<Eigen::Vector3d> fixed;  // K*Q fixed-frame points
   for (Eigen::Index k = 0; k < K; ++k) {
     const Eigen::Vector2d c = nominal_xy_mm(setup, static_cast<std::size_t>(k));
@@ -248,12 +261,20 @@ Eigen::MatrixXd inplane_readings(const FieldSource& field, const ProbeSetup& set
   return b;
 }
 
+// The error (deg) of the electrical angle psi_deg at theta_deg with the chip's direction and zero:
+// wrap(direction psi + turns zero - turns theta) / turns (turns = 2 for amr, whose error lies in (-90, 90]).
+double oriented_error_deg(const ChipOrientation& o, double psi_deg, double theta_deg, int turns) {
+  return wrap_deg(o.direction * psi_deg + turns * (o.zero_deg - theta_deg)) / turns;
+}
+
 // The pipeline at rotor angles theta_rad (theta_deg: the same angles in degrees, as reported).
 // check_winding (uniform samples of a whole turn, in-plane principles): the field direction at the spot,
 // atan2(-b2, -b1), must turn once per turn.
 AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& setup, const Mount& mount_20C,
                                     const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& theta_rad,
                                     bool check_winding = false) {
+  if (setup.orientation.any_auto())
+    return angle_error_at_rad(field, resolve_orientation(field, setup), mount_20C, theta_deg, theta_rad, check_winding);
   // 0. The environment: the mount (air gap) at the temperature; the chain's offsets below.
   setup.env.validate_for(setup.principle);
   const Mount mount = setup.env.mount_at_temperature(mount_20C);
@@ -275,11 +296,13 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
   if (env) {
     std::vector<Eigen::Vector2d> xy;
     for (std::size_t k = 0; k < setup.array.size(); ++k) xy.push_back(nominal_xy_mm(setup, k));
-    const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm);
+    const MountKinematics kin(mount, setup.plane_z_mm, setup.magnet_height_mm, setup.center_mm);
     stray_T = stray_readings_T(setup.env.stray, kin, xy, setup.area, reads_in_plane(setup.principle));
   }
+  const bool identity = setup.orientation.identity();
   AngleErrorResult res;
   res.theta_deg = theta_deg;
+  res.orientation = setup.orientation;
   res.eps_deg.resize(M);
   res.probe_B_T.resize(M, K);
   res.channels.resize(M, 2);
@@ -320,7 +343,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       res.channels(m, 0) = ch_cos;
       res.channels(m, 1) = ch_sin;
       const double phi_rad = std::atan2(ch_sin, ch_cos);
-      res.eps_deg[m] = wrap_deg(rad_to_deg(phi_rad - theta_rad[m]));
+      res.eps_deg[m] = identity ? wrap_deg(rad_to_deg(phi_rad - theta_rad[m]))
+                                : oriented_error_deg(setup.orientation, rad_to_deg(phi_rad), theta_deg[m], 1);
       check_finite(m);
     }
     // Field window: the peak |reading| of each probe over the turn; min and max over the probes.
@@ -356,7 +380,8 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       res.channels(m, 1) = u_s;
       const double psi_deg = rad_to_deg(std::atan2(u_s, u_c));
       // eps = wrap(phi - theta); amr: phi = psi/2 modulo 180, eps = wrap(psi - 2 theta)/2 in (-90, 90].
-      res.eps_deg[m] = wrap_deg(psi_deg - turns * theta_deg[m]) / turns;
+      res.eps_deg[m] = identity ? wrap_deg(psi_deg - turns * theta_deg[m]) / turns
+                                : oriented_error_deg(setup.orientation, psi_deg, theta_deg[m], turns);
       check_finite(m);
       // The field's own direction (before the channels and the chain) must turn once per turn.
       const double field_deg = rad_to_deg(std::atan2(-b2, -b1));
@@ -366,12 +391,14 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
     }
     if (check_winding && M > 1) {
       winding_deg += wrap_deg(field_first - field_prev);
-      if (std::abs(winding_deg - 360.0) > 180.0)
+      if (std::abs(winding_deg - 360.0 * setup.orientation.direction) > 180.0)
         throw InputError("the field direction at the sensing spot turns " + num(winding_deg / 360.0) +
-                         " times per turn, not once (mount |s| + |d| = " +
+                         " times per turn, not " + (setup.orientation.direction == 1 ? "once" : "once backwards") +
+                         " as sensor.direction = " + std::to_string(setup.orientation.direction) +
+                         " expects (mount |s| + |d| = " +
                          num(std::hypot(mount.sx_mm, mount.sy_mm) + std::hypot(mount.dx_mm, mount.dy_mm)) +
                          " mm, the spot too far off the axis): allowed mounts where the in-plane field turns with "
-                         "the rotor");
+                         "the rotor, sensor.direction -1 (or auto) where it turns backwards");
     }
     const Eigen::VectorXd mag = res.probe_B_T.col(0);
     res.field_min_mT = mag.minCoeff() * 1e3;
@@ -413,6 +440,12 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
   // 4. At a speed: the chip's timing on the channels of the whole turn (probe/speed.hpp).
   setup.speed.validate();
   if (setup.speed.acts()) {
+    // The timing chain recomputes the angle from the channels as an on-axis chip reads it (direction 1,
+    // zero 0, no trim); an oriented chip at speed is refused rather than read without its orientation.
+    if (!res.orientation.identity())
+      throw InputError("speed.rpm = " + num(setup.speed.rpm) +
+                       " with sensor.direction, sensor.zero_deg or sensor.gain_trim set: allowed speed.rpm = 0 for an "
+                       "oriented chip (side-shaft, off-axis), or the default orientation at speed");
     setup.speed.apply(res.channels, res.eps_deg, electrical_turns(setup.principle));
     for (Eigen::Index m = 0; m < res.eps_deg.size(); ++m)
       if (!std::isfinite(res.eps_deg[m]))
@@ -426,6 +459,86 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
 
 Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const Mount& mount) {
   return angle_error(field, setup, mount).spectrum;
+}
+
+namespace {
+// At the nominal mount no sensing point (probe or spot centre) may lie in the configured magnet's material.
+void check_nominal_points_outside_magnet(const Config& cfg, const ProbeSetup& s) {
+  if (!cfg.has("magnet.radius_mm") || !cfg.has("magnet.inner_radius_mm")) return;
+  const Magnet magnet = Magnet::from_config(cfg);
+  for (std::size_t k = 0; k < s.array.size(); ++k) {
+    const Eigen::Vector2d p = s.center_mm + nominal_xy_mm(s, k);
+    if (!magnet.contains_mm(p.x(), p.y(), s.plane_z_mm)) continue;
+    throw InputError("sensor.center_mm = [" + num(s.center_mm.x()) + ", " + num(s.center_mm.y()) +
+                     "], sensor.r0_mm = " + num(s.r0_mm) + ", sensor.plane_height_mm = " +
+                     num(cfg.real("sensor.plane_height_mm")) + " put sensing point " + std::to_string(k + 1) + " at (" +
+                     num(p.x()) + ", " + num(p.y()) + ", " + num(s.plane_z_mm) + ") mm in the magnet (magnet.radius_mm = " +
+                     num(magnet.radius_mm) + ", magnet.inner_radius_mm = " + num(magnet.inner_radius_mm) +
+                     ", magnet.height_mm = " + num(magnet.height_mm) + "): allowed points outside its material");
+  }
+}
+
+// Winding of atan2(u_s, u_c) over the rows of a whole turn (turns, signed).
+double channel_winding_turns(const Eigen::MatrixXd& ch) {
+  double w = 0;
+  const Eigen::Index M = ch.rows();
+  for (Eigen::Index m = 0; m < M; ++m) {
+    const Eigen::Index n = (m + 1) % M;
+    w += wrap_deg(rad_to_deg(std::atan2(ch(n, 1), ch(n, 0)) - std::atan2(ch(m, 1), ch(m, 0))));
+  }
+  return w / 360.0;
+}
+
+// |first-harmonic amplitude| of column c over a uniform turn at `turns` per turn.
+double harmonic_amplitude_of(const Eigen::MatrixXd& ch, Eigen::Index c, int turns) {
+  double re = 0, im = 0;
+  const Eigen::Index M = ch.rows();
+  for (Eigen::Index m = 0; m < M; ++m) {
+    const double a = 2.0 * kPi * turns * static_cast<double>(m) / static_cast<double>(M);
+    re += ch(m, c) * std::cos(a);
+    im += ch(m, c) * std::sin(a);
+  }
+  return 2.0 * std::hypot(re, im) / static_cast<double>(M);
+}
+}  // namespace
+
+ProbeSetup resolve_orientation(const FieldSource& field, const ProbeSetup& setup) {
+  const ChipOrientation& o = setup.orientation;
+  if (!o.any_auto()) return setup;
+  ProbeSetup nominal = setup;
+  nominal.chain = SignalChain{};
+  nominal.env = Environment{};
+  nominal.orientation = ChipOrientation{};
+  const int turns = electrical_turns(setup.principle);
+  const Eigen::VectorXd th_deg = uniform_theta_deg(setup.steps), th_rad = th_deg * (kPi / 180.0);
+  const AngleErrorResult raw = angle_error_at_rad(field, nominal, Mount{}, th_deg, th_rad);
+  const double winding = channel_winding_turns(raw.channels);
+  if (std::abs(std::abs(winding) - turns) > 0.5)
+    throw InputError("the sensor's angle winds " + num(winding) + " times per turn at the nominal mount (sensor.center_mm, "
+                     "sensor.plane_height_mm): allowed placements where it turns with the rotor, for sensor.direction, "
+                     "sensor.zero_deg or sensor.gain_trim = auto");
+  ProbeSetup out = setup;
+  out.orientation = ChipOrientation{};
+  out.orientation.direction = o.direction_auto ? (winding > 0 ? 1 : -1) : o.direction;
+  out.orientation.zero_deg = o.zero_auto ? 0.0 : o.zero_deg;
+  nominal.orientation.direction = out.orientation.direction;
+  if (o.gain_auto) {
+    const double trim = harmonic_amplitude_of(raw.channels, 0, turns) / harmonic_amplitude_of(raw.channels, 1, turns);
+    out.chain.gain_mismatch = (1.0 + setup.chain.gain_mismatch) * trim - 1.0;
+    nominal.chain.gain_mismatch = trim - 1.0;
+  }
+  if (o.zero_auto) {
+    nominal.orientation.zero_deg = 0.0;
+    const AngleErrorResult trimmed = angle_error_at_rad(field, nominal, Mount{}, th_deg, th_rad);
+    double c = 0, sn = 0;
+    for (Eigen::Index m = 0; m < trimmed.eps_deg.size(); ++m) {
+      const double a = deg_to_rad(turns * trimmed.eps_deg[m]);  // amr: the error is modulo 180 deg
+      c += std::cos(a);
+      sn += std::sin(a);
+    }
+    out.orientation.zero_deg = -rad_to_deg(std::atan2(sn, c)) / turns;
+  }
+  return out;
 }
 
 ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_spec, const std::string& what) {
@@ -459,6 +572,12 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
   s.env = Environment::from_config(cfg);
   s.env.validate_for(s.principle);
   s.speed = SpeedChain::from_config(cfg);
+  const std::vector<double> center = cfg.reals("sensor.center_mm");
+  if (center.size() != 2)
+    throw InputError("sensor.center_mm has " + std::to_string(center.size()) + " numbers: allowed [x, y] in mm");
+  s.center_mm = {center[0], center[1]};
+  s.orientation = ChipOrientation::from_config(cfg);
+  check_nominal_points_outside_magnet(cfg, s);
   return s;
 }
 

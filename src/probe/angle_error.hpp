@@ -40,13 +40,30 @@ struct ProbeSetup {
   // A turning encoder (probe/speed.hpp, docs/physics.md "Speed"): the chip's timing at speed.rpm, applied to
   // the channels of a whole turn after the signal chain. Static by default (rpm 0): then never entered.
   SpeedChain speed{};
+  // The die centre's nominal position in the fixed frame (sensor.center_mm): the probe circle or the
+  // spot is centred there; the mount's static offsets add to it. Zero: on the axis.
+  Eigen::Vector2d center_mm = Eigen::Vector2d::Zero();
+  // The chip's direction, zero and gain trim (probe/sensor.hpp); the default changes nothing.
+  ChipOrientation orientation{};
 };
+
+// The setup with every "auto" of its orientation resolved on the nominal mount (docs/physics.md "Ring
+// magnets and sensors off the axis"): the same field, principle, array, centre and plane; every mount
+// offset and tilt, signal-chain error and environment effect zero. direction = the sign of the winding of
+// atan2(u_s, u_c) over a turn; the gain trim multiplies 1 + gain_mismatch by A_c / A_s, the channels'
+// first-harmonic amplitudes; zero = minus the circular mean error (the angle of the mean of exp(i eps))
+// with that direction and trim. InputError when the angle does not wind once at the nominal mount.
+// A setup without "auto" is returned unchanged. angle_error() resolves it itself when needed; a study
+// that runs many mounts resolves once.
+ProbeSetup resolve_orientation(const FieldSource& field, const ProbeSetup& setup);
 
 // The ProbeSetup of the [sensor] keys (principle, r0, steps, signal chain, sensing area, field window),
 // the sensing plane z_s = L/2 + h and the magnet height; the array from array_spec (`what` names it in
 // errors). check_principle_keys() first. Under an in-plane principle the array is point: array_spec
 // "point", or sensor.array's default ("two") when what is "sensor.array" (the default is not a choice);
 // any other array is an InputError naming `what` and the principle.
+// Also reads sensor.center_mm and the orientation (sensor.direction, sensor.zero_deg, sensor.gain_trim), and
+// refuses (InputError naming the keys) a sensing point in the magnet's material at the nominal mount.
 ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_spec,
                                     const std::string& what = "sensor.array");
 
@@ -64,6 +81,9 @@ struct AngleErrorResult {
   // hypot(b1, b2), min and max over theta. in_window: both lie in setup.window (always true when it is off).
   double field_min_mT = 0, field_max_mT = 0;
   bool in_window = true;
+  // The chip's direction and zero the angle was taken with ("auto" resolved): what a correction of the
+  // channels (ogp) applies to its own angle.
+  ChipOrientation orientation{};
 };
 
 // Probe positions for every theta: returns 3 x (M*K) in the magnet frame (mm),

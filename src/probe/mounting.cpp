@@ -72,7 +72,8 @@ Eigen::Matrix3d rot_axis(const Eigen::Vector3d& u, double angle_rad) {
   return Eigen::AngleAxisd(angle_rad, u.normalized()).toRotationMatrix();
 }
 
-MountKinematics::MountKinematics(const Mount& m, double plane_z_mm, double magnet_height_mm) {
+MountKinematics::MountKinematics(const Mount& m, double plane_z_mm, double magnet_height_mm,
+                                 const Eigen::Vector2d& center_mm) {
   Rs = rot_y(deg_to_rad(m.tilt_y_deg)) * rot_x(deg_to_rad(m.tilt_x_deg));
   const double psi = deg_to_rad(m.magnet_tilt_azimuth_deg);
   RtT = rot_axis(Eigen::Vector3d(-std::sin(psi), std::cos(psi), 0.0), deg_to_rad(m.magnet_tilt_deg)).transpose();
@@ -80,6 +81,7 @@ MountKinematics::MountKinematics(const Mount& m, double plane_z_mm, double magne
   if (!m.sensor_tilted()) Rs.setIdentity();
   magnet_tilted = m.magnet_tilted();
   c_mm = Eigen::Vector3d(m.sx_mm, m.sy_mm, plane_z_mm + m.dz_mm);
+  if (!center_mm.isZero(0.0)) c_mm.head<2>() += center_mm;  // on the axis: s itself, bit for bit
   d_mm = Eigen::Vector3d(m.dx_mm, m.dy_mm, 0.0);
   P_mm = Eigen::Vector3d(0.0, 0.0, -0.5 * magnet_height_mm);
   n_fixed = Rs.col(2);

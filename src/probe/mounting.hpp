@@ -2,7 +2,8 @@
 // offsets"). Frames: the magnet frame has the magnet centred at the origin (top
 // face z = +L/2); the rotor frame turns with the magnet; the sensor (fixed)
 // frame has the rotation axis as z.
-//   * static eccentricity s = (sx, sy): sensor centre off the rotation axis;
+//   * static eccentricity s = (sx, sy): sensor centre off its nominal position c0
+//     (sensor.center_mm, default the rotation axis): the die centre is c0 + s;
 //   * dynamic eccentricity d = (dx, dy): magnet centre off the axis (rotor frame);
 //   * air-gap offset dz: sensing plane at z_s + dz;
 //   * sensor tilt (a = tilt_x_deg, b = tilt_y_deg): the sensor turns about its
@@ -53,14 +54,16 @@ struct Mount {
 struct MountKinematics {
   Eigen::Matrix3d Rs = Eigen::Matrix3d::Identity();  // sensor tilt Ry(b) Rx(a)
   Eigen::Matrix3d RtT = Eigen::Matrix3d::Identity(); // transpose of the magnet tilt Rt
-  Eigen::Vector3d c_mm = Eigen::Vector3d::Zero();    // sensor centre (sx, sy, z_s + dz), fixed frame
+  Eigen::Vector3d c_mm = Eigen::Vector3d::Zero();    // sensor centre (cx + sx, cy + sy, z_s + dz), fixed frame
   Eigen::Vector3d d_mm = Eigen::Vector3d::Zero();    // (dx, dy, 0), rotor frame
   Eigen::Vector3d P_mm = Eigen::Vector3d::Zero();    // pivot (0, 0, -L/2)
   Eigen::Vector3d n_fixed = Eigen::Vector3d::UnitZ();// probe normal Rs (0,0,1), fixed frame
   bool magnet_tilted = false;                        // false: RtT is the identity (skipped)
 
-  // plane_z_mm: z_s (magnet frame); magnet_height_mm: L (pivot of the magnet tilt).
-  MountKinematics(const Mount& m, double plane_z_mm, double magnet_height_mm);
+  // plane_z_mm: z_s (magnet frame); magnet_height_mm: L (pivot of the magnet tilt); center_mm: the die
+  // centre's nominal position (sensor.center_mm; the static offsets add to it).
+  MountKinematics(const Mount& m, double plane_z_mm, double magnet_height_mm,
+                  const Eigen::Vector2d& center_mm = Eigen::Vector2d::Zero());
   // Fixed-frame position of the probe with nominal sensor-frame position (px, py).
   Eigen::Vector3d fixed_position_mm(double px_mm, double py_mm) const;
   // Fixed-frame point / direction -> magnet frame at rotor angle theta.

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 
 #include "core/defaults.hpp"
 #include "core/errors.hpp"
@@ -9,6 +10,16 @@
 namespace magenc {
 
 namespace {
+KeySpec center_key(double big) {
+  KeySpec k = real_list_key("sensor.center_mm", {0.0, 0.0}, -big, big, "mm",
+                            "nominal die centre [x, y] in the fixed frame: the probe circle or spot is centred "
+                            "there, the static offsets add",
+                            false, 2);
+  // [x, y]: two numbers, checked by its readers (a fixed-length key would refuse the "x,y" text that
+  // config.toml echoes).
+  return k;
+}
+
 const char* const kAllowedPrinciples = "allowed bz, inplane, xmr, amr";
 
 // The declared default of a key (its text, as the schema holds it).
@@ -142,12 +153,63 @@ void check_principle_keys(const Config& cfg) {
   window.validate();
 }
 
+ChipOrientation ChipOrientation::from_config(const Config& cfg) {
+  ChipOrientation o;
+  const std::string dir = cfg.str("sensor.direction");
+  o.direction_auto = dir == "auto";
+  o.direction = dir == "-1" ? -1 : 1;
+  const std::string zero = cfg.str("sensor.zero_deg");
+  o.zero_auto = zero == "auto";
+  if (!o.zero_auto) {
+    std::size_t pos = 0;
+    double z = std::numeric_limits<double>::quiet_NaN();
+    try {
+      z = std::stod(zero, &pos);
+    } catch (...) {
+      pos = 0;
+    }
+    if (pos == 0 || pos != zero.size() || !std::isfinite(z) || std::abs(z) > 360.0)
+      throw InputError("sensor.zero_deg = '" + zero + "' is out of range: allowed a number in [-360, 360] deg or auto");
+    o.zero_deg = z;
+  }
+  o.gain_auto = cfg.str("sensor.gain_trim") == "auto";
+  return o;
+}
+
+void require_on_axis_layout(const Config& cfg, const std::string& who) {
+  const std::string tail = ": " + who + " assumes a solid magnet and an array centred on the axis: allowed ";
+  if (cfg.has("magnet.inner_radius_mm") && cfg.real("magnet.inner_radius_mm") != 0.0)
+    throw InputError("magnet.inner_radius_mm = " + num(cfg.real("magnet.inner_radius_mm")) + tail + "0");
+  if (cfg.has("sensor.plane_height_mm") && !(cfg.real("sensor.plane_height_mm") > 0))
+    throw InputError("sensor.plane_height_mm = " + num(cfg.real("sensor.plane_height_mm")) + tail +
+                     "a plane above the top face (> 0 mm)");
+  if (!cfg.has("sensor.center_mm")) return;
+  const std::vector<double> c = cfg.reals("sensor.center_mm");
+  if (c.size() != 2 || c[0] != 0.0 || c[1] != 0.0)
+    throw InputError("sensor.center_mm = " + cfg.str("sensor.center_mm") + tail + "[0, 0]");
+  if (!ChipOrientation::from_config(cfg).identity())
+    throw InputError("sensor.direction = " + cfg.str("sensor.direction") + ", sensor.zero_deg = " +
+                     cfg.str("sensor.zero_deg") + ", sensor.gain_trim = " + cfg.str("sensor.gain_trim") + tail +
+                     "1, 0 and none");
+}
+
 std::vector<KeySpec> sensor_keys() {
   const double big = defaults::kMaxLength_mm;
   const double inf = std::numeric_limits<double>::infinity();
   return {
-      real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, 0, big, "mm", "sensing plane height h above the top face",
-               true),
+      real_key("sensor.plane_height_mm", defaults::kPlaneHeight_mm, -big, big, "mm",
+               "sensing plane height h above the top face (negative: below it; -L/2 is the magnet's mid-plane); no "
+               "sensing point may lie in the magnet at the nominal mount"),
+      center_key(big),
+      number_or_word_key("sensor.direction", "1", {"1", "-1", "auto"},
+                         "the chip's counting direction: phi = wrap(direction atan2(u_s, u_c) + zero); auto = the "
+                         "sign of the angle's winding at the nominal mount"),
+      number_or_word_key("sensor.zero_deg", "0", {},
+                         "the chip's zero added to the angle, deg in [-360, 360], or auto = minus the circular mean "
+                         "error at the nominal mount"),
+      string_key("sensor.gain_trim", "none", {"none", "auto"},
+                 "gain trim of the sin channel (BCT): auto = scaled by the ratio of the channels' first-harmonic "
+                 "amplitudes at the nominal mount, on top of sensor.gain_mismatch; none = no trim"),
       real_key("sensor.r0_mm", defaults::kProbeRadius_mm, 0, big, "mm", "nominal probe radius r0", true),
       string_key("sensor.array", "two", {}, "probe array: two, diff4 or ring:N (N >= 3) for principle bz; point for the others"),
       int_key("sensor.steps", 3600, 16, 10000000, "samples M of theta over one turn"),

@@ -68,6 +68,31 @@ struct SensingArea {
 // normalized eigenvectors the weights). Exact for polynomials of degree <= 2n - 1. n >= 1.
 void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
 
+// The chip's direction and zero (docs/physics.md "Ring magnets and sensors off the axis"):
+// phi = wrap(direction * atan2(u_s, u_c) + zero); amr: the same on the electrical angle, halved.
+// "auto" (sensor.direction, sensor.zero_deg) and the gain trim (sensor.gain_trim = auto: the sin
+// channel scaled so that both channels have the cos channel's first-harmonic amplitude, MagAlpha's
+// BCT) are taken on the nominal mount by resolve_orientation (probe/angle_error.hpp).
+struct ChipOrientation {
+  int direction = 1;           // 1 | -1
+  double zero_deg = 0;         // added to the angle
+  bool direction_auto = false;
+  bool zero_auto = false;
+  bool gain_auto = false;      // sensor.gain_trim = auto
+  bool any_auto() const { return direction_auto || zero_auto || gain_auto; }
+  // The default: the angle as the channels give it (every on-axis result of earlier versions).
+  bool identity() const { return direction == 1 && zero_deg == 0 && !any_auto(); }
+  // Reads sensor.direction ("1", "-1", "auto"), sensor.zero_deg (degrees in [-360, 360] or "auto")
+  // and sensor.gain_trim ("none", "auto"); InputError naming the key otherwise.
+  static ChipOrientation from_config(const Config& cfg);
+};
+
+// Studies whose fast paths assume a solid magnet and an array centred on the axis (radius, design): an
+// InputError naming the key (magnet.inner_radius_mm, sensor.plane_height_mm <= 0, sensor.center_mm,
+// sensor.direction, sensor.zero_deg, sensor.gain_trim) when the configuration leaves that layout; `who` says
+// which study.
+void require_on_axis_layout(const Config& cfg, const std::string& who);
+
 // A key that does not apply to the configured principle must keep its default (which means "not
 // used"): sensor.r0_mm for the point principles, the mT offsets for xmr/amr, the relative offsets for
 // bz/inplane. InputError naming the key and the principle otherwise. (A key at its default is not

@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "analysis/radius_scan.hpp"
+#include "probe/sensor.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/units.hpp"
@@ -104,6 +105,7 @@ DesignOptions DesignOptions::from_config(const Config& cfg) {
     throw InputError("sensor.principle = " + cfg.str("sensor.principle") +
                      ": the design study searches Bz arrays (design.sensors): allowed bz");
   o.box = mount_box_from_config(cfg, true);
+  require_on_axis_layout(cfg, "the design study");
   o.drift_inplane_mm = cfg.real("design.drift_inplane_mm");
   o.drift_dz_mm = cfg.real("design.drift_dz_mm");
   o.samples = cfg.integer("design.samples");

@@ -11,6 +11,8 @@ Each chips/*.toml must
         field_min_mT, field_max_mT (>= 0; min < max when both are set)
         offset_cos_mT, offset_sin_mT (bz and inplane only), offset_cos_rel, offset_sin_rel (xmr and
         amr only), gain_mismatch, phase_error_deg, offset_cos_tc_uT_per_K, offset_sin_tc_uT_per_K
+        direction: 1 | -1 | "auto"; zero_deg: a number | "auto"; gain_trim: "none" | "auto" (the chip's
+        programmable direction, zero and side-shaft gain trim; each with a source like a number)
     (noise.* keys are declared only by the radius study, so a chip file holding one could not be
     loaded by every executable: they are refused here);
   - give every numeric key a source: a comment containing "source:" on the key's own line, or in the
@@ -38,6 +40,8 @@ NUMERIC_KEYS = {
 }
 TIMING_KEYS = {"delay_us", "skew_us", "filter_hz", "sample_hz"}
 STRING_KEYS = {"principle", "array"}
+# The chip's settings (docs/interfaces.md "Rings, sensors off the axis"): allowed values, a source each.
+SETTING_KEYS = {"direction": (1, -1, "1", "-1", "auto"), "zero_deg": ("auto",), "gain_trim": ("none", "auto")}
 MT_OFFSETS = {"offset_cos_mT", "offset_sin_mT"}
 REL_OFFSETS = {"offset_cos_rel", "offset_sin_rel"}
 RING = re.compile(r"ring:([0-9]{1,5})$")
@@ -107,9 +111,17 @@ def check_file(root, rel):
     def at(key):
         return f"{rel}:{where[key]}" if key in where else rel
 
-    for key in sorted(set(sensor) - NUMERIC_KEYS - STRING_KEYS):
+    for key in sorted(set(SETTING_KEYS) & set(sensor)):
+        v = sensor[key]
+        ok = v in SETTING_KEYS[key] or (key == "zero_deg" and is_number(v) and abs(v) <= 360)
+        if not ok:
+            problems.append(f"{at(key)}: sensor.{key} = {v!r}: allowed {' | '.join(map(str, SETTING_KEYS[key]))}"
+                            + (" or a number in [-360, 360]" if key == "zero_deg" else ""))
+        elif key not in where or not has_source(lines, where[key]):
+            problems.append(f"{at(key)}: sensor.{key} has no 'source:' comment on its line or directly above")
+    for key in sorted(set(sensor) - NUMERIC_KEYS - STRING_KEYS - set(SETTING_KEYS)):
         problems.append(f"{at(key)}: sensor.{key} is not a chip-definition key "
-                        f"(allowed: {', '.join(sorted(STRING_KEYS | NUMERIC_KEYS))})")
+                        f"(allowed: {', '.join(sorted(STRING_KEYS | NUMERIC_KEYS | set(SETTING_KEYS)))})")
     principle = sensor.get("principle")
     if principle is None:
         problems.append(f"{rel}: sensor.principle is missing (allowed: {' | '.join(PRINCIPLES)})")
