@@ -2,7 +2,7 @@
 // (i, j, k) at origin_mm + (i*hx, j*hy, k*hz), values stored with i fastest,
 // then j, then k (index i + nx*(j + ny*k), VTK image data order). dims[2] == 1
 // is a plane at z = origin_mm.z. The FEM's sensing-plane and box grids
-// (field_solver/fem_config), the grids grid: sources interpolate
+// (field_solver/solve/fem_config), the grids grid: sources interpolate
 // (fields/grid_field) and field tables of other tools are all GridData; a grid
 // that only describes where to sample has no values yet.
 #pragma once

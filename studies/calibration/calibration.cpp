@@ -2,8 +2,8 @@
 // "Calibration") after the encoder drifts from the state it was calibrated in: a Monte Carlo over the
 // tolerance box for the factory state, one drift draw from the drift box per sample, the residual's p50/p99
 // per sensor and method beside the uncalibrated p99, the budget of each drift key alone, the p99 against the
-// drift size and the mean residual spectra. Computation in src/analysis/calibration_study.*, outputs in
-// src/report/calibration_report.*.
+// drift size and the mean residual spectra. Computation in studies/calibration/calibration_study.*, outputs in
+// studies/calibration/calibration_report.*.
 //   calibration [--config studies/calibration/calibration.toml] [--set study.samples=10000] [--out DIR]
 #include "studies/calibration/calibration_study.hpp"
 #include "fields/field_factory.hpp"

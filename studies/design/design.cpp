@@ -3,7 +3,7 @@
 // temperature extremes, stray fields) with the smallest magnet (docs/studies/design.md). Per design: p99
 // uncalibrated and calibrated, field margin, magnet volume, pass/fail with the reason; Pareto fronts of p99
 // against volume per sensor; the recommended design and its error budget. The computation lives in
-// src/analysis/design_study.*, the outputs in src/report/design_report.*.
+// studies/design/design_study.*, the outputs in studies/design/design_report.*.
 //   design [--config studies/design/design.toml] [--set design.samples=10000] [--out DIR]
 //   mpirun -n N design ...   splits the designs over N ranks (contiguous blocks of design indices); rank 0
 //                            gathers the results and writes the outputs, byte-identical to one process

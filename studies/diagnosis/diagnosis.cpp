@@ -7,8 +7,8 @@
 //     field too when fem_field.dir names a solved field (roundtrip.fem_cases cases).
 //     An all-free fit on a few cases lists what one curve cannot identify.
 //  2. Anomalies: constructed target curves (hypotheses) fitted with candidate explanations
-//     (analysis/diagnosis_study.hpp, anomaly_experiments()).
-// The computation lives in src/analysis/diagnosis_study.* (run_diagnosis_study), the outputs in
+//     (studies/diagnosis/diagnosis_study.hpp, anomaly_experiments()).
+// The computation lives in studies/diagnosis/diagnosis_study.* (run_diagnosis_study), the outputs in
 // src/report/diagnosis_report.* (write_diagnosis_study_report).
 // Writes coverage.csv, anomalies.csv, example_fit.png, example_harmonics.png, summary.md.
 //   diagnosis [--config studies/diagnosis/diagnosis.toml] [--set roundtrip.cases=20] [--out DIR]

@@ -6,7 +6,7 @@
 // principles inplane, xmr, amr), with cubic fits, one
 // coefficient figure per source, and which source makes which harmonic per
 // array (harmonics.csv, harmonics_heatmap.png, summary.md). The sweeps live in
-// src/analysis/error_sources.*, the outputs in src/report/error_sources_report.*.
+// studies/error_sources/error_sources_engine.*, the outputs in studies/error_sources/error_sources_report.*.
 //   error_sources [--config studies/error_sources/error_sources.toml] [--set sweep.points=21] [--out DIR]
 #include "studies/error_sources/error_sources_engine.hpp"
 #include "analysis/sensor_principles.hpp"

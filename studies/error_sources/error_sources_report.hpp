@@ -1,4 +1,4 @@
-// Outputs of the error_sources study (analysis/error_sources.hpp): tables,
+// Outputs of the error_sources study (studies/error_sources/error_sources_engine.hpp): tables,
 // per-source coefficient plots, the harmonic heat map and summary.md.
 //   spectra.csv            every sweep row (extra columns sweep, swept, value)
 //   fits.csv               cubic fits, `swept` = the source (tilt_x_deg, ...)

@@ -3,9 +3,9 @@
 // mesh, the effect of the faceting of the curved face (segments, equal-area
 // radius) and of the truncation radius (Robin vs psi = 0); then the total
 // potential against the reduced one (permeable magnet) and the split one
-// (permeable shaft). The solves are field_solver/convergence.* (results and
-// rates: analysis/fem_convergence.*), the outputs
-// src/report/fem_convergence_report.*. Writes
+// (permeable shaft). The solves are studies/fem_convergence/fem_convergence_solves.* (results and
+// rates: studies/fem_convergence/fem_convergence_engine.*), the outputs
+// studies/fem_convergence/fem_convergence_report.*. Writes
 //   convergence.csv, faceting.csv, truncation.csv, potential.csv, shaft_potential.csv,
 //   convergence.png, summary.md
 //   fem_convergence [--config studies/fem_convergence/fem_convergence.toml] [--set convergence.orders=2] [--out DIR]

@@ -1,7 +1,7 @@
 // FEM convergence against the exact field: the typed result of the study
 // fem_convergence and the rate estimate over a mesh refinement. The solves
 // are studies/fem_convergence/fem_convergence_solves.hpp's (run_fem_convergence), the outputs
-// report/fem_convergence_report.hpp's; this header holds only numbers, so
+// studies/fem_convergence/fem_convergence_report.hpp's; this header holds only numbers, so
 // report/ (library magenc) can format them.
 #pragma once
 #include <optional>

@@ -1,4 +1,4 @@
-// Report of the study fem_convergence (analysis/fem_convergence.hpp): writes
+// Report of the study fem_convergence (studies/fem_convergence/fem_convergence_engine.hpp): writes
 // convergence.csv, convergence.png, faceting.csv and truncation.csv (when those
 // runs ran), potential.csv and shaft_potential.csv (when those comparisons ran)
 // and summary.md into the study folder.

@@ -3,8 +3,8 @@
 // lengths of convergence.h_zone_list and each order of convergence.orders;
 // then at one mesh the faceting of the curved face and the truncation radius;
 // then the total potential against the reduced one (permeable magnet) and the
-// split one (permeable shaft). Results: analysis/fem_convergence.hpp; outputs:
-// report/fem_convergence_report.hpp.
+// split one (permeable shaft). Results: studies/fem_convergence/fem_convergence_engine.hpp; outputs:
+// studies/fem_convergence/fem_convergence_report.hpp.
 #pragma once
 #include <vector>
 

@@ -12,8 +12,8 @@
 // Writes provenance.csv (spectra table + columns source, variant, h_mm,
 // interp, case), artefacts_vs_h.png, ideal_harmonics.png, fem_artefacts.png
 // (when FE solutions ran), summary.md. The computation is
-// src/analysis/provenance.* (the FE solves field_solver/fem_variant.*), the
-// outputs src/report/provenance_report.*.
+// studies/harmonic_provenance/provenance.* (the FE solves field_solver/solve/fem_variant.*), the
+// outputs studies/harmonic_provenance/provenance_report.*.
 //   harmonic_provenance [--config studies/harmonic_provenance/harmonic_provenance.toml] [--out DIR]
 #include <iostream>
 #include <filesystem>

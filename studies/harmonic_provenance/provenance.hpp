@@ -9,7 +9,7 @@
 // configuration, run_grid_provenance (the exact field through plane grids),
 // then add_fe_solution once per FE solution (solved in the study with
 // field_solver/field_io/fem_variant.hpp or read from a solve_field directory). The
-// report is report/provenance_report.hpp's.
+// report is studies/harmonic_provenance/provenance_report.hpp's.
 #pragma once
 #include <filesystem>
 #include <memory>

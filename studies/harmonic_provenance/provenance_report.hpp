@@ -1,4 +1,4 @@
-// Report of the study harmonic_provenance (analysis/provenance.hpp): writes
+// Report of the study harmonic_provenance (studies/harmonic_provenance/provenance.hpp): writes
 // provenance.csv (spectra table + columns source, variant, h_mm, interp, case),
 // artefacts_vs_h.png, ideal_harmonics.png, fem_artefacts.png (when FE
 // solutions ran) and summary.md into the study folder.

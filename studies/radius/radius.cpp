@@ -7,7 +7,7 @@
 // contribution, the recommended r0 and the error budget there (each group of
 // the tolerance box alone: offsets, air gap, sensor tilt, magnet tilt, and when
 // enabled the signal chain and the magnetization elevation). The physics and the fast surrogate
-// live in src/analysis/radius_scan.*, the outputs in src/report/radius_report.*.
+// live in src/analysis/radius_scan.*, the outputs in studies/radius/radius_report.*.
 //   radius [--config studies/radius/radius.toml] [--set radius.samples=20000] [--out DIR]
 #include <chrono>
 #include <iostream>

@@ -4,7 +4,7 @@
 // tolerance box: the spectrum of each mounting error alone, the Monte Carlo
 // p99 of pp over the box, the field against each sensor's window, and which
 // principle tolerates which error and why. Computation in
-// src/analysis/sensor_principles.*, outputs in src/report/sensor_principles_report.*.
+// src/analysis/sensor_principles.*, outputs in studies/sensor_principles/sensor_principles_report.*.
 //   sensor_principles [--config studies/sensor_principles/sensor_principles.toml] [--set study.samples=100] [--out DIR]
 #include "analysis/sensor_principles.hpp"
 #include "fields/field_factory.hpp"

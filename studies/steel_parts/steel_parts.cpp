@@ -1,8 +1,8 @@
 // Study steel_parts: what a magnet holder, a shaft and an end shield of steel
 // (or brass) do to the field on the sensing plane, the field window and the
 // harmonics c1..c4, linear (a constant mu_r) and with saturation (a B-H curve,
-// Newton). Every solve and the spectra: field_solver/steel_parts.* (results in
-// analysis/steel_parts.hpp); the outputs: report/steel_parts_report.*.
+// Newton). Every solve and the spectra: studies/steel_parts/steel_parts_run.* (results in
+// studies/steel_parts/steel_parts_result.hpp); the outputs: studies/steel_parts/steel_parts_report.*.
 //   steel_parts [--config studies/steel_parts/steel_parts.toml] [--out DIR]
 #include "studies/steel_parts/steel_parts_report.hpp"
 #include "report/study_output.hpp"

@@ -1,4 +1,4 @@
-// Outputs of the study steel_parts (analysis/steel_parts.hpp): steel_parts.csv
+// Outputs of the study steel_parts (studies/steel_parts/steel_parts_result.hpp): steel_parts.csv
 // (one row per solve, array and mounting case), solves.csv (one row per solve:
 // iterations, residuals, the part's largest |B|), profile.png (Bz along x on the
 // sensing plane with the field window), harmonics.png (c1..c4 per solve under

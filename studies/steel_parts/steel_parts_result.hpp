@@ -1,5 +1,5 @@
 // Results of the study steel_parts (the solves: studies/steel_parts/steel_parts_run.hpp; the
-// outputs: report/steel_parts_report.hpp): the default magnet alone, in a steel
+// outputs: studies/steel_parts/steel_parts_report.hpp): the default magnet alone, in a steel
 // cup, in a brass cup, on a steel shaft, above a steel end shield; the steel
 // parts linear (a constant mu_r) and nonlinear (a B-H curve); for each solve the
 // angle-error spectra of the FE field under the ideal mount and each mounting

@@ -7,8 +7,8 @@
 // |B| in the part, Bz along x on the sensing plane, and the angle-error spectra
 // of the FE field for each array of study.arrays under the ideal mount and each
 // of sx, sy, dx, dy alone at steel_parts.offset_mm, with the field window of the
-// [sensor] keys. Results: analysis/steel_parts.hpp; outputs:
-// report/steel_parts_report.hpp.
+// [sensor] keys. Results: studies/steel_parts/steel_parts_result.hpp; outputs:
+// studies/steel_parts/steel_parts_report.hpp.
 #pragma once
 #include <filesystem>
 #include <vector>

@@ -1,8 +1,8 @@
 // Study stray_field: the worst angle error of each sensor (bz arrays two, diff4, ring:8; inplane, xmr, amr)
 // in a homogeneous stray field over all directions, at ISO 11452-8-style levels and as a curve of the
 // magnitude, the field tolerated for given errors, direction maps, and beside a straight conductor
-// (docs/physics.md "Environment: stray fields and temperature"). Computation in src/analysis/stray_field.*,
-// outputs in src/report/stray_field_report.*.
+// (docs/physics.md "Environment: stray fields and temperature"). Computation in studies/stray_field/stray_field_engine.*,
+// outputs in studies/stray_field/stray_field_report.*.
 //   stray_field [--config studies/stray_field/stray_field.toml] [--set study.levels_kA_per_m=[1,4]] [--out DIR]
 #include "studies/stray_field/stray_field_engine.hpp"
 #include "studies/stray_field/stray_field_report.hpp"

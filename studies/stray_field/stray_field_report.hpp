@@ -1,4 +1,4 @@
-// Outputs of the stray_field study (analysis/stray_field.hpp): levels.csv (worst pp and c1 over the
+// Outputs of the stray_field study (studies/stray_field/stray_field_engine.hpp): levels.csv (worst pp and c1 over the
 // directions at each test level, worst direction), curve.csv (the same vs magnitude), tolerated.csv
 // (uniform field tolerated per threshold), wires.csv (conductor cases), error_vs_field.png (worst pp vs
 // |B| per sensor), wires.png (pp vs current per distance and orientation), direction_map_<sensor>.png

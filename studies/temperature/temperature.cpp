@@ -1,7 +1,7 @@
 // Study temperature: error spectra and the field against the chip's window from -40 to 150 C, for the
 // configured mount and the tolerance box's p99 sample, per sensor (docs/physics.md "Environment: stray
-// fields and temperature"). Computation in src/analysis/temperature_sweep.*, outputs in
-// src/report/temperature_report.*.
+// fields and temperature"). Computation in studies/temperature/temperature_sweep.*, outputs in
+// studies/temperature/temperature_report.*.
 //   temperature [--config studies/temperature/temperature.toml] [--set magnet.material=smco] [--out DIR]
 #include "studies/temperature/temperature_sweep.hpp"
 #include "report/study_output.hpp"

@@ -1,4 +1,4 @@
-// Outputs of the temperature study (analysis/temperature_sweep.hpp): temperature.csv (one row per
+// Outputs of the temperature study (studies/temperature/temperature_sweep.hpp): temperature.csv (one row per
 // sensor, mount and temperature: Br(T)/Br, pp, a0, c1..c4, field extremes, window margins),
 // pp_vs_temperature.png, field_vs_temperature.png, summary.md.
 #pragma once

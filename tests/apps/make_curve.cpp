@@ -1,5 +1,5 @@
 // Test helper: writes a synthetic measured curve CSV (theta_deg,error_deg) of the forward model, with the
-// reference-encoder noise and quantization of analysis/diagnosis_study.hpp. For diagnose's CLI tests and
+// reference-encoder noise and quantization of studies/diagnosis/diagnosis_study.hpp. For diagnose's CLI tests and
 // worked examples:
 //   magenc_make_curve OUT.csv [--field analytic|fem:DIR] [--array two] [--points 360] [--noise 0.005]
 //                    [--quant 8192] [--zero 0.2] [--seed 1] [--turns 1] [--set key=value]...

@@ -48,7 +48,7 @@ else
   field_spec="grid:$work/output/field/plane.vti"
   [ -x "$steel" ] || { echo "run_states_test.sh: steel_parts not found: $steel" >&2; exit 2; }
   echo "== steel_parts study: $steel"
-  "$steel" --config "$src/studies/steel_parts.toml" --out "$work/output/steel_parts"
+  "$steel" --config "$src/studies/steel_parts/steel_parts.toml" --out "$work/output/steel_parts"
 fi
 
 # 2. Probe paths of one mounting case (exaggerated so the picture shows it).

@@ -10,7 +10,7 @@ using namespace magenc::test;
 namespace {
 
 const std::string kTiny = "--config " + std::string(MAGENC_SOURCE_DIR) +
-                          "/studies/design.toml --set design.samples=40 --set 'design.gap_mm=[1.5, 2.5]' "
+                          "/studies/design/design.toml --set design.samples=40 --set 'design.gap_mm=[1.5, 2.5]' "
                           "--set 'design.materials=[\"ndfeb_sintered\"]' --set 'design.br_T=[1.2]' "
                           "--set 'design.magnet_height_mm=[3]'";
 

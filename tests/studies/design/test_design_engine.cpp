@@ -1,4 +1,4 @@
-// The design study's library (src/analysis/design_study.*): its optimum against the radius study's, results
+// The design study's library (studies/design/design_study.*): its optimum against the radius study's, results
 // independent of threads and of how the designs are split, the recommendation and the Pareto front against a
 // brute-force search, the field margin against the exact field, and bad input.
 #include <catch2/catch.hpp>

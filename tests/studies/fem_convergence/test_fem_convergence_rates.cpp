@@ -1,4 +1,4 @@
-// The rate estimate of the fem_convergence study (analysis/fem_convergence.hpp)
+// The rate estimate of the fem_convergence study (studies/fem_convergence/fem_convergence_engine.hpp)
 // on synthetic refinement sequences with known rates.
 #include <catch2/catch.hpp>
 

@@ -19,7 +19,7 @@ namespace {
 
 Config study_config(const std::vector<std::string>& sets) {
   CommonOptions o;
-  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/studies/steel_parts.toml";
+  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/studies/steel_parts/steel_parts.toml";
   o.sets = sets;
   return load_config(merge_schemas(common_keys(), steel_parts_keys()), o);
 }

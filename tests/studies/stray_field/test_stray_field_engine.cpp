@@ -1,4 +1,4 @@
-// Stray-field immunity (analysis/stray_field.hpp) on the exact field, coarse grids:
+// Stray-field immunity (studies/stray_field/stray_field_engine.hpp) on the exact field, coarse grids:
 //  * the worst direction of a uniform field on `two` is z and its c1 is docs/physics.md's 1.774 deg per mT;
 //  * the tolerated field brackets the threshold: worst pp at the reported field <= threshold < worst pp
 //    0.2 % above it;

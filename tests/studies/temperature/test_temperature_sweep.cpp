@@ -1,4 +1,4 @@
-// The temperature sweep (analysis/temperature_sweep.hpp) on the exact field, coarse:
+// The temperature sweep (studies/temperature/temperature_sweep.hpp) on the exact field, coarse:
 //  * at 20 C each curve is the pipeline without environment (same numbers);
 //  * without offsets and air-gap drift the error does not change with T (a ratio of channels) while the
 //    field extremes scale with Br(T)/Br exactly;
