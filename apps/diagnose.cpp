@@ -30,20 +30,10 @@ namespace {
 
 using magenc::InputError;
 
-struct Flags {
-  std::vector<std::string> measured;     // --measured (repeatable)
-  std::string field = "analytic";        // --field
-  std::optional<std::string> array, r0;  // config shorthands
+// The command line's own shorthands; everything else goes straight into the diagnose request.
+struct Shorthands {
+  std::optional<std::string> array, r0;  // sensor.array, sensor.r0_mm
   std::string free;                      // --free list (empty: default set)
-  std::vector<std::string> curve_sets;   // --curve-set N:key=value / N:key+=value
-  bool fixed_zero = false;               // --fixed-zero
-  int error_sign = 1;                    // --error-sign
-  double max_gap_deg = 30.0;             // --max-gap
-  int starts = 6;
-  unsigned seed = 1;
-  double cond_limit = 1e4;
-  std::string interp = "cubic";
-  double fd_step = 0;                    // --fd-step (0: by field)
 };
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -78,24 +68,25 @@ int run(int argc, char** argv) {
   // 1. Options.
   CLI::App app{"diagnose: fit mounting and signal-chain errors to measured angle-error curves (docs/interfaces.md)"};
   magenc::CommonOptions common;
-  Flags f;
+  Shorthands f;
+  magenc::DiagnoseRequest req;  // its defaults are the flags'
   const auto schema = magenc::common_keys();
   magenc::add_common_options(app, common, schema);
   app.footer(app.get_footer() + help_footer());
-  app.add_option("--measured", f.measured, "measured curve CSV (repeatable: joint fit)")->required();
-  app.add_option("--field", f.field, "field source, as for error_spectrum: analytic, linear, grid:FILE.vti, fem:DIR (default analytic)");
+  app.add_option("--measured", req.measured, "measured curve CSV (repeatable: joint fit)")->required();
+  app.add_option("--field", req.field, "field source, as for error_spectrum: analytic, linear, grid:FILE.vti, fem:DIR (default analytic)");
   app.add_option("--array", f.array, "probe array: two, diff4, ring:N (sensor.array)");
   app.add_option("--r0", f.r0, "probe radius r0 in mm (sensor.r0_mm)");
   app.add_option("--free", f.free, "comma-separated parameters to fit (default: what the curves can identify)");
-  app.add_option("--curve-set", f.curve_sets, "per-curve known value: N:key=value or N:key+=value (repeatable)");
-  app.add_flag("--fixed-zero", f.fixed_zero, "no free zero offset between the encoders (default: free DC)");
-  app.add_option("--error-sign", f.error_sign, "+1: error_deg = sensor - reference (default); -1: the opposite");
-  app.add_option("--max-gap", f.max_gap_deg, "largest allowed gap between samples in deg (default 30)");
-  app.add_option("--starts", f.starts, "start points of the fit (default 6; 1 = configured values only)");
-  app.add_option("--seed", f.seed, "seed of the random starts (default 1)");
-  app.add_option("--cond-limit", f.cond_limit, "condition number above which directions count as not identifiable (default 1e4)");
-  app.add_option("--fd-step", f.fd_step, "central-difference step in typical sizes (default 1e-4 exact field, 1e-2 fem:/grid:)");
-  app.add_option("--interp", f.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
+  app.add_option("--curve-set", req.curve_sets, "per-curve known value: N:key=value or N:key+=value (repeatable)");
+  app.add_flag("--fixed-zero", req.fixed_zero, "no free zero offset between the encoders (default: free DC)");
+  app.add_option("--error-sign", req.error_sign, "+1: error_deg = sensor - reference (default); -1: the opposite");
+  app.add_option("--max-gap", req.max_gap_deg, "largest allowed gap between samples in deg (default 30)");
+  app.add_option("--starts", req.starts, "start points of the fit (default 6; 1 = configured values only)");
+  app.add_option("--seed", req.seed, "seed of the random starts (default 1)");
+  app.add_option("--cond-limit", req.cond_limit, "condition number above which directions count as not identifiable (default 1e4)");
+  app.add_option("--fd-step", req.fd_step, "central-difference step in typical sizes (default 1e-4 exact field, 1e-2 fem:/grid:)");
+  app.add_option("--interp", req.interp, "grid interpolation: nearest, linear, cubic (grid:/table: only; default cubic)")
       ->check(CLI::IsMember({"nearest", "linear", "cubic"}));
   magenc::parse_cli(app, argc, argv);
 
@@ -103,19 +94,7 @@ int run(int argc, char** argv) {
   magenc::Config cfg = magenc::load_config(schema, common);
   if (f.array) cfg.set("sensor.array=" + *f.array);
   if (f.r0) cfg.set("sensor.r0_mm=" + *f.r0);
-  magenc::DiagnoseRequest req;
-  req.measured = f.measured;
-  req.field = f.field;
-  req.interp = f.interp;
   req.free = split_commas(f.free);
-  req.curve_sets = f.curve_sets;
-  req.fixed_zero = f.fixed_zero;
-  req.error_sign = f.error_sign;
-  req.max_gap_deg = f.max_gap_deg;
-  req.starts = f.starts;
-  req.seed = f.seed;
-  req.cond_limit = f.cond_limit;
-  req.fd_step = f.fd_step;
   req.array_name = f.array ? "--array" : "sensor.array";
   const magenc::DiagnoseRun run = magenc::run_diagnose(req, cfg);
   const auto& curves = run.curves;
@@ -124,10 +103,10 @@ int run(int argc, char** argv) {
   // 3. Outputs, all or nothing.
   magenc::DiagnosisRunInfo info;
   for (int i = 0; i < argc; ++i) info.command_line += (i ? " " : "") + std::string(argv[i]);
-  info.field_spec = f.field;
+  info.field_spec = req.field;
   info.config_json = cfg.to_json();
   info.config_toml = cfg.to_toml();
-  info.curve_sets = f.curve_sets;
+  info.curve_sets = req.curve_sets;
   info.options = run.options;
   info.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   magenc::AtomicDir out(common.out.empty() ? std::string("output/diagnose") : common.out);

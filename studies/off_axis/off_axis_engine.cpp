@@ -7,6 +7,7 @@
 #include "core/format.hpp"
 #include "core/units.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/inplane_ellipse.hpp"
 
 namespace magenc {
 
@@ -156,25 +157,13 @@ OffAxisReader make_reader(const FieldSource& field, const OffAxisOptions& o, con
   return r;
 }
 
-// k = A / B of the in-plane field's ellipse at the nominal mount (first harmonics of b1 and b2).
-double ellipse_k(const AngleErrorResult& r) {
-  double ac = 0, as = 0;
-  const Eigen::Index M = r.inplane_B_T.rows();
-  for (Eigen::Index m = 0; m < M; ++m) {
-    const double t = 2.0 * kPi * static_cast<double>(m) / static_cast<double>(M);
-    ac += r.inplane_B_T(m, 0) * std::cos(t);
-    as += r.inplane_B_T(m, 1) * std::sin(t);
-  }
-  return std::abs(ac / as);
-}
-
 void side_readers(const FieldSource& field, const Config& cfg, const OffAxisOptions& o, OffAxisResult& res) {
   for (const auto& p : o.side_principles) {
     const ProbeSetup raw = reader_setup(field, cfg, o, p, "point", o.side_center_mm, o.side_height_mm, false);
     const ProbeSetup trim = reader_setup(field, cfg, o, p, "point", o.side_center_mm, o.side_height_mm, true);
     if (&p == &o.side_principles.front()) {
       const AngleErrorResult nominal = angle_error(field, raw, Mount{});
-      res.k = ellipse_k(nominal);
+      res.k = inplane_ellipse_k(nominal);
       res.trim_gain_mismatch = trim.chain.gain_mismatch;
       res.ogp_trim = 1.0 / correct_channels(nominal.channels).ellipse.gain_ratio - 1.0;
     }
@@ -193,7 +182,7 @@ void scans(const FieldSource& field, const Config& cfg, const OffAxisOptions& o,
     const Eigen::Vector2d c(x, 0.0);
     const ProbeSetup raw = reader_setup(field, cfg, o, p, "point", c, o.side_height_mm, false);
     const ProbeSetup trim = reader_setup(field, cfg, o, p, "point", c, o.side_height_mm, true);
-    res.scan_side_k.push_back(p == "inplane" ? ellipse_k(angle_error(field, raw, Mount{})) : 0.0);
+    res.scan_side_k.push_back(p == "inplane" ? inplane_ellipse_k(angle_error(field, raw, Mount{})) : 0.0);
     res.scan_side_p99_raw.push_back(p99_of(over_box(field, raw, {}, o.box, o.scan_samples, o.seed)));
     res.scan_side_p99_trim.push_back(p99_of(over_box(field, trim, {}, o.box, o.scan_samples, o.seed)));
   }

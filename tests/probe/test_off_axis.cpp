@@ -16,6 +16,7 @@
 #include "fields/analytic_field.hpp"
 #include "probe/angle_error.hpp"
 #include "probe/common_keys.hpp"
+#include "probe/inplane_ellipse.hpp"
 
 using namespace magenc;
 
@@ -45,18 +46,6 @@ ProbeSetup side_shaft(double center_x_mm = 18.0) {
   return s;
 }
 
-// The first-harmonic amplitudes A of b1 and B of b2 over a uniform turn: k = A / B.
-double ellipse_k(const AngleErrorResult& r) {
-  double ac = 0, as = 0;
-  const Eigen::Index M = r.inplane_B_T.rows();
-  for (Eigen::Index m = 0; m < M; ++m) {
-    const double t = 2.0 * kPi * static_cast<double>(m) / static_cast<double>(M);
-    ac += r.inplane_B_T(m, 0) * std::cos(t);
-    as += r.inplane_B_T(m, 1) * std::sin(t);
-  }
-  return std::abs(ac / as);
-}
-
 // Within half a unit of the last printed decimal of ref (given as printed, e.g. "0.052257").
 void check_ref(double got, const std::string& ref, const std::string& what) {
   const std::size_t dot = ref.find('.');
@@ -72,12 +61,12 @@ TEST_CASE("side-shaft sensor beside a ring reproduces the reference ellipse (k, 
           "[probe][physics][regression]") {
   const AnalyticField field(reference_ring());
   const AngleErrorResult r = angle_error(field, side_shaft(), Mount{});
-  check_ref(ellipse_k(r), "4.19468", "k");
+  check_ref(inplane_ellipse_k(r), "4.19468", "k");
   check_ref(r.spectrum.c_deg[2], "35.2364", "c2");
   check_ref(r.spectrum.c_deg[4], "10.8350", "c4");
   check_ref(r.spectrum.pp_deg, "75.9024", "pp");
   for (int n : {1, 3, 5, 7}) CHECK(r.spectrum.c_deg[n] < 1e-9);  // even harmonics only
-  std::cout << "side-shaft reference: k " << ellipse_k(r) << ", c2 " << r.spectrum.c_deg[2] << ", c4 "
+  std::cout << "side-shaft reference: k " << inplane_ellipse_k(r) << ", c2 " << r.spectrum.c_deg[2] << ", c4 "
             << r.spectrum.c_deg[4] << ", pp " << r.spectrum.pp_deg << " deg\n";
 }
 
@@ -88,7 +77,7 @@ TEST_CASE("side-shaft sensor after the gain trim: zero on the ideal mount, the r
   s.chain.gain_mismatch = 3.194679;  // k - 1 as physics.md prints it
   CHECK(angle_error(field, s, Mount{}).spectrum.pp_deg < 1e-5);  // k - 1 printed to 7 digits
   ProbeSetup exact = s;  // the trim by the exact k: nothing left
-  exact.chain.gain_mismatch = ellipse_k(angle_error(field, side_shaft(), Mount{})) - 1.0;
+  exact.chain.gain_mismatch = inplane_ellipse_k(angle_error(field, side_shaft(), Mount{})) - 1.0;
   CHECK(angle_error(field, exact, Mount{}).spectrum.pp_deg < 1e-9);
   // The offsets with gain_mismatch = 3.194679 as the references were taken (a change of g by 5e-7 moves c2
   // by ~1.4e-5 deg, more than half a unit of the references' last digit).
@@ -152,7 +141,7 @@ TEST_CASE("the ellipse law: c2 = q rad, c4 = q^2/2 rad, no odd harmonics, peak a
   double last_k = 1e9;
   for (double x : {16.5, 18.0, 21.0, 26.0, 40.0}) {
     const AngleErrorResult r = angle_error(field, side_shaft(x), Mount{});
-    const double k = ellipse_k(r), q = (k - 1) / (k + 1);
+    const double k = inplane_ellipse_k(r), q = (k - 1) / (k + 1);
     const double peak_deg = rad_to_deg(std::atan((k - 1) / (2 * std::sqrt(k))));
     INFO("centre x " << x << " mm: k " << k);
     CHECK(k < last_k);  // the ellipse flattens towards the ring
@@ -172,7 +161,7 @@ TEST_CASE("the ellipse law: c2 = q rad, c4 = q^2/2 rad, no odd harmonics, peak a
 TEST_CASE("direction, zero and gain trim 'auto' find -1, 180 deg and k - 1 on the nominal mount",
           "[probe][physics][closed-form]") {
   const AnalyticField field(reference_ring());
-  const double k = ellipse_k(angle_error(field, side_shaft(), Mount{}));
+  const double k = inplane_ellipse_k(angle_error(field, side_shaft(), Mount{}));
   ProbeSetup s = side_shaft();
   s.orientation = ChipOrientation{};
   s.orientation.direction_auto = true;
