@@ -23,6 +23,7 @@
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/field_at.hpp"
+#include "support/surface_charge_field.hpp"
 
 using magenc::AnalyticField;
 using magenc::Magnet;
@@ -31,68 +32,7 @@ using magenc::Vec3;
 namespace {
 
 constexpr double kPi = magenc::kPi;
-// Gauss-Kronrod settings of the reference: the error estimate |K61 - G30| is far larger than the true
-// error of K61 on these analytic integrands, so a modest requested tolerance gives a reference good to
-// rounding (measured: with 1e-10 instead, the largest difference below changed only in its third digit,
-// 6.38e-16 Br against 6.41e-16 Br). A tolerance near 1e-14 is not reachable by the estimate in double
-// precision and only drives the recursion to its depth limit.
-constexpr double kTolerance = 1e-12;
-constexpr unsigned kMaxDepth = 15;
-
-// Adaptive Gauss-Kronrod on [a, b] split at the interior breakpoints given (sorted, duplicates ignored).
-template <class F>
-double integrate(F f, double a, double b, std::vector<double> breaks) {
-  using GK = boost::math::quadrature::gauss_kronrod<double, 61>;
-  breaks.push_back(a);
-  breaks.push_back(b);
-  std::sort(breaks.begin(), breaks.end());
-  double sum = 0;
-  for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
-    const double lo = std::max(a, breaks[i]), hi = std::min(b, breaks[i + 1]);
-    if (hi - lo > 1e-14 * (b - a)) sum += GK::integrate(f, lo, hi, kMaxDepth, kTolerance);
-  }
-  return sum;
-}
-
-// B (T) of the magnet by the surface-charge quadrature described above.
-Vec3 B_by_surface_charges(const Magnet& m, const Vec3& x) {
-  const double R = m.radius_mm, h = 0.5 * m.height_mm;
-  const double beta = m.magnetization_deg * kPi / 180, el = m.magnetization_elevation_deg * kPi / 180;
-  const double r = std::hypot(x.x(), x.y()), phi_p = std::atan2(x.y(), x.x());
-  // phi' breaks at the point's azimuth and opposite to it, folded into [0, 2 pi].
-  auto fold = [](double a) { return std::fmod(a + 4 * kPi, 2 * kPi); };
-  const std::vector<double> phi_breaks{fold(phi_p), fold(phi_p + kPi)};
-  Vec3 H = Vec3::Zero();
-  for (int c = 0; c < 3; ++c) {
-    // Curved face: x' = (R cos phi', R sin phi', z'), dA = R dphi' dz'.
-    auto curved = [&](double phi) {
-      const double sig = std::cos(el) * std::cos(phi - beta);
-      const double cx = R * std::cos(phi), cy = R * std::sin(phi);
-      auto inner = [&](double zp) {
-        const Vec3 d(x.x() - cx, x.y() - cy, x.z() - zp);
-        return d[c] / std::pow(d.squaredNorm(), 1.5);
-      };
-      return sig * R * integrate(inner, -h, h, {x.z()});
-    };
-    if (std::cos(el) != 0) H[c] += integrate(curved, 0, 2 * kPi, phi_breaks);
-    // End faces z' = +-h: x' = (rho cos phi', rho sin phi', +-h), dA = rho drho dphi', sigma = +-sin(el).
-    for (int s : {1, -1}) {
-      auto face = [&](double phi) {
-        const double cp = std::cos(phi), sp = std::sin(phi);
-        auto inner = [&](double rho) {
-          const Vec3 d(x.x() - rho * cp, x.y() - rho * sp, x.z() - s * h);
-          return rho * d[c] / std::pow(d.squaredNorm(), 1.5);
-        };
-        return s * std::sin(el) * integrate(inner, 0, R, {r});
-      };
-      if (std::sin(el) != 0) H[c] += integrate(face, 0, 2 * kPi, phi_breaks);
-    }
-  }
-  Vec3 B = m.br_T / (4 * kPi) * H;  // mu0 H with mu0 M0 = Br
-  if (r < R && std::abs(x.z()) < h)
-    B += m.br_T * Vec3(std::cos(el) * std::cos(beta), std::cos(el) * std::sin(beta), std::sin(el));
-  return B;
-}
+using magenc::test::B_by_surface_charges;
 
 // Distance of x from the magnet's surface.
 double surface_distance(const Magnet& m, const Vec3& x) {

@@ -26,6 +26,7 @@
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/field_at.hpp"
+#include "support/surface_charge_field.hpp"
 
 using magenc::AnalyticField;
 using magenc::Magnet;
@@ -34,64 +35,8 @@ using magenc::Vec3;
 namespace {
 
 constexpr double kPi = magenc::kPi;
-
-template <class F>
-double integrate(F f, double a, double b, std::vector<double> breaks) {
-  using GK = boost::math::quadrature::gauss_kronrod<double, 61>;
-  breaks.push_back(a);
-  breaks.push_back(b);
-  std::sort(breaks.begin(), breaks.end());
-  double sum = 0;
-  for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
-    const double lo = std::max(a, breaks[i]), hi = std::min(b, breaks[i + 1]);
-    if (hi - lo > 1e-14 * (b - a)) sum += GK::integrate(f, lo, hi, 15, 1e-12);
-  }
-  return sum;
-}
-
-bool in_material(const Magnet& m, const Vec3& x) {
-  const double r = std::hypot(x.x(), x.y());
-  return r < m.radius_mm && r > m.inner_radius_mm && std::abs(x.z()) < 0.5 * m.height_mm;
-}
-
-// B (T) of the ring by its surface charges (item 1 above).
-Vec3 ring_B_by_surface_charges(const Magnet& m, const Vec3& x) {
-  const double R = m.radius_mm, Ri = m.inner_radius_mm, h = 0.5 * m.height_mm;
-  const double beta = m.magnetization_deg * kPi / 180, el = m.magnetization_elevation_deg * kPi / 180;
-  const double r = std::hypot(x.x(), x.y()), phi_p = std::atan2(x.y(), x.x());
-  auto fold = [](double a) { return std::fmod(a + 4 * kPi, 2 * kPi); };
-  const std::vector<double> phi_breaks{fold(phi_p), fold(phi_p + kPi)};
-  Vec3 H = Vec3::Zero();
-  for (int c = 0; c < 3; ++c) {
-    for (const auto& [a, sign] : {std::pair<double, double>{R, 1.0}, {Ri, -1.0}}) {
-      auto curved = [&, a = a, sign = sign](double phi) {
-        const double sig = sign * std::cos(el) * std::cos(phi - beta);
-        const double cx = a * std::cos(phi), cy = a * std::sin(phi);
-        auto inner = [&](double zp) {
-          const Vec3 d(x.x() - cx, x.y() - cy, x.z() - zp);
-          return d[c] / std::pow(d.squaredNorm(), 1.5);
-        };
-        return sig * a * integrate(inner, -h, h, {x.z()});
-      };
-      if (std::cos(el) != 0) H[c] += integrate(curved, 0, 2 * kPi, phi_breaks);
-    }
-    for (int s : {1, -1}) {
-      auto face = [&](double phi) {
-        const double cp = std::cos(phi), sp = std::sin(phi);
-        auto inner = [&](double rho) {
-          const Vec3 d(x.x() - rho * cp, x.y() - rho * sp, x.z() - s * h);
-          return rho * d[c] / std::pow(d.squaredNorm(), 1.5);
-        };
-        return s * std::sin(el) * integrate(inner, Ri, R, {r});
-      };
-      if (std::sin(el) != 0) H[c] += integrate(face, 0, 2 * kPi, phi_breaks);
-    }
-  }
-  Vec3 B = m.br_T / (4 * kPi) * H;
-  if (in_material(m, x))
-    B += m.br_T * Vec3(std::cos(el) * std::cos(beta), std::cos(el) * std::sin(beta), std::sin(el));
-  return B;
-}
+using magenc::test::B_by_surface_charges;
+using magenc::test::in_material;
 
 double surface_distance(const Magnet& m, const Vec3& x) {
   const double R = m.radius_mm, Ri = m.inner_radius_mm, h = 0.5 * m.height_mm;
@@ -145,7 +90,7 @@ TEST_CASE("ring field equals an independent surface-charge quadrature in the mat
     for (std::size_t j = 0; j < pts.size(); ++j) P.col(j) = pts[j];
     const Eigen::Matrix3Xd B = magenc::field_at(field, P);
     for (std::size_t j = 0; j < pts.size(); ++j) {
-      const Vec3 ref = ring_B_by_surface_charges(m, pts[j]);
+      const Vec3 ref = B_by_surface_charges(m, pts[j]);
       const double err = (Vec3(B.col(j)) - ref).norm();
       INFO("ring R " << R << " Ri " << Ri << " L " << m.height_mm << " beta " << m.magnetization_deg << " el "
                      << m.magnetization_elevation_deg << " point " << pts[j].transpose() << " B " << ref.transpose());
