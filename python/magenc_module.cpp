@@ -320,7 +320,7 @@ py::list py_config_keys() {
 
 }  // namespace
 
-PYBIND11_MODULE(magenc, m) {
+PYBIND11_MODULE(_magenc, m) {
   m.doc() =
       "magenc: angle error of magnetic rotary encoders (the library behind build/bin/*).\n"
       "Lengths in mm, angles in degrees, fields in tesla; points in the magnet frame (magnet at rest,\n"

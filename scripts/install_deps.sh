@@ -33,6 +33,9 @@ PKGS=(
   python3                  # tests/layering/check_includes.py (the include-layering test)
   python3-dev python3-pybind11 pybind11-dev  # the Python module (python/)
   python3-numpy python3-pytest               # its arrays and its tests (ctest python_module_pytest)
+  python3-pip python3-setuptools python3-wheel python3-venv  # pip install . (pyproject.toml, no network)
+  python3-mypy                               # the package's type stubs checked (ctest python_stubs_mypy)
+  python3-matplotlib python3-nbclient python3-nbformat python3-ipykernel  # examples/*.ipynb run by ctest
   libboost-dev             # Boost.Math quadrature: the independent reference of tests/fields/test_field_at.cpp
 )
 [ "$with_getdp" = 1 ] && PKGS+=(getdp gmsh)   # GetDP 3.2, gmsh 4.8 (scripts/bench_getdp.sh)
