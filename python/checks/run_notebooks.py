@@ -67,8 +67,13 @@ def check_ring(res, tmp):
     side = spectra_row(*RING, "--principle", "inplane", "--array", "point", "--set", "sensor.center_mm=[18, 0]",
                        "--set", "sensor.plane_height_mm=-2", "--set", "sensor.direction=auto",
                        "--set", "sensor.zero_deg=auto")
+    trim = ["--set", "sensor.gain_trim=auto"]
+    side_trim = spectra_row(*RING, "--principle", "inplane", "--array", "point", "--set", "sensor.center_mm=[18, 0]",
+                            "--set", "sensor.plane_height_mm=-2", "--set", "sensor.direction=auto",
+                            "--set", "sensor.zero_deg=auto", *trim)
     bore = spectra_row(*RING, "--array", "diff4", "--r0", "13.5", "--set", "sensor.plane_height_mm=1")
     same_spectrum("side-shaft inplane", res["side-shaft inplane"], side)
+    same_spectrum("side-shaft inplane, gain trim", res["side-shaft inplane, gain trim"], side_trim)
     same_spectrum("bore diff4", res["bore diff4"], bore)
 
 
