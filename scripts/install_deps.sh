@@ -36,6 +36,8 @@ PKGS=(
   python3-pip python3-setuptools python3-wheel python3-venv  # pip install . (pyproject.toml, no network)
   python3-mypy                               # the package's type stubs checked (ctest python_stubs_mypy)
   python3-matplotlib python3-nbclient python3-nbformat python3-ipykernel  # examples/*.ipynb run by ctest
+  libcpp-httplib-dev libjs-chart.js          # serve: its HTTP server and the page's charts
+  chromium chromium-driver python3-selenium  # serve's page tested in a real headless browser (ctest serve_browser)
   libboost-dev             # Boost.Math quadrature: the independent reference of tests/fields/test_field_at.cpp
 )
 [ "$with_getdp" = 1 ] && PKGS+=(getdp gmsh)   # GetDP 3.2, gmsh 4.8 (scripts/bench_getdp.sh)

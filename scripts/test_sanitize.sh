@@ -6,7 +6,9 @@
 # Not instrumented (system libraries): VTK, TetGen, PETSc, OpenMPI, libomp; toml++/CLI11/Eigen are
 # header-only and ARE. ParaView state tests (label "paraview") only drive pvbatch on files the
 # executables write; they are excluded here (they are run by ./test.sh), as is the Python module
-# test (label "python": an ASan-instrumented extension cannot load into an uninstrumented python3).
+# tests (label "python": an ASan-instrumented extension cannot load into an uninstrumented python3) and
+# the serve tests (label "browser": Chromium and selenium drive an uninstrumented page; serve is fuzzed
+# through its configuration parser).
 # Extra arguments go to ctest (e.g. -R test_config).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +20,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0:${LSAN_OPTIONS:-}"
 cd build-san
 status=0
-ctest --output-on-failure -j"$(nproc)" -LE "paraview|python" -E "^mpirun -n" "$@" || status=1
+ctest --output-on-failure -j"$(nproc)" -LE "paraview|python|browser" -E "^mpirun -n" "$@" || status=1
 # The mpirun tests: their ranks' stacks must unwind through OpenMPI without frame pointers to be named
 # (fast_unwind_on_malloc=0, slow, so only here); scripts/lsan_mpi.supp says what is OpenMPI's.
 LSAN_OPTIONS="suppressions=$PWD/../scripts/lsan_mpi.supp:print_suppressions=0:fast_unwind_on_malloc=0" \
