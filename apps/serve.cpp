@@ -1,6 +1,6 @@
-// serve: a local web page of what-ifs (docs/serve.md, docs/interfaces.md "Python as a package, a notebook, a
-// browser page"): the engineer sets magnet, sensor, placement, mount, stray field and speed and sees
-// eps(theta), the harmonics, the field window and a field map, recomputed as they type.
+// serve: a local web page of what-ifs (docs/serve.md, docs/interfaces.md "Notebooks and serve"): the
+// engineer sets magnet, sensor, placement, mount, stray field and speed and sees eps(theta), the harmonics,
+// the field window and a field map, recomputed as they type.
 //
 //   serve [--port P] [--bind ADDRESS] [--config F.toml] [--set key=value]...
 //
@@ -9,10 +9,10 @@
 //   GET  /            the page (apps/serve/page.html, built in)
 //   GET  /chart.js    Debian's Chart.js (libjs-chart.js), read once at start
 //   GET  /api/keys    every key: {key, default, allowed, unit, help} (defaults of --config/--set applied)
-//   POST /api/whatif  body: lines key=value (the --set form); answer: JSON with theta_deg, eps_deg, the
-//                     spectra table's coefficients, the field window, a field map; a bad key or value is
-//                     {"ok": false, "error": "<the executables' one-line message>"} (status 400) and the
-//                     server keeps running.
+//   POST /api/whatif  body: lines key=value (the --set form; at most 64 KiB, sensor.steps <= 100000);
+//                     answer: JSON with theta_deg, eps_deg, the spectra table's coefficients, the field
+//                     window, a field map; a bad key or value is {"ok": false, "error": "<the executables'
+//                     one-line message>"} (status 400) and the server keeps running.
 // The computation is error_spectrum's for one case (--field analytic): the same schema, setup, mount, field
 // source, calibration and angle_error calls, so every number equals error_spectrum's for the same keys.
 // Example: serve --port 8765, then open http://127.0.0.1:8765/
@@ -46,7 +46,9 @@ namespace {
 using magenc::Config;
 using magenc::InputError;
 
-constexpr int kMapCells = 41;  // the field map's cells per side
+constexpr int kMapCells = 41;             // the field map's cells per side
+constexpr long kMaxSteps = 100000;        // a page's curve: at most this many samples per turn
+constexpr std::size_t kMaxBody = 1 << 16;  // a what-if's body: key=value lines, at most 64 KiB
 
 std::string num(double v) {
   if (!std::isfinite(v)) return "null";
@@ -110,6 +112,10 @@ std::string field_map_json(const magenc::FieldSource& field, const magenc::Probe
 std::string whatif_json(const Config& base, const std::string& body) {
   const auto t0 = std::chrono::steady_clock::now();
   const Config cfg = whatif_config(base, body);
+  if (cfg.integer("sensor.steps") > kMaxSteps)
+    throw InputError("sensor.steps " + std::to_string(cfg.integer("sensor.steps")) +
+                     " is more than serve draws: allowed 16 to " + std::to_string(kMaxSteps) +
+                     " (error_spectrum takes more)");
   const magenc::ProbeSetup setup = magenc::sensor_setup_from_config(cfg, cfg.str("sensor.array"), "sensor.array");
   const magenc::Mount mount = magenc::Mount::from_config(cfg);
   const magenc::FieldSourcePtr field = magenc::open_field_source("analytic", cfg, magenc::FieldOptions{});
@@ -160,7 +166,8 @@ std::string keys_json(const Config& base) {
   for (const auto& s : base.schema()) {
     const std::string value = value_of(base, s);
     out += std::string(first ? "" : ",") + "{\"key\":" + str(s.key) + ",\"default\":" + str(value) +
-           ",\"allowed\":" + str(magenc::allowed_range(s)) + ",\"unit\":" + str(s.unit) + ",\"help\":" + str(s.help) + "}";
+           ",\"allowed\":" + str(magenc::allowed_range(s)) + ",\"unit\":" + str(s.unit) +
+           ",\"help\":" + str(s.help) + "}";
     first = false;
   }
   return out + "]";
@@ -207,9 +214,11 @@ int run(int argc, char** argv) {
   const Config base = magenc::load_config(schema, common);
   const std::string chart_js = read_file(MAGENC_CHARTJS);
   httplib::Server server;
+  server.set_payload_max_length(kMaxBody);  // a longer body is refused (413) before it is read
   add_routes(server, base, chart_js);
   const int bound = port == 0 ? server.bind_to_any_port(bind) : (server.bind_to_port(bind, port) ? port : -1);
-  if (bound < 0) throw InputError("--port " + std::to_string(port) + " on " + bind + " cannot be bound: allowed a free port");
+  if (bound < 0)
+    throw InputError("--port " + std::to_string(port) + " on " + bind + " cannot be bound: allowed a free port");
   std::cout << "serve: http://" << bind << ":" << bound << "/" << std::endl;
   return server.listen_after_bind() ? 0 : 1;
 }

@@ -31,10 +31,10 @@ def whatifs(n, rng):
             continue
         mount = "\n".join(f"mount.{k}_mm={rng.uniform(-0.1, 0.1):.4f}" for k in ("sx", "sy", "dx", "dy"))
         if i % 10 == 8:
-            yield "ring, side-shaft inplane", ("magnet.radius_mm=16\nmagnet.inner_radius_mm=11\nsensor.principle=inplane\n"
-                                               "sensor.array=point\nsensor.center_mm=18,0\nsensor.plane_height_mm=-2\n"
-                                               "sensor.direction=auto\nsensor.zero_deg=auto\n"
-                                               "mount.sx_mm=0.05")
+            yield "ring, side-shaft inplane", ("magnet.radius_mm=16\nmagnet.inner_radius_mm=11\n"
+                                               "sensor.principle=inplane\nsensor.array=point\n"
+                                               "sensor.center_mm=18,0\nsensor.plane_height_mm=-2\n"
+                                               "sensor.direction=auto\nsensor.zero_deg=auto\nmount.sx_mm=0.05")
         else:
             yield "default magnet, two", mount + f"\nmount.dz_mm={rng.uniform(-0.2, 0.2):.4f}"
 
@@ -67,9 +67,10 @@ def main():
                 assert r.status == 400 and not answer["ok"] and "\n" not in answer["error"], (body, answer)
             else:
                 assert r.status == 200 and answer["ok"], (body, answer)
-        pid = [p for p in pathlib.Path("/proc").iterdir() if p.name.isdigit() and
-               (p / "cmdline").exists() and (p / "cmdline").read_bytes().startswith(str(pathlib.Path(a.bin) / "serve").encode())]
-        rss = rss_peak_kb(pid[0].name) if pid else -1
+        exe = str(pathlib.Path(a.bin) / "serve").encode()
+        pid = [p.name for p in pathlib.Path("/proc").iterdir()
+               if p.name.isdigit() and (p / "cmdline").exists() and (p / "cmdline").read_bytes().startswith(exe)]
+        rss = rss_peak_kb(pid[0]) if pid else -1
         conn.request("POST", "/api/whatif", body=b"")
         assert conn.getresponse().status == 200, "the server stopped answering"
     print(f"{a.n} what-ifs, seed {a.seed}, serve's peak RSS {rss / 1024:.0f} MB")

@@ -2,9 +2,9 @@
 # `pip install .` into a throwaway venv (--system-site-packages: Debian's numpy, setuptools, wheel), without
 # network (--no-index), then `import magenc` from another folder without PYTHONPATH: the package must come
 # from the venv and print the reference field of the field_at executable at (2.4, 0, 4.55) mm.
-# The sources are a copy of the repository's files (git ls-files when a git checkout, else the tree); the
-# compiled module comes from BUILD (MAGENC_BUILD_DIR: setup.py only brings the target up to date), so the
-# test costs seconds, not a compile.
+# The sources are a copy of what pip needs with MAGENC_BUILD_DIR (pyproject.toml, setup.py, README.md,
+# python/); the compiled module comes from BUILD (setup.py only brings the target up to date), so the test
+# costs seconds, not a compile. A build from scratch (no MAGENC_BUILD_DIR) configures the whole project.
 # Usage: pip_install.sh SOURCE_DIR BUILD_DIR PYTHON   (ctest python_pip_install)
 set -euo pipefail
 src=$1 build=$2 py=$3

@@ -78,7 +78,8 @@ def check_ring(res, tmp):
 
 
 def check_calibration(res, tmp):
-    exe("calibrate", "--method", "harmonics:8", "--apply", "run", "--set", "mount.dx_mm=0.12",
+    exe("calibrate", "--method", "harmonics:8", "--apply", "run", "--set", "mount.sx_mm=0.1",
+        "--set", "mount.dx_mm=0.12",
         "--set", "mount.dz_mm=0.05", "--out", tmp / "cal")
     want = json.loads((tmp / "cal" / "residual.json").read_text())
     numbers = [k for k, v in want.items() if isinstance(v, (int, float))]

@@ -31,8 +31,10 @@ def spectra(*args):
 
 
 with running_serve(BIN / "serve") as url:
-    cases = [("mount.dx_mm=0.1\nsensor.array=diff4\nmount.sx_mm=0.2", ["--dx", "0.1", "--array", "diff4", "--sx", "0.2"]),
-             ("magnet.inner_radius_mm=1\nsensor.principle=inplane\nsensor.array=point\nmount.dy_mm=0.05\nspeed.rpm=3000",
+    cases = [("mount.dx_mm=0.1\nsensor.array=diff4\nmount.sx_mm=0.2",
+              ["--dx", "0.1", "--array", "diff4", "--sx", "0.2"]),
+             ("magnet.inner_radius_mm=1\nsensor.principle=inplane\nsensor.array=point\nmount.dy_mm=0.05\n"
+              "speed.rpm=3000",
               ["--set", "magnet.inner_radius_mm=1", "--principle", "inplane", "--array", "point", "--dy", "0.05",
                "--set", "speed.rpm=3000"]),
              ("stray.uniform_mT=1,0,0\nsensor.field_min_mT=40", ["--set", "stray.uniform_mT=1,0,0",
@@ -50,13 +52,20 @@ with running_serve(BIN / "serve") as url:
     bad = {"mount.dx_mm=abc": "mount.dx_mm", "mount.sx=1": "mount.sx", "sensor.steps=3": "sensor.steps",
            "sensor.array=ring:2": "sensor.array", "magnet.inner_radius_mm=5": "inner_radius",
            "no equals sign": "no equals sign", "sensor.principle=inplane\nsensor.array=diff4": "array",
-           "mount.tilt_x_deg=90": "mount.tilt_x_deg", "\x00\xff=1": "", "calibration.method=lut:1": "calibration.method"}
+           "mount.tilt_x_deg=90": "mount.tilt_x_deg", "\x00\xff=1": "",
+           "calibration.method=lut:1": "calibration.method",
+           "sensor.steps=200000": "sensor.steps"}
     for body, names in bad.items():
         status, r = post(url, body)
         assert status == 400 and r["ok"] is False, (body, status, str(r)[:300])
         assert "\n" not in r["error"] and names in r["error"], (body, r["error"])
     status, r = post(url, "sensor.plane_height_mm=0")  # the map's plane is the magnet's face: no map, named
     assert status == 200 and r["map"] is None and "field map" in r["map_error"], r
+    try:  # a body over 64 KiB is refused before it is read
+        urllib.request.urlopen(url + "api/whatif", b"mount.dx_mm=0.1\n" * 5000, timeout=30)
+        raise AssertionError("a 80 KB body was accepted")
+    except urllib.error.HTTPError as e:
+        assert e.code == 413, e.code
     status, r = post(url, "")
     assert status == 200 and r["ok"], "the server stops answering after bad input"
 print("serve API: numbers equal error_spectrum's; bad input answered with one line; the server keeps running")
