@@ -215,6 +215,12 @@ int run(int argc, char** argv) {
   const std::string chart_js = read_file(MAGENC_CHARTJS);
   httplib::Server server;
   server.set_payload_max_length(kMaxBody);  // a longer body is refused (413) before it is read
+  // SO_REUSEADDR only: httplib's default also sets SO_REUSEPORT, with which a second serve would share a port
+  // that is in use instead of refusing it.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   add_routes(server, base, chart_js);
   const int bound = port == 0 ? server.bind_to_any_port(bind) : (server.bind_to_port(bind, port) ? port : -1);
   if (bound < 0)

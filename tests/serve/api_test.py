@@ -68,4 +68,11 @@ with running_serve(BIN / "serve") as url:
         assert e.code == 413, e.code
     status, r = post(url, "")
     assert status == 200 and r["ok"], "the server stops answering after bad input"
+    # bad command lines: a port in use, a bad key; one line, exit 2, nothing listening
+    port = url.rstrip("/").rsplit(":", 1)[1]
+    for args, name in ((["--port", port], "--port"), (["--set", "mount.dx_mm=x"], "mount.dx_mm"),
+                       (["--port", "70000"], "--port")):
+        r = subprocess.run([str(BIN / "serve"), *args], capture_output=True, text=True, timeout=30)
+        lines = r.stderr.strip().splitlines()
+        assert r.returncode == 2 and len(lines) == 1 and name in lines[0], (args, r.returncode, r.stderr)
 print("serve API: numbers equal error_spectrum's; bad input answered with one line; the server keeps running")
