@@ -1,6 +1,7 @@
 // Configuration of the FEM: [mesh], [fem], [grid], [shaft] keys (declared once,
 // here) and their translation into the solver's structs.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,6 +39,17 @@ struct FemSettings {
   bool write_mesh_vtu = false;  // output.mesh_vtu: write mesh.vtu (fem:DIR and ParaView need it)
   bool compress = false;        // output.compress: zlib-compressed VTK blocks
 };
+
+// Where the plane and box grids lie in x and y: about the die centre (sensor.center_mm,
+// default [0, 0]), at least half_mm to each side (the probe circle sensor.r0_mm plus
+// kGridMarginAroundProbes_mm; 0 for the point array). The grid.* windows are offsets from
+// the centre and grow to that half width where they are narrower.
+inline constexpr double kGridMarginAroundProbes_mm = 1.0;
+struct SensorWindow {
+  std::array<double, 2> centre_mm{0.0, 0.0};
+  double half_mm = 0;
+};
+SensorWindow sensor_window(const Config& cfg);
 
 // Reads and validates; InputError names the key (degenerate geometry,
 // zone/box outside the domain, ...).
