@@ -79,11 +79,11 @@ std::vector<KeySpec> fem_keys() {
                "also write mesh.vtu (the whole FE solution: needed by --field fem:DIR, fem_field sources 'fem', "
                "harmonic_provenance's fem_dirs and ParaView's magnet_field.pvsm; ~0.5 GB for the default mesh)"),
       bool_key("output.compress", false, "zlib-compress the VTK files (smaller, several times slower to write)"),
-      real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from (about sensor.center_mm; at least r0 + 1 mm each side)"),
-      real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to (about sensor.center_mm)"),
+      real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from (offset from sensor.center_mm; r0 + 1 mm where it misses the probe circle)"),
+      real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to (offset from sensor.center_mm)"),
       real_key("grid.plane_step_mm", 0.05, 0, 100, "mm", "plane grid spacing", true),
-      real_key("grid.box_xy_min_mm", -4.0, -1000, 1000, "mm", "box grid: x and y from (about sensor.center_mm; at least r0 + 1 mm each side)"),
-      real_key("grid.box_xy_max_mm", 4.0, -1000, 1000, "mm", "box grid: x and y to (about sensor.center_mm)"),
+      real_key("grid.box_xy_min_mm", -4.0, -1000, 1000, "mm", "box grid: x and y from (offset from sensor.center_mm; r0 + 1 mm where it misses the probe circle)"),
+      real_key("grid.box_xy_max_mm", 4.0, -1000, 1000, "mm", "box grid: x and y to (offset from sensor.center_mm)"),
       real_key("grid.box_z_below_mm", 0.5, 0, 1000, "mm", "box grid: from z_s minus this"),
       real_key("grid.box_z_above_mm", 0.5, 0, 1000, "mm", "box grid: to z_s plus this"),
       real_key("grid.box_step_mm", 0.05, 0, 100, "mm", "box grid spacing (x, y and z)", true),
@@ -314,11 +314,11 @@ void check_memory_estimate(const Config& cfg, const FemSettings& s) {
 // probes' radii +- a, z_s +- a, cut back to touch the magnet's faces where it would reach into them.
 void set_zone_annulus(DomainSpec& d, const SensorWindow& w, double z_s, double a, double plane_height_mm) {
   const double rho = std::hypot(w.centre_mm[0], w.centre_mm[1]);
-  const double r0 = std::max(0.0, w.half_mm - kGridMarginAroundProbes_mm);
+  const double r0 = w.r0_mm;
   if (plane_height_mm > 0 && rho + r0 + a <= d.zone.half_width_mm) return;
   const double top = 0.5 * d.magnet.height_mm, R = d.magnet.radius_mm, Ri = d.magnet.inner_radius_mm;
   ZoneSpec& z = d.zone;
-  z.annulus_r0_mm = std::max(0.0, rho - r0 - a);
+  z.annulus_r0_mm = std::max(0.0, std::abs(rho - r0) - a);  // a probe at r0 from the centre: |rho - r0| .. rho + r0
   z.annulus_r1_mm = rho + r0 + a;
   z.z_min_mm = z_s - a;
   z.z_max_mm = z_s + a;
@@ -339,7 +339,7 @@ SensorWindow sensor_window(const Config& cfg) {
     if (c.size() == 2) w.centre_mm = {c[0], c[1]};
   }
   const bool point = cfg.has("sensor.array") && cfg.str("sensor.array") == "point";
-  if (cfg.has("sensor.r0_mm") && !point) w.half_mm = cfg.real("sensor.r0_mm") + kGridMarginAroundProbes_mm;
+  if (cfg.has("sensor.r0_mm") && !point) w.r0_mm = cfg.real("sensor.r0_mm");
   return w;
 }
 
@@ -355,8 +355,8 @@ void set_grids(const Config& cfg, FemSettings& s) {
   if (!(bmax > bmin))
     throw InputError("grid.box_xy_max_mm = " + num(bmax) + " must be > grid.box_xy_min_mm = " + num(bmin));
   const SensorWindow w = sensor_window(cfg);
-  const auto lo = [&](double v, int axis) { return w.centre_mm[axis] + std::min(v, -w.half_mm); };
-  const auto hi = [&](double v, int axis) { return w.centre_mm[axis] + std::max(v, w.half_mm); };
+  const auto lo = [&](double v, int axis) { return w.lo(v, axis); };
+  const auto hi = [&](double v, int axis) { return w.hi(v, axis); };
   const double ps = cfg.real("grid.plane_step_mm");
   s.plane = GridData::from_range({lo(pmin, 0), lo(pmin, 1), s.plane_z_mm}, {hi(pmax, 0), hi(pmax, 1), s.plane_z_mm},
                                  {ps, ps, 1.0});

@@ -41,13 +41,18 @@ struct FemSettings {
 };
 
 // Where the plane and box grids lie in x and y: about the die centre (sensor.center_mm,
-// default [0, 0]), at least half_mm to each side (the probe circle sensor.r0_mm plus
-// kGridMarginAroundProbes_mm; 0 for the point array). The grid.* windows are offsets from
-// the centre and grow to that half width where they are narrower.
+// default [0, 0]). The grid.* windows are offsets from the centre; a side that does not reach
+// the probe circle (sensor.r0_mm; 0 for the point array) moves out to r0 + kGridMarginAroundProbes_mm.
 inline constexpr double kGridMarginAroundProbes_mm = 1.0;
 struct SensorWindow {
   std::array<double, 2> centre_mm{0.0, 0.0};
-  double half_mm = 0;
+  double r0_mm = 0;
+  double lo(double offset_mm, int axis) const {
+    return centre_mm[static_cast<size_t>(axis)] + (offset_mm <= -r0_mm ? offset_mm : -r0_mm - kGridMarginAroundProbes_mm);
+  }
+  double hi(double offset_mm, int axis) const {
+    return centre_mm[static_cast<size_t>(axis)] + (offset_mm >= r0_mm ? offset_mm : r0_mm + kGridMarginAroundProbes_mm);
+  }
 };
 SensorWindow sensor_window(const Config& cfg);
 
