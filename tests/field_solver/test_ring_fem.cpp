@@ -75,9 +75,9 @@ TEST_CASE("FEM ring: Bz on the sensing plane within the solid magnet's accuracy 
   CAPTURE(er.peak_T, er.rms_rel(), er.max_rel(), es.peak_T, es.rms_rel(), es.max_rel());
   // The bore takes flux off the plane: the ring's peak is well below the solid magnet's.
   CHECK(er.peak_T < 0.9 * es.peak_T);
-  // Same mesh density, same order: the ring's error is of the solid magnet's size (both
-  // measured below; a cylinder meshed in place of the ring would be off by the ~20 % the
-  // bore takes away).
+  // Same mesh density, same order: the ring's error is of the solid magnet's size (measured
+  // RMS 6.6e-3 / max 1.8e-2 of the peak for the ring, 7.9e-3 / 2.0e-2 for the solid magnet;
+  // a cylinder meshed in place of the ring would be off by the ~30 % the bore takes away).
   CHECK(er.rms_rel() < 1.5 * es.rms_rel());
   CHECK(er.max_rel() < 1.5 * es.max_rel());
   // In the bore the FE field is the exact field too (the bore is air, the material's J is absent).
@@ -90,7 +90,7 @@ TEST_CASE("FEM ring: Bz on the sensing plane within the solid magnet's accuracy 
     worst = std::max(worst, (B_fe.col(i) - b).norm());
   }
   CAPTURE(peak, worst);
-  CHECK(worst < 0.05 * peak);
+  CHECK(worst < 0.05 * peak);  // measured 2.4 % (1 mm cells in a 2 mm bore)
   // The solid magnet's field differs there by more than J/2 (the material is gone).
   CHECK(exact_solid.B_T(Eigen::Vector3d(0, 0, 0)).norm() - exact_ring.B_T(Eigen::Vector3d(0, 0, 0)).norm() > 0.3);
 }
@@ -135,18 +135,18 @@ TEST_CASE("FEM ring: a steel shaft through the bore, linear and nonlinear", "[fi
   const auto [r_st, m_st] = diff(lin->evaluator(), bare->evaluator(), g);
   CAPTURE(r_air, m_air, r_st, m_st);
   // The steel changes the field on the plane by far more than meshing a tube of air does.
-  CHECK(r_st > 10 * r_air);
+  CHECK(r_st > 10 * r_air);  // measured 3.9e-2 against 8.1e-4 RMS of the peak
   // Total potential on the same mesh at P2: the same field to its discretization error.
   const auto split2 = solved(with(common, {shaft("mu_r:1000"), "fem.order=2"}));
   const auto total2 = solved(with(common, {shaft("mu_r:1000"), "fem.order=2"}), "total");
   const auto [r_t, m_t] = diff(total2->evaluator(), split2->evaluator(), g);
   CAPTURE(r_t, m_t);
-  CHECK(r_t < 0.5 * r_st);
+  CHECK(r_t < 0.5 * r_st);  // measured 7.3e-3 (the total potential's coarse-mesh error) against 3.9e-2
   // Quadrant solve = the whole mirrored mesh.
   const auto whole = solved(with(common, {shaft("mu_r:1000"), "fem.quadrant_solve=false"}));
   const auto [r_q, m_q] = diff(whole->evaluator(), lin->evaluator(), g);
   CAPTURE(r_q, m_q);
-  CHECK(m_q < 1e-5);
+  CHECK(m_q < 1e-5);  // measured 8.7e-8 (the split's phi_s along other edge paths, as for the cup)
   // Nonlinear: a straight-line B-H curve (mu_r 1000) is the linear solve.
   const double mu0 = kMu0_T_m_per_A;
   const std::string f = bh_file("ring_bh_line", {{0, 0}, {1e3, 1e3 * 1000 * mu0}, {5e3, 5e3 * 1000 * mu0}, {1e6, 1e6 * 1000 * mu0}});
@@ -241,5 +241,5 @@ TEST_CASE("FEM ring: a sensor beside the ring sees the exact field along its pat
     worst = std::max(worst, (B.col(k) - b).norm());
   }
   CAPTURE(peak, worst, s->mesh().num_tets());
-  CHECK(worst < 0.02 * peak);
+  CHECK(worst < 0.02 * peak);  // measured 0.36 % (the annulus zone at h 0.3 mm, P2)
 }
