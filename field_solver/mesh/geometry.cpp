@@ -192,6 +192,35 @@ struct AxiRect {
   bool seed_each_cell = false;
 };
 
+// Region seeds of add_bodies_of_revolution on its grid of r and z breaks: the middle of each rectangle
+// (or of each grid cell it owns, seed_each_cell; a cell belongs to the first rectangle holding its middle),
+// at the angle pi/128 (seed_at).
+void add_axi_seeds(Plc& plc, const std::vector<AxiRect>& rects, const std::vector<double>& rb, const std::vector<double>& zb,
+                   const Eigen::Vector2d& centre, int N, bool equal_area) {
+  const double a = kPi / 128.0;
+  const auto seed = [&](double r_mm, double z_mm, const AxiRect& q) {
+    const double r = polygon_radius(r_mm, N, equal_area);
+    plc.regions.push_back({{centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), z_mm}, q.region, q.max_volume_mm3});
+  };
+  const auto owner = [&](double r, double z) {
+    for (const auto& q : rects)
+      if (r > q.r0 && r < q.r1 && z > q.z0 && z < q.z1) return q.region;
+    return 0;
+  };
+  for (const auto& q : rects) {
+    if (!q.seed_each_cell) {
+      seed(0.5 * (q.r0 + q.r1), 0.5 * (q.z0 + q.z1), q);
+      continue;
+    }
+    for (size_t i = 0; i + 1 < rb.size(); ++i)
+      for (size_t j = 0; j + 1 < zb.size(); ++j) {
+        const double r = 0.5 * (rb[i] + rb[i + 1]), z = 0.5 * (zb[j] + zb[j + 1]);
+        if (owner(r, z) == q.region && rb[i] >= q.r0 && rb[i + 1] <= q.r1 && zb[j] >= q.z0 && zb[j + 1] <= q.z1)
+          seed(r, z, q);
+      }
+  }
+}
+
 void add_bodies_of_revolution(Plc& plc, const std::vector<AxiRect>& rects, const Eigen::Vector2d& centre, int N,
                               bool equal_area, double force_z, double force_r, std::vector<int>* force_ring) {
   std::vector<double> rb{0.0}, zb;
@@ -279,22 +308,7 @@ void add_bodies_of_revolution(Plc& plc, const std::vector<AxiRect>& rects, const
     force_ring->clear();
     for (int k = 0; k < N; ++k) force_ring->push_back(ring(i, j, k));
   }
-  // Region seeds: the middle of each rectangle (or of each cell it owns), at the angle pi/128 (seed_at).
-  const double a = kPi / 128.0;
-  const auto seed = [&](double r_mm, double z_mm, const AxiRect& q) {
-    const double r = polygon_radius(r_mm, N, equal_area);
-    plc.regions.push_back({{centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), z_mm}, q.region, q.max_volume_mm3});
-  };
-  for (const auto& q : rects) {
-    if (!q.seed_each_cell) {
-      seed(0.5 * (q.r0 + q.r1), 0.5 * (q.z0 + q.z1), q);
-      continue;
-    }
-    for (int i = 0; i + 1 < nr; ++i)
-      for (int j = 0; j + 1 < nz; ++j)
-        if (owner(i, j) == q.region && rb[i] >= q.r0 && rb[i + 1] <= q.r1 && zb[j] >= q.z0 && zb[j + 1] <= q.z1)
-          seed(0.5 * (rb[i] + rb[i + 1]), 0.5 * (zb[j] + zb[j + 1]), q);
-  }
+  add_axi_seeds(plc, rects, rb, zb, centre, N, equal_area);
 }
 
 void require_positive(const char* key, double v, const char* unit) {
