@@ -11,6 +11,7 @@
 //  - a part that overlaps the ring's material is refused; one through the bore is not.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -23,6 +24,8 @@
 #include "core/units.hpp"
 #include "field_solver/mesh/bh_curve.hpp"
 #include "fields/analytic_field.hpp"
+#include "field_solver/field_io/fem_field.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 #include "field_solver/field_io/validation.hpp"
 #include "solver_fixtures.hpp"
 
@@ -242,4 +245,35 @@ TEST_CASE("FEM ring: a sensor beside the ring sees the exact field along its pat
   }
   CAPTURE(peak, worst, s->mesh().num_tets());
   CHECK(worst < 0.02 * peak);  // measured 0.36 % (the annulus zone at h 0.3 mm, P2)
+}
+
+TEST_CASE("FEM ring: solve_field's files keep the ring (fem:DIR evaluates the ring's field, refuses another Ri)", "[field_solver][contract][cli]") {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("magenc_test_ring_fem_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string cmd = std::string(MAGENC_BIN_DIR) + "/solve_field --config " + MAGENC_SOURCE_DIR +
+                          "/meshes/coarse.toml --set " + kRing + " --set magnet.mu_r=1 --set fem.potential=reduced " +
+                          "--set output.mesh_vtu=true --out " + out.string() + " > /dev/null 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  // The reduced potential with mu_r = 1 is its source alone: read back, the source must be the ring
+  // (mesh.vtu's reduced_potential_source carries Ri), else this is the solid cylinder's field.
+  const magenc::FemField field(out);
+  magenc::Magnet ring;
+  ring.inner_radius_mm = 1.0;
+  ring.mu_r = 1.0;
+  const magenc::AnalyticField exact(ring);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.5, 0.3, 4.55), Eigen::Vector3d(2.4, -1.0, 4.2), Eigen::Vector3d(0, 0, 0)}) {
+    const Eigen::Vector3d b = field.B_T(p), e = exact.B_T(p);
+    CAPTURE(p.transpose(), b.transpose(), e.transpose());
+    CHECK((b - e).norm() < 1e-9 * e.norm());
+  }
+  // solve.json records the inner radius: a study with another one is told so.
+  magenc::Config cfg(solve_field_schema());
+  cfg.set("magnet.inner_radius_mm=0.5");
+  const std::string why = magenc::SolvedFieldDir(out).mismatch(cfg);
+  CAPTURE(why);
+  CHECK(why.find("magnet.inner_radius_mm = 1") != std::string::npos);
+  cfg.set("magnet.inner_radius_mm=1.0");
+  CHECK(magenc::SolvedFieldDir(out).mismatch(cfg).empty());
+  fs::remove_all(out);
 }
