@@ -325,7 +325,7 @@ void set_zone_annulus(DomainSpec& d, const SensorWindow& w, double z_s, double a
   if (z.annulus_r1_mm > Ri && z.annulus_r0_mm < R) {  // over the magnet's material in r
     if (z_s > top) z.z_min_mm = std::max(z.z_min_mm, top);
     else if (z_s < -top) z.z_max_mm = std::min(z.z_max_mm, -top);
-    else if (rho - r0 >= R) z.annulus_r0_mm = std::max(z.annulus_r0_mm, R);
+    else if (std::abs(rho - r0) >= R) z.annulus_r0_mm = std::max(z.annulus_r0_mm, R);  // every probe beside it
     else if (rho + r0 <= Ri) z.annulus_r1_mm = std::min(z.annulus_r1_mm, Ri);
   }
 }

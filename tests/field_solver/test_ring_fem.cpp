@@ -212,6 +212,11 @@ TEST_CASE("FEM: the grids and the refinement zone follow the sensor", "[field_so
   CHECK(side.domain.zone.annulus_r0_mm == Approx(2.0));
   CHECK(side.domain.zone.annulus_r1_mm == Approx(3.1));
   CHECK(side.plane_z_mm == Approx(0.0));
+  // A probe circle around the axis beside a solid magnet (r0 2.4 of R 2, 0.5 mm below its top face).
+  const FemSettings around = coarse_settings({"sensor.plane_height_mm=-0.5"});
+  REQUIRE(around.domain.zone.annulus());
+  CHECK(around.domain.zone.annulus_r0_mm == Approx(2.0));
+  CHECK(around.domain.zone.annulus_r1_mm == Approx(3.0));
   try {
     coarse_settings({kRing, "sensor.principle=\"inplane\"", "sensor.array=\"point\"", "sensor.center_mm=[1.5, 0]",
                      "sensor.plane_height_mm=-2"});
