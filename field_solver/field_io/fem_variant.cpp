@@ -44,7 +44,7 @@ Config fem_variant_config(const FemVariantSpec& variant, const Config& study_cfg
   Config cfg(solve_field_schema());
   // The study's magnet and sensing plane, mu_r = 1 (the exact field's), quiet solver.
   const std::vector<std::string> fixed = {"magnet.radius_mm", "magnet.height_mm", "magnet.br_T", "magnet.magnetization_deg",
-                                          "magnet.magnetization_elevation_deg",
+                                          "magnet.magnetization_elevation_deg", "magnet.inner_radius_mm",
                                           "sensor.plane_height_mm"};
   for (const auto& k : fixed) cfg.set_value(k, study_cfg.real(k));
   cfg.set_value("magnet.mu_r", 1.0);

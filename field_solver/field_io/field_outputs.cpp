@@ -76,6 +76,7 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["magnet"] = {{"radius_mm", d.magnet.radius_mm}, {"height_mm", d.magnet.height_mm}, {"br_T", d.magnet.br_T},
                  {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg},
                  {"magnetization_elevation_deg", d.magnet.magnetization_elevation_deg}};
+  if (d.magnet.is_ring()) j["magnet"]["inner_radius_mm"] = d.magnet.inner_radius_mm;  // solid cylinders: no key, as before
   j["domain"] = {{"outer_radius_mm", d.mesh.outer_radius_mm},
                  {"boundary", solver.options().robin ? "robin" : "dirichlet"},
                  {"segments", d.mesh.segments},

@@ -74,9 +74,13 @@ std::string SolvedFieldDir::mismatch(const Config& cfg) const {
       return "was solved with magnet." + std::string(k) + " = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
              ": solve again with the study's [magnet] keys";
   }
-  if (cfg.has("magnet.inner_radius_mm") && cfg.real("magnet.inner_radius_mm") > 0)
-    return "was solved for a solid cylinder, the study uses a ring (magnet.inner_radius_mm = " +
-           fmt(cfg.real("magnet.inner_radius_mm"), 4) + "): allowed magnet.inner_radius_mm = 0 with FEM fields";
+  {  // solid cylinders are recorded without the key
+    const double solved = j["magnet"].contains("inner_radius_mm") ? json_number(j["magnet"], "inner_radius_mm", file) : 0.0;
+    const double want = cfg.has("magnet.inner_radius_mm") ? cfg.real("magnet.inner_radius_mm") : 0.0;
+    if (differs(solved, want))
+      return "was solved with magnet.inner_radius_mm = " + fmt(solved, 4) + ", the study uses " + fmt(want, 4) +
+             ": solve again with the study's [magnet] keys";
+  }
   {  // solves written before the key existed had no elevation
     const double solved = j["magnet"].value("magnetization_elevation_deg", 0.0);
     const double want = cfg.real("magnet.magnetization_elevation_deg");

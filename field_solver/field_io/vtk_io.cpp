@@ -84,10 +84,11 @@ void write_solution_vtu(const std::filesystem::path& path, const FeSolution& sol
   if (sol.source) {  // reduced potential: psi is phi; the source magnet rebuilds H_s on reading
     const Magnet& m = sol.source->magnet();
     vtkNew<vtkDoubleArray> src;
-    // radius_mm, height_mm, br_T, magnetization_deg, magnetization_elevation_deg
+    // radius_mm, height_mm, br_T, magnetization_deg, magnetization_elevation_deg[, inner_radius_mm of a ring]
     src->SetName("reduced_potential_source");
     for (double v : {m.radius_mm, m.height_mm, m.br_T, m.magnetization_deg, m.magnetization_elevation_deg})
       src->InsertNextValue(v);
+    if (m.is_ring()) src->InsertNextValue(m.inner_radius_mm);
     grid->GetFieldData()->AddArray(src);
   }
   if (sol.split()) {  // split potential: which cells hold the total potential, phi_s on the interface
@@ -174,13 +175,16 @@ FeSolution read_solution_vtu(const std::filesystem::path& path) {
   if (!s.psi_Tmm.allFinite()) throw InputError(path.string() + ": psi contains NaN");
   auto* rec = vtkIntArray::SafeDownCast(grid->GetFieldData()->GetArray("gradient_recovery"));
   if (auto* src = vtkDoubleArray::SafeDownCast(grid->GetFieldData()->GetArray("reduced_potential_source"))) {
-    if (src->GetNumberOfTuples() != 5) throw InputError(path.string() + ": reduced_potential_source must have 5 values");
+    const vtkIdType n = src->GetNumberOfTuples();
+    if (n != 5 && n != 6)
+      throw InputError(path.string() + ": reduced_potential_source must have 5 values (6 for a ring)");
     Magnet m;
     m.radius_mm = src->GetValue(0);
     m.height_mm = src->GetValue(1);
     m.br_T = src->GetValue(2);
     m.magnetization_deg = src->GetValue(3);
     m.magnetization_elevation_deg = src->GetValue(4);
+    if (n == 6) m.inner_radius_mm = src->GetValue(5);
     m.mu_r = 1.0;
     try {
       s.source = std::make_shared<AnalyticField>(m);

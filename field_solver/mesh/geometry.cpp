@@ -182,11 +182,44 @@ void add_zone_with_core(Plc& plc, const DomainSpec& spec, int magnet_top_first, 
 // force_z / force_r: facets are also emitted on the plane z = force_z for
 // r <= force_r (the zone's bottom above the magnet); the ring at force_r there
 // is returned in force_ring (N point ids).
+// seed_each_cell: a seed in every grid cell the rectangle owns (an air rectangle that
+// yields to the bodies inside it, as a ring's bore to a shaft through it; list it last),
+// else one seed at the rectangle's middle.
 struct AxiRect {
   double r0, r1, z0, z1;
   int region;
   double max_volume_mm3;
+  bool seed_each_cell = false;
 };
+
+// Region seeds of add_bodies_of_revolution on its grid of r and z breaks: the middle of each rectangle
+// (or of each grid cell it owns, seed_each_cell; a cell belongs to the first rectangle holding its middle),
+// at the angle pi/128 (seed_at).
+void add_axi_seeds(Plc& plc, const std::vector<AxiRect>& rects, const std::vector<double>& rb, const std::vector<double>& zb,
+                   const Eigen::Vector2d& centre, int N, bool equal_area) {
+  const double a = kPi / 128.0;
+  const auto seed = [&](double r_mm, double z_mm, const AxiRect& q) {
+    const double r = polygon_radius(r_mm, N, equal_area);
+    plc.regions.push_back({{centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), z_mm}, q.region, q.max_volume_mm3});
+  };
+  const auto owner = [&](double r, double z) {
+    for (const auto& q : rects)
+      if (r > q.r0 && r < q.r1 && z > q.z0 && z < q.z1) return q.region;
+    return 0;
+  };
+  for (const auto& q : rects) {
+    if (!q.seed_each_cell) {
+      seed(0.5 * (q.r0 + q.r1), 0.5 * (q.z0 + q.z1), q);
+      continue;
+    }
+    for (size_t i = 0; i + 1 < rb.size(); ++i)
+      for (size_t j = 0; j + 1 < zb.size(); ++j) {
+        const double r = 0.5 * (rb[i] + rb[i + 1]), z = 0.5 * (zb[j] + zb[j + 1]);
+        if (owner(r, z) == q.region && rb[i] >= q.r0 && rb[i + 1] <= q.r1 && zb[j] >= q.z0 && zb[j + 1] <= q.z1)
+          seed(r, z, q);
+      }
+  }
+}
 
 void add_bodies_of_revolution(Plc& plc, const std::vector<AxiRect>& rects, const Eigen::Vector2d& centre, int N,
                               bool equal_area, double force_z, double force_r, std::vector<int>* force_ring) {
@@ -275,13 +308,7 @@ void add_bodies_of_revolution(Plc& plc, const std::vector<AxiRect>& rects, const
     force_ring->clear();
     for (int k = 0; k < N; ++k) force_ring->push_back(ring(i, j, k));
   }
-  // Region seeds: the middle of each rectangle, at the angle pi/128 (seed_at).
-  const double a = kPi / 128.0;
-  for (const auto& q : rects) {
-    const double r = polygon_radius(0.5 * (q.r0 + q.r1), N, equal_area);
-    plc.regions.push_back({{centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), 0.5 * (q.z0 + q.z1)},
-                           q.region, q.max_volume_mm3});
-  }
+  add_axi_seeds(plc, rects, rb, zb, centre, N, equal_area);
 }
 
 void require_positive(const char* key, double v, const char* unit) {
@@ -341,10 +368,11 @@ bool DomainSpec::has_nonlinear_part() const {
 
 bool DomainSpec::has_permeable_part_touching_magnet() const {
   const double top = 0.5 * magnet.height_mm, R = magnet.radius_mm;
+  const double Ri = magnet.inner_radius_mm;
   for (const auto& p : parts) {
     if ((p.mu_r == 1.0 && !p.bh) || !p.coaxial()) continue;  // parts off the axis keep a gap to the magnet (validate)
     for (const auto& q : p.rects())
-      if (q.r0 <= R && q.z0 <= top && q.z1 >= -top) return true;  // closed meridian rectangles meet
+      if (q.r0 <= R && q.r1 >= Ri && q.z0 <= top && q.z1 >= -top) return true;  // closed meridian rectangles meet
   }
   return false;
 }
@@ -442,11 +470,15 @@ void DomainSpec::validate() const {
     require_positive("mesh.zone_half_width_mm", zone.half_width_mm, "mm");
     if (!(zone.z_max_mm > zone.z_min_mm))
       throw InputError("refinement zone is empty: z_max = " + num(zone.z_max_mm) + " <= z_min = " + num(zone.z_min_mm));
-    if (!(zone.z_min_mm > top))
+    if (zone.annulus()) validate_zone_annulus();
+    else if (!(zone.z_min_mm > top))
       throw InputError("refinement zone bottom z = " + num(zone.z_min_mm) + " mm touches the magnet (top face at " +
                        num(top) + " mm): sensor.plane_height_mm must be > 0");
-    const double corner = Eigen::Vector3d(zone.half_width_mm, zone.half_width_mm,
-                                          std::max(std::abs(zone.z_min_mm), std::abs(zone.z_max_mm))).norm();
+    const double corner = zone.annulus()
+                              ? std::hypot(polygon_radius(zone.annulus_r1_mm, m.segments, m.equal_area),
+                                           std::max(std::abs(zone.z_min_mm), std::abs(zone.z_max_mm)))
+                              : Eigen::Vector3d(zone.half_width_mm, zone.half_width_mm,
+                                                std::max(std::abs(zone.z_min_mm), std::abs(zone.z_max_mm))).norm();
     if (zone.core()) {
       require_positive("mesh.h_core_mm", m.h_core_mm, "mm");
       if (shape != MagnetShape::Cylinder)
@@ -483,6 +515,19 @@ void DomainSpec::validate() const {
   }
 }
 
+void DomainSpec::validate_zone_annulus() const {
+  const double top = 0.5 * magnet.height_mm, r0 = zone.annulus_r0_mm, r1 = zone.annulus_r1_mm;
+  if (shape != MagnetShape::Cylinder) throw InputError("a refinement zone around the axis needs a cylinder magnet");
+  if (!(r0 >= 0 && r1 > r0))
+    throw InputError("refinement zone annulus r " + num(r0) + " to " + num(r1) + " mm is empty or negative");
+  const bool beside = zone.z_min_mm < top && zone.z_max_mm > -top;
+  if (beside && r1 > magnet.inner_radius_mm && r0 < magnet.radius_mm)
+    throw InputError("refinement zone annulus r " + num(r0) + " to " + num(r1) + " mm, z " + num(zone.z_min_mm) + " to " +
+                     num(zone.z_max_mm) + " mm overlaps the magnet (r " + num(magnet.inner_radius_mm) + " to " +
+                     num(magnet.radius_mm) + " mm, z +-" + num(top) + " mm): a sensing point lies in or too near the "
+                     "magnet's material (sensor.center_mm, sensor.r0_mm, sensor.plane_height_mm)");
+}
+
 namespace {
 
 // build_plc with [[parts]]: the magnet, the shaft and the coaxial parts as one
@@ -513,7 +558,7 @@ Plc build_plc_with_parts(const DomainSpec& spec) {
   const double v_body = tet_volume_for_edge(m.h_magnet_mm);
   Plc plc;
   add_sphere(plc, Eigen::Vector3d::Zero(), m.outer_radius_mm, m.sphere_subdivisions, false, true);
-  std::vector<AxiRect> axial{{0.0, R, -top, top, kRegionMagnet, v_body}};
+  std::vector<AxiRect> axial{{spec.magnet.inner_radius_mm, R, -top, top, kRegionMagnet, v_body}};
   if (spec.shaft.enabled) {
     const double z1 = -top - spec.shaft.gap_mm;
     axial.push_back({0.0, spec.shaft.radius_mm, z1 - spec.shaft.length_mm, z1, kRegionShaft, v_body});
@@ -523,13 +568,20 @@ Plc build_plc_with_parts(const DomainSpec& spec) {
     if (!p.coaxial()) continue;
     for (const auto& q : p.rects()) axial.push_back({q.r0, q.r1, q.z0, q.z1, kRegionPartFirst + static_cast<int>(i), v_body});
   }
+  // A ring's bore: air closed by the planes of the magnet's faces and meshed like the magnet, except
+  // where a body (a shaft) passes through it.
+  if (spec.zone.annulus())
+    axial.push_back({spec.zone.annulus_r0_mm, spec.zone.annulus_r1_mm, spec.zone.z_min_mm, spec.zone.z_max_mm, kRegionZone,
+                     tet_volume_for_edge(m.h_zone_mm)});
+  if (spec.magnet.is_ring())
+    axial.push_back({0.0, spec.magnet.inner_radius_mm, -top, top, kRegionAir, v_body, true});
   std::vector<int> core_ring;
   const bool core = spec.zone.core_to_magnet();
   add_bodies_of_revolution(plc, axial, Eigen::Vector2d::Zero(), m.segments, m.equal_area, top,
                            spec.zone.core_radius_mm, core ? &core_ring : nullptr);
   if (core) {
     add_zone_with_core(plc, spec, -1, top, &core_ring);
-  } else if (spec.zone.enabled) {
+  } else if (spec.zone.enabled && !spec.zone.annulus()) {
     add_zone_box(plc, spec);
   }
   for (size_t i = 0; i < spec.parts.size(); ++i) {
@@ -550,7 +602,7 @@ void DomainSpec::validate_parts() const {
   if (shape != MagnetShape::Cylinder) throw InputError("parts need a cylinder magnet (the sphere is a validation case)");
   const double top = 0.5 * magnet.height_mm;
   std::vector<Body> bodies;
-  bodies.push_back({"the magnet", 0, 0, {{0.0, magnet.radius_mm, -top, top}}});
+  bodies.push_back({"the magnet", 0, 0, {{magnet.inner_radius_mm, magnet.radius_mm, -top, top}}});
   if (shaft.enabled) {
     const double z1 = -top - shaft.gap_mm;
     bodies.push_back({"the shaft", 0, 0, {{0.0, shaft.radius_mm, z1 - shaft.length_mm, z1}}});
@@ -579,7 +631,15 @@ void DomainSpec::validate_parts() const {
       }
     }
     // The refinement zone around the sensing plane stays air.
-    if (zone.enabled) {
+    if (zone.annulus()) {
+      const Body z{"the refinement zone around the probes' circles", 0, 0,
+                   {{zone.annulus_r0_mm, zone.annulus_r1_mm, zone.z_min_mm, zone.z_max_mm}}};
+      bool meet = false;
+      for (const auto& q : b.rects) meet = meet || (b.coaxial() ? open_overlap(q, z.rects[0]) : closed_meet(b, z));
+      if (meet) throw InputError(what + " reaches " + z.what + " (r " + num(zone.annulus_r0_mm) + " to " +
+                                 num(zone.annulus_r1_mm) + " mm, z " + num(zone.z_min_mm) + " to " + num(zone.z_max_mm) +
+                                 " mm): allowed outside it");
+    } else if (zone.enabled) {
       const double zb = zone.core_to_magnet() ? top : zone.z_min_mm, zt = zone.z_max_mm, w = zone.half_width_mm;
       for (const auto& q : b.rects) {
         // Distance in xy from the part's axis to the zone square, and the square's farthest corner.
@@ -600,7 +660,9 @@ void DomainSpec::validate_parts() const {
 
 Plc build_plc(const DomainSpec& spec) {
   spec.validate();
-  if (!spec.parts.empty()) return build_plc_with_parts(spec);
+  // A ring (its bore is air) is a body of revolution like the parts; the solid cylinder keeps its own PLC.
+  if (!spec.parts.empty() || (spec.shape == MagnetShape::Cylinder && (spec.magnet.is_ring() || spec.zone.annulus())))
+    return build_plc_with_parts(spec);
   const MeshSpec& m = spec.mesh;
   const double R = spec.magnet.radius_mm, L = spec.magnet.height_mm;
   Plc plc;

@@ -60,7 +60,13 @@ struct ZoneSpec {
   double core_radius_mm = 0;  // 0: no core; else > magnet polygon radius, < 0.8 half_width
   double core_z_max_mm = 0;   // core top: above the magnet's top face, below z_max
   double core_z_min_mm = 0;   // core bottom; <= z_min: core and zone reach down to the magnet's top face
-  bool core() const { return enabled && core_radius_mm > 0; }
+  // Annulus (annulus_r1_mm > 0): the zone is instead the coaxial ring annulus_r0_mm..annulus_r1_mm,
+  // z_min..z_max, where probes off the axis travel (a sensor beside a ring magnet, a circle of probes
+  // larger than the box). It may lie beside the magnet (z below its top face) and touch its faces; no core.
+  double annulus_r0_mm = 0;
+  double annulus_r1_mm = 0;
+  bool annulus() const { return enabled && annulus_r1_mm > 0; }
+  bool core() const { return enabled && !annulus() && core_radius_mm > 0; }
   bool core_to_magnet() const { return core() && core_z_min_mm <= z_min_mm; }
 };
 
@@ -149,6 +155,8 @@ struct DomainSpec {
   // The [[parts]] checks of validate(): sizes, overlaps (touching allowed for
   // coaxial bodies), the domain, the refinement zone. InputError naming the part.
   void validate_parts() const;
+  // The checks of an annulus zone (ZoneSpec::annulus): not empty, clear of the magnet's material.
+  void validate_zone_annulus() const;
   // Relative permeability of a region id.
   double mu_r(int region) const;
 };

@@ -79,11 +79,11 @@ std::vector<KeySpec> fem_keys() {
                "also write mesh.vtu (the whole FE solution: needed by --field fem:DIR, fem_field sources 'fem', "
                "harmonic_provenance's fem_dirs and ParaView's magnet_field.pvsm; ~0.5 GB for the default mesh)"),
       bool_key("output.compress", false, "zlib-compress the VTK files (smaller, several times slower to write)"),
-      real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from"),
-      real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to"),
+      real_key("grid.plane_min_mm", -5.0, -1000, 1000, "mm", "plane grid: x and y from (offset from sensor.center_mm; r0 + 1 mm where it misses the probe circle)"),
+      real_key("grid.plane_max_mm", 5.0, -1000, 1000, "mm", "plane grid: x and y to (offset from sensor.center_mm)"),
       real_key("grid.plane_step_mm", 0.05, 0, 100, "mm", "plane grid spacing", true),
-      real_key("grid.box_xy_min_mm", -4.0, -1000, 1000, "mm", "box grid: x and y from"),
-      real_key("grid.box_xy_max_mm", 4.0, -1000, 1000, "mm", "box grid: x and y to"),
+      real_key("grid.box_xy_min_mm", -4.0, -1000, 1000, "mm", "box grid: x and y from (offset from sensor.center_mm; r0 + 1 mm where it misses the probe circle)"),
+      real_key("grid.box_xy_max_mm", 4.0, -1000, 1000, "mm", "box grid: x and y to (offset from sensor.center_mm)"),
       real_key("grid.box_z_below_mm", 0.5, 0, 1000, "mm", "box grid: from z_s minus this"),
       real_key("grid.box_z_above_mm", 0.5, 0, 1000, "mm", "box grid: to z_s plus this"),
       real_key("grid.box_step_mm", 0.05, 0, 100, "mm", "box grid spacing (x, y and z)", true),
@@ -308,18 +308,82 @@ void check_memory_estimate(const Config& cfg, const FemSettings& s) {
                        num(n * 72 / 1073741824.0) + " GiB): allowed at most 2e8 nodes, increase the step");
 }
 
+// The refinement zone where the probes travel. On the axis above the magnet (the probes' circles
+// within the box, less the margin a = mesh.zone_half_height_mm) the box stays as it was; else (a plane
+// at or below the top face, a die centre off the axis, a large r0) the zone is the annulus of the
+// probes' radii +- a, z_s +- a, cut back to touch the magnet's faces where it would reach into them.
+void set_zone_annulus(DomainSpec& d, const SensorWindow& w, double z_s, double a, double plane_height_mm) {
+  const double rho = std::hypot(w.centre_mm[0], w.centre_mm[1]);
+  const double r0 = w.r0_mm;
+  if (plane_height_mm > 0 && rho + r0 + a <= d.zone.half_width_mm) return;
+  const double top = 0.5 * d.magnet.height_mm, R = d.magnet.radius_mm, Ri = d.magnet.inner_radius_mm;
+  ZoneSpec& z = d.zone;
+  z.annulus_r0_mm = std::max(0.0, std::abs(rho - r0) - a);  // a probe at r0 from the centre: |rho - r0| .. rho + r0
+  z.annulus_r1_mm = rho + r0 + a;
+  z.z_min_mm = z_s - a;
+  z.z_max_mm = z_s + a;
+  if (z.annulus_r1_mm > Ri && z.annulus_r0_mm < R) {  // over the magnet's material in r
+    if (z_s > top) z.z_min_mm = std::max(z.z_min_mm, top);
+    else if (z_s < -top) z.z_max_mm = std::min(z.z_max_mm, -top);
+    else if (std::abs(rho - r0) >= R) z.annulus_r0_mm = std::max(z.annulus_r0_mm, R);  // every probe beside it
+    else if (rho + r0 <= Ri) z.annulus_r1_mm = std::min(z.annulus_r1_mm, Ri);
+  }
+}
+
+}  // namespace
+
+SensorWindow sensor_window(const Config& cfg) {
+  SensorWindow w;
+  if (cfg.has("sensor.center_mm")) {
+    const std::vector<double> c = cfg.reals("sensor.center_mm");
+    if (c.size() == 2) w.centre_mm = {c[0], c[1]};
+  }
+  const bool point = cfg.has("sensor.array") && cfg.str("sensor.array") == "point";
+  if (cfg.has("sensor.r0_mm") && !point) w.r0_mm = cfg.real("sensor.r0_mm");
+  return w;
+}
+
+namespace {
+// The plane and box grids (FemSettings::plane, box): the windows are taken about the die centre and
+// widened to hold the probe circle (sensor_window); both must lie well inside the truncation sphere.
+void set_grids(const Config& cfg, FemSettings& s) {
+  const MeshSpec& m = s.domain.mesh;
+  const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");
+  if (!(pmax > pmin))
+    throw InputError("grid.plane_max_mm = " + num(pmax) + " must be > grid.plane_min_mm = " + num(pmin));
+  const double bmin = cfg.real("grid.box_xy_min_mm"), bmax = cfg.real("grid.box_xy_max_mm");
+  if (!(bmax > bmin))
+    throw InputError("grid.box_xy_max_mm = " + num(bmax) + " must be > grid.box_xy_min_mm = " + num(bmin));
+  const SensorWindow w = sensor_window(cfg);
+  const auto lo = [&](double v, int axis) { return w.lo(v, axis); };
+  const auto hi = [&](double v, int axis) { return w.hi(v, axis); };
+  const double ps = cfg.real("grid.plane_step_mm");
+  s.plane = GridData::from_range({lo(pmin, 0), lo(pmin, 1), s.plane_z_mm}, {hi(pmax, 0), hi(pmax, 1), s.plane_z_mm},
+                                 {ps, ps, 1.0});
+  const double bs = cfg.real("grid.box_step_mm");
+  const double z0 = s.plane_z_mm - cfg.real("grid.box_z_below_mm"), z1 = s.plane_z_mm + cfg.real("grid.box_z_above_mm");
+  s.box = GridData::from_range({lo(bmin, 0), lo(bmin, 1), z0}, {hi(bmax, 0), hi(bmax, 1), z1}, {bs, bs, bs});
+  // Both grids must lie well inside the truncation sphere (inscribed polyhedron).
+  auto check_inside = [&](const GridData& g, const char* what) {
+    const Eigen::Vector3d g_lo = g.origin_mm,
+                          g_hi = g.origin_mm + g.spacing_mm.cwiseProduct(Eigen::Vector3d(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
+    const double far = g_lo.cwiseAbs().cwiseMax(g_hi.cwiseAbs()).norm();
+    if (far >= 0.9 * m.outer_radius_mm)
+      throw InputError(std::string(what) + " reaches " + num(far) +
+                       " mm from the origin, outside the domain: mesh.outer_radius_mm = " + num(m.outer_radius_mm) +
+                       " must be > " + num(far / 0.9) + " mm");
+    if (g.nodes() > 200'000'000UL) throw InputError(std::string(what) + " has too many points (> 2e8): increase its step");
+  };
+  check_inside(s.plane, "grid plane");
+  check_inside(s.box, "grid box");
+}
+
 }  // namespace
 
 FemSettings fem_settings_from_config(const Config& cfg) {
   FemSettings s;
   DomainSpec& d = s.domain;
   d.magnet = Magnet::from_config(cfg);
-  if (d.magnet.is_ring())
-    throw InputError("magnet.inner_radius_mm = " + num(d.magnet.inner_radius_mm) +
-                     ": the FEM meshes solid cylinders only: allowed 0 with the FEM (the exact field serves rings)");
-  if (!(cfg.real("sensor.plane_height_mm") > 0))
-    throw InputError("sensor.plane_height_mm = " + num(cfg.real("sensor.plane_height_mm")) +
-                     ": the FEM's sensing-plane grid lies above the magnet's top face: allowed > 0 mm with the FEM");
   s.plane_z_mm = sensing_plane_z_mm(cfg);
   const double top = 0.5 * d.magnet.height_mm, h = cfg.real("sensor.plane_height_mm");
   MeshSpec& m = d.mesh;
@@ -342,6 +406,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   d.zone.core_radius_mm = cfg.real("mesh.core_radius_mm");
   d.zone.core_z_max_mm = s.plane_z_mm + cfg.real("mesh.core_top_above_plane_mm");
   d.zone.core_z_min_mm = s.plane_z_mm - cfg.real("mesh.core_below_plane_mm");
+  set_zone_annulus(d, sensor_window(cfg), s.plane_z_mm, cfg.real("mesh.zone_half_height_mm"), h);
   d.shaft.enabled = cfg.flag("shaft.enabled");
   d.shaft.radius_mm = cfg.real("shaft.radius_mm");
   d.shaft.length_mm = cfg.real("shaft.length_mm");
@@ -378,31 +443,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
 
   check_memory_estimate(cfg, s);
 
-  // Grids.
-  const double pmin = cfg.real("grid.plane_min_mm"), pmax = cfg.real("grid.plane_max_mm");
-  if (!(pmax > pmin))
-    throw InputError("grid.plane_max_mm = " + num(pmax) + " must be > grid.plane_min_mm = " + num(pmin));
-  const double ps = cfg.real("grid.plane_step_mm");
-  s.plane = GridData::from_range({pmin, pmin, s.plane_z_mm}, {pmax, pmax, s.plane_z_mm}, {ps, ps, 1.0});
-  const double bmin = cfg.real("grid.box_xy_min_mm"), bmax = cfg.real("grid.box_xy_max_mm");
-  if (!(bmax > bmin))
-    throw InputError("grid.box_xy_max_mm = " + num(bmax) + " must be > grid.box_xy_min_mm = " + num(bmin));
-  const double bs = cfg.real("grid.box_step_mm");
-  const double z0 = s.plane_z_mm - cfg.real("grid.box_z_below_mm"), z1 = s.plane_z_mm + cfg.real("grid.box_z_above_mm");
-  s.box = GridData::from_range({bmin, bmin, z0}, {bmax, bmax, z1}, {bs, bs, bs});
-  // Both grids must lie well inside the truncation sphere (inscribed polyhedron).
-  auto check_inside = [&](const GridData& g, const char* what) {
-    const Eigen::Vector3d lo = g.origin_mm,
-                          hi = g.origin_mm + g.spacing_mm.cwiseProduct(Eigen::Vector3d(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
-    const double far = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();
-    if (far >= 0.9 * m.outer_radius_mm)
-      throw InputError(std::string(what) + " reaches " + num(far) +
-                       " mm from the origin, outside the domain: mesh.outer_radius_mm = " + num(m.outer_radius_mm) +
-                       " must be > " + num(far / 0.9) + " mm");
-    if (g.nodes() > 200'000'000UL) throw InputError(std::string(what) + " has too many points (> 2e8): increase its step");
-  };
-  check_inside(s.plane, "grid plane");
-  check_inside(s.box, "grid box");
+  set_grids(cfg, s);
   return s;
 }
 

@@ -1,6 +1,7 @@
 // Configuration of the FEM: [mesh], [fem], [grid], [shaft] keys (declared once,
 // here) and their translation into the solver's structs.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,6 +39,22 @@ struct FemSettings {
   bool write_mesh_vtu = false;  // output.mesh_vtu: write mesh.vtu (fem:DIR and ParaView need it)
   bool compress = false;        // output.compress: zlib-compressed VTK blocks
 };
+
+// Where the plane and box grids lie in x and y: about the die centre (sensor.center_mm,
+// default [0, 0]). The grid.* windows are offsets from the centre; a side that does not reach
+// the probe circle (sensor.r0_mm; 0 for the point array) moves out to r0 + kGridMarginAroundProbes_mm.
+inline constexpr double kGridMarginAroundProbes_mm = 1.0;
+struct SensorWindow {
+  std::array<double, 2> centre_mm{0.0, 0.0};
+  double r0_mm = 0;
+  double lo(double offset_mm, int axis) const {
+    return centre_mm[static_cast<size_t>(axis)] + (offset_mm <= -r0_mm ? offset_mm : -r0_mm - kGridMarginAroundProbes_mm);
+  }
+  double hi(double offset_mm, int axis) const {
+    return centre_mm[static_cast<size_t>(axis)] + (offset_mm >= r0_mm ? offset_mm : r0_mm + kGridMarginAroundProbes_mm);
+  }
+};
+SensorWindow sensor_window(const Config& cfg);
 
 // Reads and validates; InputError names the key (degenerate geometry,
 // zone/box outside the domain, ...).

@@ -17,7 +17,9 @@ std::string num10(double v) { return std::isfinite(v) ? fmt_sig(v, 10) : std::st
 std::string g3(double v) { return std::isfinite(v) ? fmt_sig(v, 3) : std::string(v > 0 ? "inf" : "nan"); }
 
 std::string design_text(const DesignOptions& o, const Design& d) {
-  return d.material + " R " + g3(d.magnet_radius_mm) + " mm x L " + g3(d.magnet_height_mm) + " mm, gap " +
+  return d.material + " R " + g3(d.magnet_radius_mm) + " mm" +
+         (d.magnet_inner_radius_mm > 0 ? " (ring, Ri " + g3(d.magnet_inner_radius_mm) + " mm)" : "") + " x L " +
+         g3(d.magnet_height_mm) + " mm, gap " +
          g3(d.gap_mm) + " mm, " + o.space.sensors[d.sensor].name + " at r0 " + g3(d.r0_mm) + " mm";
 }
 
@@ -37,16 +39,28 @@ std::size_t best_sensor(const DesignOptions& o, const DesignStudyResult& r) {
 
 }  // namespace
 
+namespace {
+// Ring magnets in the space (design.magnet_inner_radius_mm other than [0]): designs.csv adds the column
+// magnet_inner_radius_mm after magnet_radius_mm; a space of solid magnets writes the columns of before.
+bool has_rings(const DesignOptions& o) {
+  return std::any_of(o.space.magnet_inner_radius_mm.begin(), o.space.magnet_inner_radius_mm.end(),
+                     [](double ri) { return ri != 0.0; });
+}
+}  // namespace
+
 std::string design_csv(const DesignOptions& o, const DesignStudyResult& r) {
   std::ostringstream os;
-  os << "index,material,br_T,magnet_radius_mm,magnet_height_mm,gap_mm,sensor,r0_mm,volume_mm3,seed,"
+  const bool rings = has_rings(o);
+  os << "index,material,br_T,magnet_radius_mm," << (rings ? "magnet_inner_radius_mm," : "")
+     << "magnet_height_mm,gap_mm,sensor,r0_mm,volume_mm3,seed,"
         "bz_amplitude_mT,p50_uncal_deg,p99_uncal_deg,p50_cal_deg,p99_cal_deg,field_min_mT,field_max_mT,"
         "field_lo_mT,field_hi_mT,margin_mT,pass,reason\n";
   for (std::size_t i = 0; i < r.designs.size(); ++i) {
     const Design& d = r.designs[i];
     const DesignResult& x = r.results[i];
-    os << d.index << "," << d.material << "," << num10(d.br_T) << "," << num10(d.magnet_radius_mm) << ","
-       << num10(d.magnet_height_mm) << "," << num10(d.gap_mm) << "," << o.space.sensors[d.sensor].name << ","
+    os << d.index << "," << d.material << "," << num10(d.br_T) << "," << num10(d.magnet_radius_mm) << ",";
+    if (rings) os << num10(d.magnet_inner_radius_mm) << ",";
+    os << num10(d.magnet_height_mm) << "," << num10(d.gap_mm) << "," << o.space.sensors[d.sensor].name << ","
        << num10(d.r0_mm) << "," << num10(d.volume_mm3()) << "," << design_seed(o, d.index) << ","
        << num10(x.bz_amplitude_mT) << "," << num10(x.p50_uncal_deg) << "," << num10(x.p99_uncal_deg) << ","
        << num10(x.p50_cal_deg) << "," << num10(x.p99_cal_deg) << "," << num10(x.field_min_mT) << ","
@@ -96,7 +110,8 @@ std::string design_summary_md(const DesignOptions& o, const DesignStudyResult& r
   if (o.req.stray_mT > 0) os << " under stray fields up to " << g3(o.req.stray_mT) << " mT";
   os << ", with the smallest magnet?\n\n";
   os << r.designs.size() << " designs (" << o.space.materials.size() << " materials x " << o.space.magnet_radius_mm.size()
-     << " radii x " << o.space.magnet_height_mm.size() << " heights x " << o.space.gap_mm.size() << " gaps x "
+     << " radii x " << (has_rings(o) ? std::to_string(o.space.magnet_inner_radius_mm.size()) + " inner radii x " : "")
+     << o.space.magnet_height_mm.size() << " heights x " << o.space.gap_mm.size() << " gaps x "
      << o.space.r0_mm.size() << " r0 x " << o.space.sensors.size() << " sensors), " << o.samples
      << " Monte Carlo samples each (exact field, fast pipeline, " << o.fast_steps << " theta steps), "
      << (o.seed_per_design ? "seeded per design from design.seed = " : "common samples of design.seed = ") << o.seed

@@ -39,6 +39,8 @@ std::vector<KeySpec> DesignOptions::keys() {
       real_list_key("design.magnet_radius_mm", d.space.magnet_radius_mm, 0, 100, "mm", "magnet radii R to try", true),
       real_list_key("design.magnet_height_mm", d.space.magnet_height_mm, 0, 100, "mm", "magnet heights L to try",
                     true),
+      real_list_key("design.magnet_inner_radius_mm", d.space.magnet_inner_radius_mm, 0, 100, "mm",
+                    "ring magnets' inner radii Ri to try (0: a solid cylinder; every Ri < every design.magnet_radius_mm)"),
       real_list_key("design.gap_mm", d.space.gap_mm, 0, 100, "mm",
                     "air gaps to try: sensing plane height above the magnet's top face", true),
       real_list_key("design.r0_mm", d.space.r0_mm, 0, 100, "mm", "probe radii r0 to try (every sensor)", true),
@@ -83,6 +85,7 @@ DesignOptions DesignOptions::from_config(const Config& cfg) {
   o.space.magnet_radius_mm = cfg.reals("design.magnet_radius_mm");
   o.space.magnet_height_mm = cfg.reals("design.magnet_height_mm");
   o.space.gap_mm = cfg.reals("design.gap_mm");
+  o.space.magnet_inner_radius_mm = cfg.reals("design.magnet_inner_radius_mm");
   o.space.r0_mm = cfg.reals("design.r0_mm");
   for (const auto& s : cfg.strings("design.sensors")) {
     const ProbeArray a = ProbeArray::parse(s, "design.sensors");
@@ -130,6 +133,14 @@ void DesignOptions::validate() const {
   nonempty(space.magnet_radius_mm, "design.magnet_radius_mm");
   nonempty(space.magnet_height_mm, "design.magnet_height_mm");
   nonempty(space.gap_mm, "design.gap_mm");
+  nonempty(space.magnet_inner_radius_mm, "design.magnet_inner_radius_mm");
+  {
+    const double ri = *std::max_element(space.magnet_inner_radius_mm.begin(), space.magnet_inner_radius_mm.end());
+    const double r = *std::min_element(space.magnet_radius_mm.begin(), space.magnet_radius_mm.end());
+    if (!(ri < r))
+      throw InputError("design.magnet_inner_radius_mm has " + num(ri) + " mm: allowed every value below every "
+                       "design.magnet_radius_mm (smallest " + num(r) + " mm)");
+  }
   nonempty(space.r0_mm, "design.r0_mm");
   if (space.sensors.empty()) throw InputError("design.sensors is empty: allowed one or more of two, diff4, ring:N");
   for (const auto& a : space.sensors)
@@ -171,7 +182,9 @@ ToleranceBox DesignOptions::run_box(double br_tc_per_K) const {
   return d;
 }
 
-double Design::volume_mm3() const { return kPi * magnet_radius_mm * magnet_radius_mm * magnet_height_mm; }
+double Design::volume_mm3() const {
+  return kPi * (magnet_radius_mm * magnet_radius_mm - magnet_inner_radius_mm * magnet_inner_radius_mm) * magnet_height_mm;
+}
 
 Design design_at(const DesignSpace& s, std::size_t index) {
   if (index >= s.size()) throw InputError("design index " + std::to_string(index) + " is out of range: allowed < " +
@@ -187,6 +200,8 @@ Design design_at(const DesignSpace& s, std::size_t index) {
   i /= s.gap_mm.size();
   d.magnet_height_mm = s.magnet_height_mm[i % s.magnet_height_mm.size()];
   i /= s.magnet_height_mm.size();
+  d.magnet_inner_radius_mm = s.magnet_inner_radius_mm[i % s.magnet_inner_radius_mm.size()];
+  i /= s.magnet_inner_radius_mm.size();
   d.magnet_radius_mm = s.magnet_radius_mm[i % s.magnet_radius_mm.size()];
   i /= s.magnet_radius_mm.size();
   d.material = s.materials[i];
@@ -241,6 +256,7 @@ struct DesignModel {
     Magnet m;
     m.radius_mm = d.magnet_radius_mm;
     m.height_mm = d.magnet_height_mm;
+    m.inner_radius_mm = d.magnet_inner_radius_mm;
     m.br_T = d.br_T;
     m.validate();
     field = std::make_unique<AnalyticField>(m);
@@ -372,7 +388,8 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
 
 bool same_geometry(const Design& a, const Design& b) {
   return a.material == b.material && a.br_T == b.br_T && a.magnet_radius_mm == b.magnet_radius_mm &&
-         a.magnet_height_mm == b.magnet_height_mm && a.gap_mm == b.gap_mm && a.r0_mm == b.r0_mm;
+         a.magnet_height_mm == b.magnet_height_mm && a.magnet_inner_radius_mm == b.magnet_inner_radius_mm &&
+         a.gap_mm == b.gap_mm && a.r0_mm == b.r0_mm;
 }
 
 }  // namespace

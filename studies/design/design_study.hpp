@@ -42,12 +42,13 @@ struct DesignSpace {
   std::vector<double> br_T = {1.2};                         // Br at 20 C of each material (T)
   std::vector<double> magnet_radius_mm = {2.0};
   std::vector<double> magnet_height_mm = {4.0};
+  std::vector<double> magnet_inner_radius_mm = {0.0};        // ring magnets' inner radii Ri (0: solid)
   std::vector<double> gap_mm = {2.55};                       // plane height above the magnet's top face
   std::vector<double> r0_mm = {2.4};                         // probe radius
   std::vector<ProbeArray> sensors;                           // Bz arrays: two, diff4, ring:N
   std::size_t size() const {
-    return materials.size() * magnet_radius_mm.size() * magnet_height_mm.size() * gap_mm.size() * r0_mm.size() *
-           sensors.size();
+    return materials.size() * magnet_radius_mm.size() * magnet_inner_radius_mm.size() * magnet_height_mm.size() *
+           gap_mm.size() * r0_mm.size() * sensors.size();
   }
 };
 
@@ -93,6 +94,7 @@ struct Design {
   std::string material;
   double br_T = 0, br_tc_per_K = 0;
   double magnet_radius_mm = 0, magnet_height_mm = 0, gap_mm = 0, r0_mm = 0;
+  double magnet_inner_radius_mm = 0;   // a ring when > 0 (the arrays read around its bore)
   std::size_t sensor = 0;              // index into DesignSpace::sensors
   double volume_mm3() const;
   double plane_z_mm() const { return 0.5 * magnet_height_mm + gap_mm; }

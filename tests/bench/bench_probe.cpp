@@ -13,6 +13,8 @@
 //   FastCase/FastCaseSpeed the Monte Carlo engine's case (FastPipeline::eps with the angles as unit
 //                  vectors, `two`, 360 nodes, the surrogate on the exact field): static, and at 6000 rpm
 //                  with the same timing (hold) and without the hold
+//   McModelBuild/McSample  the Monte Carlo engine on a 32 mm ring (ring:8 around the bore) against the
+//                  default magnet: the surrogate's build per design and the cost of one sample
 //   MountingCaseTilted     the same plus sensor tilt (0.5, 0.3 deg) and magnet
 //                  tilt 0.5 deg: every term of "Beyond the five offsets", full-B path
 #include <benchmark/benchmark.h>
@@ -114,6 +116,55 @@ void FastCase(benchmark::State& state, double hold_hz) {
 BENCHMARK_CAPTURE(FastCase, static, -1.0)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(FastCase, speed_no_hold, 0.0)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(FastCase, speed_hold, 10416.67)->Unit(benchmark::kMicrosecond);
+
+// The Monte Carlo engine on a 32 mm ring (R 16, Ri 11, L 4 mm; ring:8 at r0 13.5 mm, 1 mm above the
+// top face) against the default magnet (ring:8 at r0 2.4 mm, z_s 4.55 mm): the surrogate's build (once
+// per design, `automatic`: symmetry-built on the exact field) and one sample (FastPipeline::eps).
+struct McLayout {
+  magenc::Magnet magnet;
+  double r0_mm, plane_z_mm;
+};
+McLayout mc_layout(bool ring) {
+  McLayout l{magenc::Magnet{}, 2.4, 4.55};
+  if (ring) {
+    l.magnet.radius_mm = 16.0;
+    l.magnet.inner_radius_mm = 11.0;
+    l.r0_mm = 13.5;
+    l.plane_z_mm = 3.0;
+  }
+  return l;
+}
+void McModelBuild(benchmark::State& state, bool ring) {
+  const McLayout l = mc_layout(ring);
+  const magenc::AnalyticField f{l.magnet};
+  const auto how = magenc::CircleFieldModel::construction_named("automatic");
+  for (auto _ : state) {
+    const magenc::CircleFieldModel model(f, l.r0_mm, l.plane_z_mm, 360, 0.3, 0.3, 4, false, how);
+    benchmark::DoNotOptimize(model.terms());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK_CAPTURE(McModelBuild, default_magnet, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(McModelBuild, ring32, true)->Unit(benchmark::kMillisecond);
+void McSample(benchmark::State& state, bool ring) {
+  const McLayout l = mc_layout(ring);
+  const magenc::AnalyticField f{l.magnet};
+  const magenc::CircleFieldModel model(f, l.r0_mm, l.plane_z_mm, 360, 0.3, 0.3, 4, false,
+                                       magenc::CircleFieldModel::construction_named("automatic"));
+  magenc::FastPipeline fast(model, {magenc::ProbeArray::parse("ring:8")}, l.magnet.height_mm);
+  magenc::ToleranceCase c;
+  c.mount.sx_mm = 0.03;
+  c.mount.dx_mm = 0.05;
+  std::vector<Eigen::VectorXd> eps;
+  std::vector<magenc::UnitAngles> psi;
+  for (auto _ : state) {
+    fast.eps(c, eps, &psi);
+    benchmark::DoNotOptimize(eps[0].data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK_CAPTURE(McSample, default_magnet, false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(McSample, ring32, true)->Unit(benchmark::kMicrosecond);
 
 // The one-spot principles on the same mount (point array: M field vectors per case against the
 // two-probe array's 2M Bz values); plate: a 0.2 mm sensing area, 4 x 4 points per reading.

@@ -146,7 +146,8 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
   const Case c = GENERATE(values<Case>({
       {"--set magnet.radius_mm=0", "magnet.radius_mm", 2},
       {"--set magnet.height_mm=-1", "magnet.height_mm", 2},
-      {"--set sensor.plane_height_mm=-0.5", "sensor.plane_height_mm", 2},  // plane inside the magnet
+      // Probes in the magnet (r0 1.5 of R 2 mm, 0.5 mm below the top face); beside it (r0 > R) is allowed.
+      {"--set sensor.plane_height_mm=-0.5 --set sensor.r0_mm=1.5", "sensor.plane_height_mm", 2},
       {"--set grid.box_z_above_mm=100", "grid box", 2},                     // box outside the domain
       {"--set mesh.outer_radius_mm=5", "mesh.outer_radius_mm", 2},
       {"--set magnet.br_T=nan", "magnet.br_T", 2},

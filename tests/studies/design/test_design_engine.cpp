@@ -242,6 +242,8 @@ TEST_CASE("design: bad input is refused with one line naming the key", "[studies
   refuse("design.r0_mm=[0.2, 2]", "design.r0_mm");
   refuse("design.fast_steps=100", "design.fast_steps");  // ring:8 probes miss a 100-step grid
   refuse("design.samples=0", "design.samples");
+  refuse("design.magnet_inner_radius_mm=[0, 2.0]", "design.magnet_inner_radius_mm");  // Ri >= R = 2
+  refuse("design.magnet_inner_radius_mm=[]", "design.magnet_inner_radius_mm");
   refuse("sensor.principle=xmr", "sensor.principle");
   // The defaults are a valid design space.
   Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
@@ -322,4 +324,34 @@ TEST_CASE("design: the fast path against the direct pipeline at sampled designs"
     CHECK(std::abs(fast.p99_uncal_deg - p99) <= std::max(0.005, 5e-4 * p99));
     CHECK(fast.p99_uncal_deg > 1e-3);
   }
+}
+
+TEST_CASE("design: the ring's inner radius is an axis (Ri = 0 the solid magnet, a ring read around its bore)", "[studies][physics]") {
+  DesignOptions o;
+  o.space.sensors = {ProbeArray::parse("ring:8")};
+  o.space.r0_mm = {1.8};
+  o.samples = 20;
+  o.seed = 7;
+  DesignOptions rings = o;
+  rings.space.magnet_inner_radius_mm = {0.0, 1.0};
+  REQUIRE(rings.space.size() == 2);
+  const std::vector<DesignResult> solid = evaluate_designs(o, 0, 1), both = evaluate_designs(rings, 0, 2);
+  const Design d0 = design_at(rings.space, 0), d1 = design_at(rings.space, 1);
+  CHECK(d0.magnet_inner_radius_mm == 0.0);
+  CHECK(d1.magnet_inner_radius_mm == 1.0);
+  // Ri = 0 is the design of before, number for number.
+  CHECK(values_of({both[0]}) == values_of(solid));
+  // The ring's amplitude is the exact ring field's Bz on the probe circle (the surrogate's, to 1e-4) and the
+  // bore takes flux away; its volume is the ring's.
+  Magnet m;
+  m.inner_radius_mm = 1.0;
+  const AnalyticField ring(m);
+  const double amp = std::abs(ring.Bz_T(Vec3(1.8, 0, d1.plane_z_mm()))) * 1e3;
+  CAPTURE(both[0].bz_amplitude_mT, both[1].bz_amplitude_mT, amp);
+  CHECK(both[1].bz_amplitude_mT == Approx(amp).epsilon(1e-4));
+  CHECK(both[1].bz_amplitude_mT < 0.95 * both[0].bz_amplitude_mT);
+  CHECK(d1.volume_mm3() == Approx(M_PI * (4.0 - 1.0) * 4.0).epsilon(1e-12));
+  // ring:8 on an ideal array around the bore: the mount's error stays of the solid magnet's order.
+  CHECK(both[1].p99_uncal_deg > 0);
+  CHECK(both[1].p99_uncal_deg < 10 * both[0].p99_uncal_deg);
 }
