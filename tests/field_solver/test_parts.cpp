@@ -199,6 +199,16 @@ TEST_CASE("parts: bad parts are one-line input errors naming the part", "[field_
        "material = \"mu_r:10\"}]", "a part off the axis (offset_mm != [0, 0]) must keep a gap"},
       {"parts=[{name = \"p\", shape = \"pyramid\", r_outer_mm = 1, z_min_mm = -6, z_max_mm = -5, material = \"mu_r:10\"}]",
        "shape"},
+      // Walls and gaps below what the mesher resolves (TetGen crashed at 1e-9 mm, never ended at 1e-6..0.01 mm).
+      {"parts=[{name = \"t\", shape = \"tube\", r_inner_mm = 2.000000001, r_outer_mm = 3, z_min_mm = -2, z_max_mm = 1, "
+       "material = \"mu_r:10\"}]", "parts element 1 of 1 ('t') is 1e-09 mm from the magnet: allowed touching it"},
+      {"parts=[{name = \"a\", shape = \"tube\", r_inner_mm = 2.5, r_outer_mm = 3, z_min_mm = -2, z_max_mm = 1, "
+       "material = \"mu_r:10\"}, {name = \"b\", shape = \"tube\", r_inner_mm = 3.000000001, r_outer_mm = 4, z_min_mm = -2, "
+       "z_max_mm = 1, material = \"mu_r:10\"}]", "('b') is 1e-09 mm from parts element 1 of 2 ('a')"},
+      {"parts=[{name = \"w\", shape = \"tube\", r_inner_mm = 2.5, r_outer_mm = 2.51, z_min_mm = -2, z_max_mm = 1, "
+       "material = \"mu_r:10\"}]", "has a wall of 0.01 mm: allowed at least 0.05 mm"},
+      {"parts=[{name = \"g\", shape = \"disk\", r_outer_mm = 3, z_min_mm = -3.01, z_max_mm = -2.01, "
+       "material = \"mu_r:10\"}]", "is 0.01 mm from the magnet"},
   };
   for (const auto& [set, needle] : cases) {
     const std::string e = input_error({set});
