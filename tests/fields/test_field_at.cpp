@@ -17,6 +17,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <random>
 
 #include "core/errors.hpp"
@@ -182,8 +183,9 @@ TEST_CASE("field_at: a point on the surface, a non-finite point and a plane-only
 TEST_CASE("field_at: far away the multipole expansion takes over, agreeing with the quadrature and finite at 1e200 mm",
           "[fields][cross-check]") {
   // Solid and ring magnets, magnetization in the plane, axial and oblique; directions along M, across it and
-  // oblique. Where both hold (300 to 999 magnet sizes: the expansion's first omitted term is ~(a/r)^4 < 1e-9,
-  // the quadrature asks for log(r/R) more nodes against its cancellation) they agree to 1e-9 relative.
+  // oblique. Where both hold (300 to 499 magnet sizes: the expansion's first omitted term is ~(a/r)^4 < 1e-9,
+  // and the quadrature's cancellation error is still ~1e-10) they agree to 1e-9 relative; at 100 sizes the
+  // omitted term is printed, not checked.
   std::vector<Magnet> magnets(3);
   magnets[1].inner_radius_mm = 1.2;
   magnets[1].magnetization_elevation_deg = 90;
@@ -191,23 +193,25 @@ TEST_CASE("field_at: far away the multipole expansion takes over, agreeing with 
   magnets[2].height_mm = 1.5;
   magnets[2].magnetization_deg = 30;
   magnets[2].magnetization_elevation_deg = -40;
+  std::map<double, double> worst;  // per distance in magnet sizes
   for (const Magnet& m : magnets) {
     const AnalyticField f(m);
     const double a = std::max(m.radius_mm, m.top_z_mm());
     const Vec3 along = m.remanence_T().normalized();
     for (const Vec3& dir : {along, Vec3(along.y(), -along.x(), 0.3).normalized(), Vec3(1, 2, 3).normalized(),
                             Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
-      for (double k : {300.0, 600.0, 999.0}) {
+      for (double k : {100.0, 300.0, 400.0, 499.0}) {
         const Vec3 p = k * a * dir;
         REQUIRE_FALSE(f.in_far_field(p));
         const Vec3 quad = f.B_T(p), expansion = f.multipole_B_T(p);
         CAPTURE(m.radius_mm, m.inner_radius_mm, m.magnetization_elevation_deg, dir.transpose(), k, quad.transpose(),
                 expansion.transpose());
-        CHECK((quad - expansion).norm() <= 1e-9 * expansion.norm());
+        worst[k] = std::max(worst[k], (quad - expansion).norm() / expansion.norm());
+        if (k >= 300) CHECK((quad - expansion).norm() <= 1e-9 * expansion.norm());
       }
-      // Beyond 1000 sizes: the expansion, finite and falling as 1/r^3, down to underflow and at 1e300 mm.
+      // Beyond 500 sizes: the expansion, finite and falling as 1/r^3, down to underflow and at 1e300 mm.
       const Vec3 near = f.B_T(Vec3(1001 * a * dir));
-      CHECK(f.in_far_field(Vec3(1001 * a * dir)));
+      CHECK(f.in_far_field(Vec3(501 * a * dir)));
       for (double r : {1e6, 1e100}) {
         const Vec3 b = f.B_T(Vec3(r * dir));
         REQUIRE(b.allFinite());
@@ -221,4 +225,7 @@ TEST_CASE("field_at: far away the multipole expansion takes over, agreeing with 
       CHECK(far.allFinite());
     }
   }
+  std::cout << "far field: largest |B_quadrature - B_expansion|/|B| at";
+  for (const auto& [k, w] : worst) std::cout << " " << k << " sizes " << w << ";";
+  std::cout << "\n";
 }
