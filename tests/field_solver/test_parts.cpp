@@ -277,7 +277,8 @@ std::string gap_cup(const std::string& material) {
 
 TEST_CASE("parts: a straight-line B-H curve equals the linear solve", "[field_solver][cross-check]") {
   const double mu0 = kMu0_T_m_per_A;
-  const std::string f = bh_file("bh_line", {{0, 0}, {1e3, 1e3 * 500 * mu0}, {5e3, 5e3 * 500 * mu0}, {1e6, 1e6 * 500 * mu0}});
+  // The line ends at 4.5 kA/m (2.83 T: a plausible curve's polarization stays below 3 T); H in the cup stays below.
+  const std::string f = bh_file("bh_line", {{0, 0}, {1e3, 1e3 * 500 * mu0}, {3e3, 3e3 * 500 * mu0}, {4.5e3, 4.5e3 * 500 * mu0}});
   // Whole mesh and quadrant (the nonlinear solve on the quadrant with x's parity).
   for (const char* quadrant : {"fem.quadrant_solve=false", "fem.quadrant_solve=true"}) {
     const std::vector<std::string> common = {"fem.order=1", "fem.tolerance=1e-10", quadrant};
