@@ -45,11 +45,22 @@ using magenc::InputError;
 
 namespace {
 
-// A Python value as the text --set takes: numbers with 17 significant digits, bool as true/false,
-// lists as TOML arrays, strings as they are.
-std::string value_text(const py::handle& v, bool in_list = false) {
-  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::int_>(v)) return std::to_string(v.cast<long long>());
+// A Python value as the text --set takes: numbers with 17 significant digits (integers as all their digits,
+// so the configuration's range check names a 10**30), bool and numpy.bool_ as true/false, lists as TOML
+// arrays, dicts as TOML inline tables ({"mount.sx_mm": 0.1} -> {mount.sx_mm = 0.1}: keys such as
+// calibration.at), strings as they are. A str is not a number (numeric keys refuse it), a complex number is
+// refused, and so is a line break inside a string (a value is one line).
+bool is_numpy_bool(const py::handle& v) {
+  const py::object np = py::module_::import("numpy");
+  return py::isinstance(v, np.attr("bool_"));
+}
+
+std::string value_text(const py::handle& v, const std::string& key, bool in_list = false) {
+  const auto refuse = [&](const std::string& why) {
+    return InputError(key + " = " + py::repr(v).cast<std::string>() + " " + why);
+  };
+  if (py::isinstance<py::bool_>(v) || is_numpy_bool(v)) return py::bool_(py::reinterpret_borrow<py::object>(v)) ? "true" : "false";
+  if (py::isinstance<py::int_>(v)) return py::str(v).cast<std::string>();
   if (py::isinstance<py::float_>(v)) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", v.cast<double>());
@@ -57,20 +68,94 @@ std::string value_text(const py::handle& v, bool in_list = false) {
   }
   if (py::isinstance<py::str>(v)) {
     const std::string s = v.cast<std::string>();
+    if (s.find_first_of("\r\n") != std::string::npos) throw refuse("holds a line break: allowed a value of one line");
     return in_list ? "\"" + s + "\"" : s;
+  }
+  if (py::isinstance<py::dict>(v)) {
+    std::string out = "{";
+    bool first = true;
+    for (const auto& [k, e] : v.cast<py::dict>()) {
+      const std::string name = py::str(k).cast<std::string>();
+      out += (first ? "" : ", ") + name + " = " + value_text(e, key + "." + name, true);
+      first = false;
+    }
+    return out + "}";
   }
   if (py::isinstance<py::sequence>(v) || py::isinstance<py::array>(v)) {
     std::string out = "[";
     bool first = true;
     for (const auto& e : py::iter(v)) {
-      out += (first ? "" : ", ") + value_text(e, true);
+      out += (first ? "" : ", ") + value_text(e, key, true);
       first = false;
     }
     return out + "]";
   }
-  if (py::hasattr(v, "__float__")) return value_text(py::float_(py::reinterpret_borrow<py::object>(v)));
-  throw InputError("value " + py::repr(v).cast<std::string>() + " has no configuration form: allowed a number, bool, "
-                   "string or list");
+  if (PyComplex_Check(v.ptr()) || py::isinstance(v, py::module_::import("numpy").attr("complexfloating")))
+    throw refuse("is a complex number: allowed a real number");
+  if (py::isinstance(v, py::module_::import("numpy").attr("integer"))) return py::str(py::int_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
+  if (py::hasattr(v, "__float__")) return value_text(py::float_(py::reinterpret_borrow<py::object>(v)), key, in_list);
+  throw refuse("has no configuration form: allowed a number, bool, string, list or dict");
+}
+
+// A str value for a numeric or boolean key is refused (the configuration would read '0.1' as 0.1).
+void check_value_kind(const Config& cfg, const std::string& key, const py::handle& v) {
+  if (!py::isinstance<py::str>(v)) return;
+  for (const auto& s : cfg.schema()) {
+    if (s.key != key) continue;
+    using T = magenc::KeySpec::Type;
+    if (s.type == T::Real || s.type == T::Int || s.type == T::Bool)
+      throw InputError(key + " = " + py::repr(v).cast<std::string>() + " is a str: allowed a " +
+                       (s.type == T::Bool ? "bool" : "number") + " (not its text)");
+  }
+}
+
+// The functions' own arguments, checked here so that a wrong type is one line naming the argument (TypeError)
+// and a number beyond its range one line too (ValueError), not pybind11's list of signatures.
+std::string repr_of(const py::handle& o) { return py::repr(o).cast<std::string>(); }
+
+std::string text_arg(const py::handle& o, const char* name) {
+  if (!py::isinstance<py::str>(o))
+    throw py::type_error(std::string(name) + " = " + repr_of(o) + " is not a str: allowed text, e.g. " + name + "='...'");
+  const std::string s = o.cast<std::string>();
+  if (s.find_first_of("\r\n") != std::string::npos)
+    throw InputError(std::string(name) + " = " + repr_of(o) + " holds a line break: allowed one line");
+  return s;
+}
+
+long long int_arg(const py::handle& o, const char* name, long long lo, long long hi) {
+  const bool integer = (py::isinstance<py::int_>(o) && !py::isinstance<py::bool_>(o)) ||
+                       py::isinstance(o, py::module_::import("numpy").attr("integer"));
+  if (!integer) throw py::type_error(std::string(name) + " = " + repr_of(o) + " is not an int: allowed an integer");
+  const py::int_ v = py::reinterpret_borrow<py::object>(o);
+  if (v < py::int_(lo) || v > py::int_(hi))
+    throw InputError(std::string(name) + " = " + repr_of(o) + " is out of range: allowed [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  return v.cast<long long>();
+}
+
+double real_arg(const py::handle& o, const char* name) {
+  const py::object np = py::module_::import("numpy");
+  const bool real = (py::isinstance<py::float_>(o) || py::isinstance<py::int_>(o) || py::isinstance(o, np.attr("floating")) ||
+                     py::isinstance(o, np.attr("integer"))) &&
+                    !py::isinstance<py::bool_>(o);
+  if (!real) throw py::type_error(std::string(name) + " = " + repr_of(o) + " is not a real number: allowed an int or float");
+  if (py::isinstance<py::int_>(o) && (py::reinterpret_borrow<py::int_>(o) > py::int_(1LL << 53) ||
+                                      py::reinterpret_borrow<py::int_>(o) < py::int_(-(1LL << 53))))
+    throw InputError(std::string(name) + " = " + repr_of(o) + " is out of range: allowed |value| <= 2**53");
+  return py::float_(py::reinterpret_borrow<py::object>(o)).cast<double>();
+}
+
+bool bool_arg(const py::handle& o, const char* name) {
+  if (!py::isinstance<py::bool_>(o) && !is_numpy_bool(o))
+    throw py::type_error(std::string(name) + " = " + repr_of(o) + " is not a bool: allowed True or False");
+  return py::bool_(py::reinterpret_borrow<py::object>(o));
+}
+
+// A number argument that becomes a key (r0_mm): a real number, as its --set text.
+std::string number_key_text(const py::handle& o, const char* name) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", real_arg(o, name));
+  return buf;
 }
 
 // A keyword name (mount_sx_mm) or a dotted key (mount.sx_mm) -> the dotted key of the schema.
@@ -94,7 +179,9 @@ Config make_config(const py::object& config, const py::kwargs& keys,
                    const std::vector<magenc::KeySpec>& schema = magenc::common_keys()) {
   Config cfg(schema);
   auto apply = [&](const std::string& name, const py::handle& value) {
-    cfg.set(key_of(cfg, name) + "=" + value_text(value));
+    const std::string key = key_of(cfg, name);
+    check_value_kind(cfg, key, value);
+    cfg.set(key + "=" + value_text(value, key));
   };
   if (!config.is_none()) {
     if (!py::isinstance<py::dict>(config))
@@ -113,7 +200,20 @@ magenc::FieldSourcePtr open_field(const std::string& field, const Config& cfg, c
 
 Eigen::Matrix3Xd points_from(const py::object& points_mm) {
   using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-  Array a = Array::ensure(points_mm);
+  // Only real numbers: numpy would turn complex points into their real part, bools into 0 and 1, and strs
+  // such as '0.1' into numbers.
+  py::array raw;
+  try {
+    raw = py::module_::import("numpy").attr("asarray")(points_mm);
+  } catch (const py::error_already_set&) {
+    throw InputError("points_mm is not an array of numbers: allowed an (N, 3) array in mm");
+  }
+  const char kind = raw.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw InputError("points_mm holds " + py::str(raw.dtype()).cast<std::string>() +
+                     " values: allowed real numbers (int or float) in mm, not " +
+                     (kind == 'c' ? "complex numbers" : kind == 'b' ? "bools" : "text or objects"));
+  Array a = Array::ensure(raw);
   if (!a) throw InputError("points_mm is not an array of numbers: allowed an (N, 3) array in mm");
   std::string shape = "(";
   for (py::ssize_t d = 0; d < a.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(a.shape(d));
@@ -145,8 +245,9 @@ py::array_t<double> vector_of(const Eigen::VectorXd& v) {
 
 // ---- the functions ----
 
-py::array_t<double> py_field_at(const py::object& points_mm, const std::string& field, const py::object& config,
-                                const std::string& interp, const py::kwargs& keys) {
+py::array_t<double> py_field_at(const py::object& points_mm, const py::object& field_arg, const py::object& config,
+                                const py::object& interp_arg, const py::kwargs& keys) {
+  const std::string field = text_arg(field_arg, "field"), interp = text_arg(interp_arg, "interp");
   const Config cfg = make_config(config, keys);
   const Eigen::Matrix3Xd p = points_from(points_mm);
   const auto source = open_field(field, cfg, interp);
@@ -158,10 +259,11 @@ py::array_t<double> py_field_at(const py::object& points_mm, const std::string& 
   return rows_of(B);
 }
 
-py::tuple py_angle_error(const std::string& field, const py::object& array, const py::object& config,
-                         const std::string& interp, const py::kwargs& keys) {
+py::tuple py_angle_error(const py::object& field_arg, const py::object& array, const py::object& config,
+                         const py::object& interp_arg, const py::kwargs& keys) {
+  const std::string field = text_arg(field_arg, "field"), interp = text_arg(interp_arg, "interp");
   Config cfg = make_config(config, keys);
-  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
+  if (!array.is_none()) cfg.set("sensor.array=" + text_arg(array, "array"));
   const magenc::ProbeSetup setup =
       magenc::probe_setup_from_config(cfg, cfg.str("sensor.array"), array.is_none() ? "sensor.array" : "array");
   const magenc::Mount mount = magenc::Mount::from_config(cfg);
@@ -194,13 +296,15 @@ py::dict py_spectrum(const py::object& eps_deg) {
   return spectrum_dict(magenc::spectrum_of(e));
 }
 
-py::dict py_diagnose(const py::object& measured, const std::string& field, const py::object& array,
-                     const py::object& r0_mm, const py::object& free, const py::object& config, bool fixed_zero,
-                     int error_sign, double max_gap_deg, int starts, unsigned seed, double cond_limit,
-                     const std::string& interp, const py::kwargs& keys) {
+py::dict py_diagnose(const py::object& measured, const py::object& field_arg, const py::object& array,
+                     const py::object& r0_mm, const py::object& free, const py::object& config,
+                     const py::object& fixed_zero, const py::object& error_sign, const py::object& max_gap_deg,
+                     const py::object& starts, const py::object& seed, const py::object& cond_limit,
+                     const py::object& interp_arg, const py::kwargs& keys) {
+  const std::string field = text_arg(field_arg, "field"), interp = text_arg(interp_arg, "interp");
   Config cfg = make_config(config, keys);
-  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
-  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + value_text(r0_mm));
+  if (!array.is_none()) cfg.set("sensor.array=" + text_arg(array, "array"));
+  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + number_key_text(r0_mm, "r0_mm"));
   magenc::DiagnoseRequest req;
   if (py::isinstance<py::str>(measured) || py::hasattr(measured, "__fspath__"))
     req.measured.push_back(py::str(measured).cast<std::string>());
@@ -217,12 +321,12 @@ py::dict py_diagnose(const py::object& measured, const std::string& field, const
   }
   req.field = field;
   req.interp = interp;
-  req.fixed_zero = fixed_zero;
-  req.error_sign = error_sign;
-  req.max_gap_deg = max_gap_deg;
-  req.starts = starts;
-  req.seed = seed;
-  req.cond_limit = cond_limit;
+  req.fixed_zero = bool_arg(fixed_zero, "fixed_zero");
+  req.error_sign = static_cast<int>(int_arg(error_sign, "error_sign", -1, 1));
+  req.max_gap_deg = real_arg(max_gap_deg, "max_gap_deg");
+  req.starts = static_cast<int>(int_arg(starts, "starts", 1, 1000000));
+  req.seed = static_cast<unsigned>(int_arg(seed, "seed", 0, 4294967295LL));
+  req.cond_limit = real_arg(cond_limit, "cond_limit");
   req.array_name = array.is_none() ? "sensor.array" : "array";
   req.max_gap_name = "max_gap_deg";
   magenc::DiagnoseRun run;
@@ -247,13 +351,15 @@ py::object json_dict(const std::string& json) { return py::module_::import("json
 
 // The calibrate executable's steps (analysis/calibrate_run.hpp): the correction, and the residual of `apply`.
 py::dict py_calibrate(const py::object& measured, const py::object& correction, const py::object& method,
-                      const py::object& apply, const std::string& field, const py::object& array,
-                      const py::object& r0_mm, const py::object& config, int error_sign, const std::string& interp,
-                      const py::kwargs& keys) {
+                      const py::object& apply, const py::object& field_arg, const py::object& array,
+                      const py::object& r0_mm, const py::object& config, const py::object& error_sign_arg,
+                      const py::object& interp_arg, const py::kwargs& keys) {
+  const std::string field = text_arg(field_arg, "field"), interp = text_arg(interp_arg, "interp");
+  const int error_sign = static_cast<int>(int_arg(error_sign_arg, "error_sign", -1, 1));
   Config cfg = make_config(config, keys, magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys()));
-  if (!array.is_none()) cfg.set("sensor.array=" + array.cast<std::string>());
-  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + value_text(r0_mm));
-  if (!method.is_none()) cfg.set("calibration.method=" + method.cast<std::string>());
+  if (!array.is_none()) cfg.set("sensor.array=" + text_arg(array, "array"));
+  if (!r0_mm.is_none()) cfg.set("sensor.r0_mm=" + number_key_text(r0_mm, "r0_mm"));
+  if (!method.is_none()) cfg.set("calibration.method=" + text_arg(method, "method"));
   const auto path = [](const py::object& o) { return o.is_none() ? std::string() : py::str(o).cast<std::string>(); };
   const magenc::CalibrateRequest req{path(measured), path(correction), path(apply), error_sign};
   const std::string what = array.is_none() ? "sensor.array" : "array";
@@ -278,8 +384,9 @@ py::dict py_calibrate(const py::object& measured, const py::object& correction, 
   return out;
 }
 
-py::dict py_inspect(const py::object& scan, const py::object& free, const py::object& config, double cond_limit,
-                    const py::kwargs& keys) {
+py::dict py_inspect(const py::object& scan, const py::object& free, const py::object& config,
+                    const py::object& cond_limit_arg, const py::kwargs& keys) {
+  const double cond_limit = real_arg(cond_limit_arg, "cond_limit");
   const Config cfg = make_config(config, keys);
   magenc::InspectRequest req{py::str(scan).cast<std::string>(), "offset,rotation,polarization", cond_limit, "free",
                              "cond_limit"};

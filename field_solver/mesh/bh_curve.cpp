@@ -11,6 +11,13 @@ namespace magenc::fem {
 namespace {
 
 constexpr std::size_t kMinRows = 4;
+// Plausibility of a soft-magnetic material (a curve in other units than its header claims fails these):
+// the polarization B - mu0 H stays below 3 T (the highest of any soft-magnetic material, Fe-Co, is
+// 2.45 T; B in mT under B_T gives hundreds of tesla), and the relative permeability, secant B / (mu0 H)
+// and of every segment, stays below 1e6 (Supermalloy's maximum is about 1e6; H in kA/m or Oe under
+// H_A_per_m gives 80 to 1000 times the true permeability; a near-duplicate H an unbounded slope).
+constexpr double kMaxPolarization_T = 3.0;
+constexpr double kMaxRelativePermeability = 1e6;
 
 // Fritsch-Carlson slopes at the rows of a strictly increasing table (monotone cubic Hermite).
 std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector<double>& y) {
@@ -34,7 +41,11 @@ std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector
   };
   // At the origin (the first row is (0, 0)) at least mu0: a measured curve whose first rows are still in the
   // convex (Rayleigh) start gives a three-point slope <= 0, and B would fall below mu0 H near H = 0.
-  m[0] = std::max(end(h[0], h[1], d[0], d[1]), kMu0_T_m_per_A);
+  // There the first segment's secant B_1 / H_1 (>= mu0, the curve's own average initial permeability) stands in:
+  // end slope d0 and interior slopes <= 3 min(d) keep the cubic monotone (de Boor-Swartz box [0, 3]^2), and a
+  // steep start (0,0 / 100,0.1 / 110,0.2 ...) does not turn the material into air near H = 0.
+  const double m0 = end(h[0], h[1], d[0], d[1]);
+  m[0] = m0 >= kMu0_T_m_per_A ? m0 : d[0];
   m[n - 1] = end(h[n - 2], h[n - 3], d[n - 2], d[n - 3]);
   return m;
 }
@@ -60,8 +71,24 @@ BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string
     if (B_[i] < kMu0_T_m_per_A * H_[i] * (1 - 1e-12))
       throw InputError(where + ": row " + std::to_string(i + 1) + " has B " + num(B_[i]) + " T < mu0 H = " +
                        num(kMu0_T_m_per_A * H_[i]) + " T (relative permeability below 1): " + allowed);
+    check_plausible_row(i, where);
   }
   slope_ = pchip_slopes(H_, B_);
+}
+
+void BhCurve::check_plausible_row(std::size_t i, const std::string& where) const {
+  const std::string row = where + ": row " + std::to_string(i + 1) + " (H " + num(H_[i]) + " A/m, B " + num(B_[i]) + " T)";
+  const double J = B_[i] - kMu0_T_m_per_A * H_[i];
+  if (J > kMaxPolarization_T)
+    throw InputError(row + " has a polarization B - mu0 H of " + num(J) + " T: allowed at most " +
+                     num(kMaxPolarization_T) + " T (soft iron saturates below 2.5 T; B in mT under a B_T header?)");
+  const double secant = B_[i] / (kMu0_T_m_per_A * H_[i]);
+  const double segment = (B_[i] - B_[i - 1]) / (kMu0_T_m_per_A * (H_[i] - H_[i - 1]));
+  if (secant > kMaxRelativePermeability || segment > kMaxRelativePermeability)
+    throw InputError(row + " gives a relative permeability of " + num(std::max(secant, segment)) +
+                     (segment > secant ? " over the segment from the row before" : "") + ": allowed at most " +
+                     num(kMaxRelativePermeability) +
+                     " (H in kA/m or Oe under an H_A_per_m header, or two rows of nearly the same H?)");
 }
 
 double BhCurve::B_T(double H) const {

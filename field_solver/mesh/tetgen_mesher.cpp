@@ -70,6 +70,7 @@ TetMesh tetrahedralize_plc(const Plc& plc, const MesherOptions& options) {
   std::ostringstream sw;
   sw << "pq" << options.radius_edge_ratio << "/" << options.min_dihedral_deg << "Aa"
      << (options.verbose ? "V" : "Q");
+  if (options.max_added_points > 0) sw << "S" << options.max_added_points;
   std::string switches = sw.str();
   try {
     std::fflush(stdout);
@@ -77,6 +78,10 @@ TetMesh tetrahedralize_plc(const Plc& plc, const MesherOptions& options) {
   } catch (int code) {
     throw ComputeError("TetGen failed: " + tetgen_reason(code));
   }
+  if (options.max_added_points > 0 && long(out.numberofpoints) - long(in.numberofpoints) >= options.max_added_points)
+    throw InputError("the mesher reached its budget of " + std::to_string(options.max_added_points) +
+                     " added points (4 per 5 tetrahedra of the mesh sizes' estimate): allowed geometry the mesh "
+                     "sizes resolve (a wall or gap of [[parts]] far below mesh.h_* makes the mesh grow without end)");
   if (out.numberoftetrahedra <= 0 || out.numberoftetrahedronattributes < 1)
     throw ComputeError("TetGen failed: no tetrahedra with region attributes produced");
   // 5. Copy out into the plain mesh struct.

@@ -8,11 +8,13 @@ struct MesherOptions {
   double radius_edge_ratio = 2.0;  // TetGen -q quality bound (radius/shortest edge), > 1
   double min_dihedral_deg = 10.0;  // TetGen -q minimum dihedral angle (deg)
   bool verbose = false;            // false: TetGen runs quietly (-Q)
+  long max_added_points = 0;       // > 0: TetGen adds at most this many points (-S); reaching it is refused
 };
 
 // Quality tetrahedral mesh of the PLC with per-region attributes and maximum
 // volumes (TetGen switches p q A a). Throws ComputeError naming TetGen's
-// reason (self-intersection, small feature, ...) when TetGen fails.
+// reason (self-intersection, small feature, ...) when TetGen fails, InputError when it reaches
+// max_added_points (a feature too small for the mesh sizes: the mesh would not end).
 TetMesh tetrahedralize_plc(const Plc& plc, const MesherOptions& options);
 
 }  // namespace magenc::fem

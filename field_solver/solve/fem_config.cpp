@@ -264,7 +264,8 @@ double physical_memory_bytes() {
 // estimate of 508k). Memory per tet: measured peak RSS / tets (docs/benchmarks.md): 1.0 KiB (P2, quadrant
 // solve of a symmetric mesh), 3.3 KiB (P2, whole mesh); P1 one third. Refused when the estimate
 // exceeds the machine's physical memory. Grid nodes: checked as doubles, before any integer cast.
-void check_memory_estimate(const Config& cfg, const FemSettings& s) {
+// Returns the estimate of tetrahedra.
+double check_memory_estimate(const Config& cfg, const FemSettings& s) {
   const double pi = 3.14159265358979323846, per_h3 = 6 * std::sqrt(2.0) * 3.6;
   const auto& d = s.domain;
   const auto& m = d.mesh;
@@ -306,6 +307,7 @@ void check_memory_estimate(const Config& cfg, const FemSettings& s) {
     if (n > 2e8)
       throw InputError(std::string(key) + " = " + num(cfg.real(key)) + " mm gives " + num(n) + " grid nodes (about " +
                        num(n * 72 / 1073741824.0) + " GiB): allowed at most 2e8 nodes, increase the step");
+  return tets;
 }
 
 // The refinement zone where the probes travel. On the axis above the magnet (the probes' circles
@@ -441,7 +443,11 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   o.newton = cfg.str("fem.nonlinear_method") == "newton";
   o.quadrant = cfg.flag("fem.quadrant_solve");
 
-  check_memory_estimate(cfg, s);
+  // The mesher's budget: TetGen adds at most 4 points per tetrahedron of the estimate's node count (about
+  // tets / 5) plus 2e5; a wall or gap too thin for the mesh sizes (which TetGen would refine without end)
+  // stops there and is refused, instead of filling the memory.
+  const double tets = check_memory_estimate(cfg, s);
+  s.domain.mesh.mesher.max_added_points = static_cast<long>(std::min(4.0 * tets / 5.0 + 2e5, 1e9));
 
   set_grids(cfg, s);
   return s;

@@ -306,3 +306,64 @@ def test_off_axis_bad_input_raises_one_line():
                            sensor_principle="inplane", sensor_center_mm=[13, 0], sensor_plane_height_mm=-2)
     with pytest.raises(ValueError, match="sensor.direction"):
         magenc.angle_error(sensor_direction=2)
+
+
+# ---- hostile arguments: one line, the argument named ----
+def one_line(excinfo):
+    return "\n" not in str(excinfo.value)
+
+
+def test_points_must_be_real_numbers():
+    for bad, word in (([[1 + 2j, 0, 4.55]], "complex"), (np.array([[True, False, True]]), "bools"),
+                      ([["0.1", "0", "4.55"]], "text")):
+        with pytest.raises(ValueError, match=word) as e:
+            magenc.field_at(bad)
+        assert one_line(e)
+    # ints are real numbers
+    assert magenc.field_at([[0, 0, 5]]).shape == (1, 3)
+
+
+def test_config_values_are_of_the_key_type():
+    for value, word in (("0.1", "is a str: allowed a number"), (np.bool_(True), "mount.sx_mm"),
+                        (10**30, "mount.sx_mm"), (1 + 1j, "complex"), ("a\nb", None)):
+        with pytest.raises(ValueError, match=word) as e:
+            magenc.angle_error(config={"mount.sx_mm": value, "sensor.steps": 64})
+        assert one_line(e)
+    with pytest.raises(ValueError, match="line break") as e:
+        magenc.angle_error(config={"sensor.array": "two\ndiff4"})
+    assert one_line(e)
+    # numpy numbers that are real are numbers
+    a = magenc.angle_error(config={"mount.sx_mm": np.float64(0.1), "sensor.steps": np.int64(64)})
+    b = magenc.angle_error(config={"mount.sx_mm": 0.1, "sensor.steps": 64})
+    assert np.array_equal(a[1], b[1])
+
+
+def test_dict_valued_keys_are_toml_tables():
+    # calibration.at as a dict equals its TOML text
+    d = magenc.calibrate(method="harmonics:4", apply="run", config={"calibration.at": {"mount.sx_mm": 0.1}})
+    t = magenc.calibrate(method="harmonics:4", apply="run", config={"calibration.at": "{mount.sx_mm = 0.1}"})
+    assert d["correction"] == t["correction"]
+    assert d["residual"]["pp_after_deg"] == t["residual"]["pp_after_deg"]
+    with pytest.raises(ValueError, match="calibration.at") as e:
+        magenc.calibrate(method="harmonics:4", config={"calibration.at": {"mount.nope": 1}})
+    assert one_line(e)
+
+
+def test_function_arguments_are_checked_by_name():
+    for kwargs, exc, word in ((dict(interp=None), TypeError, "interp = None is not a str"),
+                              (dict(field=5), TypeError, "field = 5 is not a str")):
+        with pytest.raises(exc, match=word) as e:
+            magenc.field_at([[0, 0, 5]], **kwargs)
+        assert one_line(e)
+    with pytest.raises(ValueError, match=r"seed = -1 is out of range") as e:
+        magenc.diagnose("x.csv", seed=-1)
+    assert one_line(e)
+    with pytest.raises(ValueError, match="starts = 10000000000000000000000000000000 is out of range") as e:
+        magenc.diagnose("x.csv", starts=10**31)
+    assert one_line(e)
+    with pytest.raises(TypeError, match="fixed_zero = 'yes' is not a bool") as e:
+        magenc.diagnose("x.csv", fixed_zero="yes")
+    assert one_line(e)
+    with pytest.raises(TypeError, match="cond_limit = '1e6' is not a real number") as e:
+        magenc.inspect("x.csv", cond_limit="1e6")
+    assert one_line(e)

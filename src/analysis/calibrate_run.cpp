@@ -28,7 +28,19 @@ CalibrationSource calibrate_correction(const CalibrateRequest& req, const Config
   if (req.error_sign != 1 && req.error_sign != -1)
     throw InputError("--error-sign " + std::to_string(req.error_sign) + ": allowed +1 or -1");
   const CalibrationMethod method = calibration_method(cfg);  // checked even when a correction file is given
-  if (!req.correction.empty()) return {read_correction_csv(req.correction), req.correction};
+  if (!req.correction.empty()) {
+    Correction c = read_correction_csv(req.correction);
+    if (!method.none() && method.name() != c.method.name())
+      throw InputError("calibration.method = " + method.name() + " (--method) contradicts " + req.correction +
+                       ", a " + c.method.name() + " correction: allowed the table's own method or none");
+    const auto principle = sensor_setup_from_config(cfg, cfg.str("sensor.array"), what).principle;
+    if (c.turns != electrical_turns(principle))
+      throw InputError("correction " + req.correction + " has turns " + std::to_string(c.turns) + " but sensor.principle " +
+                       cfg.str("sensor.principle") + " turns its channel angle " +
+                       std::to_string(electrical_turns(principle)) + " times per turn: allowed turns " +
+                       std::to_string(electrical_turns(principle)) + " (a table of this sensor)");
+    return {std::move(c), req.correction};
+  }
   if (method.none())
     throw InputError("calibration.method = none: allowed harmonics:N, lut:K or ogp (--method), or --correction FILE");
   if (req.measured.empty())

@@ -14,6 +14,11 @@ namespace {
 
 std::string g17(double v) { return fmt_sig(v, 17); }
 
+// A correction's angles (lut_deg, a_deg, b_deg, phase_deg) lie within a turn; the ellipse's offsets and gain
+// ratio are ratios of channel amplitudes (1e6 is far beyond any sensor's).
+constexpr double kMaxCorrection_deg = 360.0;
+constexpr double kMaxEllipseConstant = 1e6;
+
 }  // namespace
 
 std::string correction_csv(const Correction& c) {
@@ -130,6 +135,11 @@ CorrectionRows read_correction_rows(const std::string& text, const std::string& 
     if (q != "lut_deg" && q != "a_deg" && q != "b_deg" && q != "offset_cos" && q != "offset_sin" && q != "gain_ratio" &&
         q != "phase_deg")
       throw InputError(at + ": unknown quantity '" + q + "': allowed " + allowed_q);
+    if ((q == "lut_deg" || q == "a_deg" || q == "b_deg" || q == "phase_deg") && !(std::abs(v.value) <= kMaxCorrection_deg))
+      throw InputError(at + ": " + q + " = " + row.cells[2] + ": allowed an angle in [-" + num(kMaxCorrection_deg) +
+                       ", " + num(kMaxCorrection_deg) + "] deg");
+    if ((q == "offset_cos" || q == "offset_sin" || q == "gain_ratio") && !(std::abs(v.value) <= kMaxEllipseConstant))
+      throw InputError(at + ": " + q + " = " + row.cells[2] + ": allowed |value| <= " + num(kMaxEllipseConstant));
     if (!values[q].emplace(i, v.value).second)
       throw InputError(at + ": " + q + " index " + std::to_string(i) + " is given twice: allowed once");
   }

@@ -20,7 +20,8 @@ std::string correction_json(const Correction& c);
 // Reads a correction CSV (core/text_table rules: separators, BOM, CRLF, '#' comments). InputError of one
 // line naming `origin`, the row and the problem: header other than quantity,index,value, an unknown
 // quantity, a bad or repeated index, a non-finite value, a constant missing for the method or of another
-// method, turns other than 1 or 2, a gain ratio <= 0, |phase| >= 90 deg.
+// method, turns other than 1 or 2, an angle (lut_deg, a_deg, b_deg, phase_deg) beyond +-360 deg, an
+// ellipse constant beyond +-1e6, a gain ratio <= 0, |phase| >= 90 deg.
 Correction parse_correction_csv(const std::string& text, const std::string& origin);
 Correction read_correction_csv(const std::string& path);
 

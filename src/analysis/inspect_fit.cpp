@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/field_at.hpp"
@@ -93,6 +94,20 @@ struct ScanResiduals {
   }
 };
 
+// A fit that is no result: a polarization beyond the range of magnet.br_T, or a residual above
+// kInspectMaxResidualFraction of the readings (ComputeError, one line).
+void check_fit_explains_scan(const InspectResult& res, const FieldScan& scan) {
+  if (!(std::abs(res.value[6]) <= kInspectMaxPolarization_T))
+    throw ComputeError("inspect: the fit ends at a polarization of " + num(res.value[6]) + " T: allowed |Br| <= " +
+                       num(kInspectMaxPolarization_T) + " T (as magnet.br_T); the scan is too far from the magnet " +
+                       "or its readings are not of this magnet");
+  const double readings_rms_mT = 1e3 * scan.B_T.norm() / std::sqrt(double(scan.B_T.size()));
+  if (!(res.residual_rms_mT <= kInspectMaxResidualFraction * readings_rms_mT))
+    throw ComputeError("inspect: the fit leaves a residual RMS of " + num(res.residual_rms_mT) + " mT for readings of RMS " +
+                       num(readings_rms_mT) + " mT: allowed at most " + num(100 * kInspectMaxResidualFraction) +
+                       " % of the readings (the model does not explain the scan: its positions, units or magnet?)");
+}
+
 }  // namespace
 
 InspectResult inspect_scan(const Magnet& nominal, const FieldScan& scan, const InspectOptions& opts) {
@@ -135,12 +150,16 @@ InspectResult inspect_scan(const Magnet& nominal, const FieldScan& scan, const I
     ceres::Solver::Summary sum;
     ceres::Solve(so, &problem, &sum);
     res.iterations = static_cast<int>(sum.iterations.size());
+    if (sum.termination_type == ceres::FAILURE || !sum.IsSolutionUsable())
+      throw ComputeError("inspect: the fit failed (" + sum.message +
+                         "): no result; check the scan's positions and units and the [magnet] keys");
   }
   res.value = model.values(u.data());
   res.fitted_T = inspect_model_T(nominal, scan.p_mm, res.value);
   const Eigen::Matrix3Xd resid_mT = 1e3 * (res.fitted_T - scan.B_T);
   const double rss = resid_mT.squaredNorm();
   res.residual_rms_mT = std::sqrt(rss / double(3 * N));
+  check_fit_explains_scan(res, scan);
 
   // 2. Covariance: central-difference Jacobian in typical sizes, column-normalised SVD.
   res.sigma.fill(0.0);

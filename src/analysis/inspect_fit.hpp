@@ -64,7 +64,15 @@ struct InspectResult {
   int iterations = 0;
 };
 
+// A fit whose residual RMS exceeds this fraction of the readings' RMS explains nothing of the scan.
+inline constexpr double kInspectMaxResidualFraction = 0.5;
+// A fitted polarization beyond the range of magnet.br_T, (0, 10] T, is no magnet's.
+inline constexpr double kInspectMaxPolarization_T = 10.0;
+
 // Fits the scan. InputError for fewer readings than free parameters, a point on the magnet's surface.
+// ComputeError (exit 3, no output) when the optimizer fails (e.g. every step puts a point on the magnet's
+// surface), ends at |polarization| > kInspectMaxPolarization_T, or leaves a residual RMS above
+// kInspectMaxResidualFraction of the readings' RMS.
 InspectResult inspect_scan(const Magnet& nominal, const FieldScan& scan, const InspectOptions& opts);
 
 }  // namespace magenc

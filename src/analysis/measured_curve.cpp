@@ -197,13 +197,14 @@ MeasuredCurve parse_measured_curve(const std::string& text, const std::string& o
 }
 
 MeasuredCurve read_measured_curve(const std::string& path, const CurveReadOptions& opts) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError("measured curve " + path + " cannot be opened: allowed a readable CSV file");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string text = ss.str();
-  if (text.find('\0') != std::string::npos)
-    throw InputError("measured curve " + path + " contains NUL bytes: allowed a text CSV file");
+  // A regular file only (a directory or a named pipe is refused, not read); NUL bytes and UTF-16 are refused
+  // by the text-table reader, naming the line.
+  const std::string where = "measured curve " + path;
+  const std::string text = read_text_file(path, where, std::uintmax_t(1) << 28);
+  if (text.find('\0') != std::string::npos) {
+    const std::string utf16 = utf16_hint(text);
+    throw InputError(where + (utf16.empty() ? " contains NUL bytes: allowed a text CSV file" : utf16));
+  }
   return parse_measured_curve(text, path, opts);
 }
 

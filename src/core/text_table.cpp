@@ -22,6 +22,9 @@ std::string_view trim_view(std::string_view s) {
   return s.substr(b, e - b);
 }
 
+const char* const kUtf16Clause =
+    " is UTF-16 text (Excel's \"Unicode Text\"): allowed UTF-8 or ASCII text (in Excel: save as \"CSV UTF-8\")";
+
 std::string where_line(const std::string& where, long line_no) { return where + " line " + std::to_string(line_no); }
 
 // One cell starting at s[i] (after blanks), up to the separator or the end; i is left on the separator
@@ -135,11 +138,20 @@ std::string decimal_comma_hint(char separator, std::size_t cells, std::size_t ex
          "with ';' (as spreadsheet programs do)";
 }
 
+std::string utf16_hint(std::string_view text) {
+  // UTF-16 text of ASCII characters has a NUL at every other byte (after the byte-order mark, if any).
+  const std::size_t n = std::min<std::size_t>(text.size(), 512);
+  std::size_t even = 0, odd = 0;
+  for (std::size_t i = 0; i < n; ++i) (i % 2 ? odd : even) += text[i] == '\0';
+  const bool utf16 = n >= 4 && (2 * odd >= n / 2 || 2 * even >= n / 2) && std::min(odd, even) * 8 < std::max(odd, even);
+  if (!utf16) return "";
+  return kUtf16Clause;
+}
+
 TextTableReader::TextTableReader(std::string_view text, std::string where, TextTableOptions options)
     : text_(text), where_(std::move(where)), options_(std::move(options)), separator_(options_.separator) {
   if (text_.size() >= 2 && ((text_[0] == '\xFF' && text_[1] == '\xFE') || (text_[0] == '\xFE' && text_[1] == '\xFF')))
-    throw InputError(where_ + " is UTF-16 text (Excel's \"Unicode Text\"): allowed UTF-8 or ASCII text "
-                              "(in Excel: save as \"CSV UTF-8\")");
+    throw InputError(where_ + kUtf16Clause);
   if (text_.substr(0, 3) == "\xEF\xBB\xBF") {
     bom_ = true;
     pos_ = 3;
@@ -153,8 +165,11 @@ bool TextTableReader::next(TextRow& row) {
     if (eol == std::string_view::npos) pos_ = text_.size();
     else pos_ = eol + ((text_[eol] == '\r' && eol + 1 < text_.size() && text_[eol + 1] == '\n') ? 2 : 1);
     ++line_;
-    if (raw.find('\0') != std::string_view::npos)
+    if (raw.find('\0') != std::string_view::npos) {
+      const std::string utf16 = utf16_hint(text_);
+      if (!utf16.empty()) throw InputError(where_ + utf16);
       throw InputError(where_line(where_, line_) + " holds a NUL byte: allowed a text file (UTF-8 or ASCII)");
+    }
     const std::string_view t = trim_view(raw);
     if (t.empty()) continue;
     if (options_.comment_marks.find(t[0]) != std::string::npos) {
@@ -166,6 +181,13 @@ bool TextTableReader::next(TextRow& row) {
     const char sep = separator_ ? separator_ : detect_separator(t);
     row.cells = split_cells(t, sep, where_, line_);
     if (std::all_of(row.cells.begin(), row.cells.end(), [](const std::string& c) { return c.empty(); })) continue;
+    // Trailing separators, as spreadsheet programs write a used range wider than the table ("a;b;"): the
+    // first content line drops its trailing empty cells, later lines those beyond its count.
+    if (sep != ' ') {
+      const std::size_t keep = content_seen_ ? first_cells_ : 1;
+      while (row.cells.size() > keep && row.cells.back().empty()) row.cells.pop_back();
+      if (!content_seen_) first_cells_ = row.cells.size();
+    }
     separator_ = sep;
     content_seen_ = true;
     row.line = line_;
@@ -177,7 +199,13 @@ bool TextTableReader::next(TextRow& row) {
 
 std::string read_text_file(const std::filesystem::path& file, const std::string& what, std::uintmax_t max_bytes) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec))
+  const auto status = std::filesystem::status(file, ec);
+  if (std::filesystem::is_directory(status))
+    throw InputError(what + " is a directory, not a file: allowed a readable text file");
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw InputError(what + " is not a regular file (a named pipe, socket or device is not read): allowed a readable "
+                            "text file");
+  if (!std::filesystem::is_regular_file(status))
     throw InputError(what + " does not exist or is not a file: allowed a readable text file");
   const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(what + ": cannot read its size: " + ec.message());

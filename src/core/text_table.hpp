@@ -13,10 +13,14 @@
 //     blanks (spaces and tabs);
 //   - cells are trimmed of blanks; a cell may be wrapped in double quotes, and may then hold the
 //     separator ("" inside quotes is one quote);
+//   - trailing separators (spreadsheet programs write "a;b;" for a used range wider than the table): the
+//     first content line drops its trailing empty cells, every later line its trailing empty cells beyond
+//     the first line's count (so "1;;" under a 3-column header still has an empty third cell);
 //   - numbers (parse_number): the syntax of strtod in the C locale, with '.' or ',' as the decimal mark
 //     ("0,25" = 0.25: a comma can only be inside a cell when ',' is not the separator, or in quotes).
 // Refused (InputError, one line "WHERE ...: ... allowed ..."): UTF-16 text (a byte-order mark FF FE or
-// FE FF: Excel's "Unicode Text"), a NUL byte, a quoted cell without its closing quote.
+// FE FF: Excel's "Unicode Text", or without one a NUL at every other byte), a NUL byte, a quoted cell
+// without its closing quote.
 //
 // Use: a TextTableReader and its rows, each reader keeping its own messages for cells and columns;
 // or, for a plain table of numbers under a header row, parse_numeric_table / read_numeric_table.
@@ -67,8 +71,13 @@ class TextTableReader {
   long line_ = 0;
   char separator_ = 0;
   bool bom_ = false, content_seen_ = false;
+  std::size_t first_cells_ = 0;  // cells of the first content line, trailing empty cells dropped
   std::vector<TextRow> comments_;
 };
+
+// When text looks like UTF-16 (a NUL at every other byte of its start): the clause for a message naming it
+// (" is UTF-16 text ...: allowed UTF-8 or ASCII text (in Excel: save as "CSV UTF-8")"); else "".
+std::string utf16_hint(std::string_view text);
 
 // The separator recognised from a content line (see above): ';', '\t', ',' or ' '.
 char detect_separator(std::string_view line);

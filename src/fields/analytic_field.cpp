@@ -352,12 +352,39 @@ MAGENC_NODE_SIMD(reduction(+ : acc_z, acc_ax))
   bz_ax = pref * acc_ax;
 }
 
+bool AnalyticField::in_far_field(const Vec3& p) const {
+  const double a = std::max(magnet_.radius_mm, magnet_.top_z_mm());
+  return std::hypot(p.x(), p.y(), p.z()) > kFarFieldRadius * a;
+}
+
+Vec3 AnalyticField::multipole_B_T(const Vec3& p) const {
+  // B = Br/(4 pi) grad(m . grad Phi), Phi(x) = Int_V dV'/|x - x'| = q0/r + q2 P2(cos theta)/r^3 + O(a^4/r^5)
+  // (only even l: the body is symmetric about z = 0), q0 = V, q2 = Int (z'^2 - rho'^2/2) dV'. Since
+  // P2(cos theta)/r^3 = (1/2) d^2/dz^2 (1/r), the l = 2 term is (q2/2) times the contraction of the fourth
+  // derivative tensor of 1/r. Written in n = x/r and powers of 1/r, so nothing overflows at any finite r.
+  const double R = magnet_.radius_mm, Ri = magnet_.inner_radius_mm, L = magnet_.height_mm;
+  const double r = std::hypot(p.x(), p.y(), p.z()), inv = 1.0 / r;
+  const Vec3 n = p * inv;
+  const Vec3 m = br_inside_T_ / magnet_.br_T;  // unit magnetization direction
+  const double V = kPi * (R * R - Ri * Ri) * L;
+  const double q2 = V * L * L / 12.0 - kPi * L * (R * R * R * R - Ri * Ri * Ri * Ri) / 4.0;
+  const double mn = m.dot(n), nz = n.z(), mz = m.z();
+  const double inv3 = inv * inv * inv, inv5 = inv3 * inv * inv;
+  const Vec3 dipole = (3.0 * mn * n - m) * (V * inv3);
+  const Vec3 ez = Vec3::UnitZ();
+  const Vec3 quad = 105.0 * mn * nz * nz * n - 15.0 * (nz * nz * m + 2.0 * mn * nz * ez + 2.0 * mz * nz * n + mn * n) +
+                    3.0 * (m + 2.0 * mz * ez);
+  return magnet_.br_T / (4.0 * kPi) * (dipole + (0.5 * q2 * inv5) * quad);
+}
+
 Vec3 AnalyticField::B_T(const Vec3& p) const {
+  if (in_far_field(p)) return multipole_B_T(p);
   if (!bore_) return cylinder_B_T(p);
   return cylinder_B_T(p) - bore_->cylinder_B_T(p);
 }
 
 double AnalyticField::Bz_T(const Vec3& p) const {
+  if (in_far_field(p)) return multipole_B_T(p).z();
   if (!bore_) return cylinder_Bz_T(p);
   return cylinder_Bz_T(p) - bore_->cylinder_Bz_T(p);
 }

@@ -324,6 +324,9 @@ TableRows read_ansys(std::string_view text, const std::string& where, const Fiel
                            ansys_triplet(row.text, "Grid Size:", t.size_mm, at)};
     for (int k = 0; k < 3; ++k) have[k] = have[k] || found[k];
     if (found[0] || found[1] || found[2]) continue;
+    if (row.text.find(',') != std::string::npos && all_numbers(split_cells(row.text, ',', where, row.line)))
+      throw InputError(at + ": '" + row.text + "' separates its values by ',': allowed an Ansys .fld grid export with "
+                            "the values of a row separated by blanks (as Ansys writes them)");
     if (!starts_with_nocase(row.text, "X") && row.text.find("data") == std::string::npos)
       throw InputError(at + ": '" + row.text + "' is neither a grid header (Min:, Max:, Grid Size:) nor the "
                             "quantity line (X,Y,Z,...): allowed an Ansys .fld grid export");
@@ -607,6 +610,47 @@ void check_declared_grid(const TableRows& t, const GridData& g, const std::strin
   }
 }
 
+// Plausibility of the numbers against the units the header claims (a table in other units than its header
+// says would otherwise give a field 1000 times off, or a grid 1000 times too large): the largest |B| of
+// the table between kMinFieldMax_T and kMaxField_T, the grid within kMaxExtent_mm, its spacing at least
+// kMinSpacing_mm.
+void check_plausible(const TableRows& t, const GridData& g, const std::string& where) {
+  int col_max = -1;
+  double bmax = 0;
+  for (std::size_t c = 0; c < t.cols.size(); ++c) {
+    if (t.cols[c].role < BX) continue;
+    for (double v : t.vals[t.cols[c].role])
+      if (std::abs(v) > bmax || col_max < 0) bmax = std::abs(v), col_max = int(c);
+  }
+  const ColumnSpec& fc = t.cols[std::size_t(col_max)];
+  const std::string field_col = "column '" + fc.name + "'";
+  const std::string field_range = "allowed a largest |B| between " + num(kFieldTableMinFieldMax_T * 1e3) + " mT and " +
+                                  num(kFieldTableMaxField_T) + " T";
+  if (bmax == 0.0) throw InputError(where + ": every field value is zero: " + field_range);
+  if (bmax > kFieldTableMaxField_T)
+    throw InputError(where + ": " + field_col + " holds |B| = " + num(bmax / fc.scale) + " " + fc.unit + " (" + num(bmax) +
+                     " T): " + field_range + (fc.unit == "T" ? " (values in mT under a T header?)" : ""));
+  if (bmax < kFieldTableMinFieldMax_T)
+    throw InputError(where + ": the largest |B| of the table is " + num(bmax / fc.scale) + " " + fc.unit + " (" +
+                     field_col + "): " + field_range + (fc.unit == "mT" ? " (values in T under a mT header?)" : ""));
+  const ColumnSpec* xc = nullptr;
+  for (const auto& c : t.cols)
+    if (c.role == X) xc = &c;
+  const std::string len_unit = xc ? xc->unit : "mm";
+  for (int d = 0; d < 3; ++d) {
+    if (g.dims[d] < 2) continue;
+    const double extent = g.spacing_mm[d] * (g.dims[d] - 1);
+    if (extent > kFieldTableMaxExtent_mm)
+      throw InputError(where + ": the grid spans " + num(extent) + " mm in " + kColName[d] + " (read in " + len_unit +
+                       "): allowed at most " + num(kFieldTableMaxExtent_mm) + " mm (coordinates in mm under a " +
+                       len_unit + " header or length unit?)");
+    if (g.spacing_mm[d] < kFieldTableMinSpacing_mm)
+      throw InputError(where + ": the grid spacing in " + kColName[d] + " is " + num(g.spacing_mm[d]) + " mm (read in " +
+                       len_unit + "): allowed at least " + num(kFieldTableMinSpacing_mm) +
+                       " mm (coordinates in m under a " + len_unit + " header?)");
+  }
+}
+
 }  // namespace
 
 GridData parse_field_table(const std::string& text, const std::string& source, double plane_z_mm,
@@ -622,6 +666,7 @@ GridData parse_field_table(const std::string& text, const std::string& source, d
     throw InputError(where + " has a header but no data rows: allowed a regular grid of at least 2 x 2 points");
   GridData g = rows_to_grid(t, source, plane_z_mm, limits);
   if (t.declared) check_declared_grid(t, g, where);
+  check_plausible(t, g, where);
   return g;
 }
 

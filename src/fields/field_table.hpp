@@ -62,6 +62,17 @@ struct FieldTableLimits {
 // Tolerance, in cells, for coordinates off the regular lattice.
 constexpr double kLatticeTol = 1e-3;
 
+// Plausibility of a table's numbers against the units its header claims (InputError naming the column or
+// axis and the range otherwise): the largest |B| of the table between 0.1 mT and 10 T (a magnet's field
+// at an encoder's sensor is mT to about 1 T; all zeros, a 1e300 node, tesla under a mT header or mT under
+// a T header fall outside), the grid at most 1000 mm across on every axis (mm numbers under an m header or
+// a COMSOL '% Length unit: m' make it 1000 times larger) and its spacing at least 1e-3 mm (m numbers under
+// an mm header).
+constexpr double kFieldTableMinFieldMax_T = 1e-4;
+constexpr double kFieldTableMaxField_T = 10.0;
+constexpr double kFieldTableMaxExtent_mm = 1000.0;
+constexpr double kFieldTableMinSpacing_mm = 1e-3;
+
 // Parses a table's text; `source` names it in messages ("table FILE").
 // plane_z_mm: height of a table without a z column (magnet frame, mm).
 GridData parse_field_table(const std::string& text, const std::string& source, double plane_z_mm,

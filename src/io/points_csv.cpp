@@ -6,6 +6,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/text_table.hpp"
+#include "fields/field_table.hpp"
 
 namespace magenc {
 
@@ -30,6 +31,24 @@ std::vector<std::vector<double>> parse_columns(const std::string& text, const st
 void require_column(const std::vector<std::vector<double>>& cols, std::size_t k, const std::string& name,
                     const std::string& where, const std::string& allowed) {
   if (cols[k].empty()) throw InputError(where + ": missing column '" + name + "': allowed columns " + allowed);
+}
+
+// The readings against the unit the header claims: the largest |B| between 0.1 mT and 10 T, as a field
+// table's (fields/field_table.hpp): all zeros, tesla under mT columns or mT under T columns fall outside.
+void check_scan_magnitude(const ScanTable& s, const std::string& where) {
+  Eigen::Index row = 0, comp = 0;
+  const double bmax = s.B_T.cols() > 0 ? s.B_T.cwiseAbs().maxCoeff(&comp, &row) : 0.0;
+  const std::string range = "allowed a largest |B| between " + num(kFieldTableMinFieldMax_T * 1e3) + " mT and " +
+                            num(kFieldTableMaxField_T) + " T";
+  const double in_unit = bmax * (s.unit == "T" ? 1.0 : 1e3);
+  if (bmax == 0.0) throw InputError(where + ": every reading is zero: " + range);
+  if (bmax > kFieldTableMaxField_T)
+    throw InputError(where + ": column B" + std::string(1, char('x' + comp)) + "_" + s.unit + " holds " + num(in_unit) +
+                     " " + s.unit + " (row " + std::to_string(row + 1) + "): " + range +
+                     (s.unit == "T" ? " (readings in mT under a T header?)" : ""));
+  if (bmax < kFieldTableMinFieldMax_T)
+    throw InputError(where + ": the largest reading is " + num(in_unit) + " " + s.unit + ": " + range +
+                     (s.unit == "mT" ? " (readings in T under a mT header?)" : ""));
 }
 
 }  // namespace
@@ -65,6 +84,7 @@ ScanTable parse_scan_csv(const std::string& text, const std::string& where) {
       s.B_T(k, j) = cols[b0 + k][j] * (T ? 1.0 : 1e-3);
     }
   s.unit = T ? "T" : "mT";
+  check_scan_magnitude(s, where);
   return s;
 }
 

@@ -67,6 +67,10 @@ TEST_CASE("correction files: bad input is one line naming the file", "[analysis]
       head + "method,0,lut:4\nlut_deg,1\n",
       head + "method,0,lut:4\nmethod,0,lut:4\n",
       head + "method,0,\"lut:4\n",
+      head + "method,0,lut:4\nlut_deg,0,1\nlut_deg,1,720\nlut_deg,2,1\nlut_deg,3,1\n",   // beyond a turn
+      head + "method,0,lut:4\nlut_deg,0,1\nlut_deg,1,1e300\nlut_deg,2,1\nlut_deg,3,1\n",  // absurd
+      head + "method,0,harmonics:1\na_deg,0,1\na_deg,1,-361\nb_deg,1,1\n",
+      head + "method,0,ogp\noffset_cos,0,1e300\noffset_sin,0,0\ngain_ratio,0,1\nphase_deg,0,0\n",
   };
   for (const auto& text : bad) {
     CAPTURE(text);
@@ -82,4 +86,14 @@ TEST_CASE("correction files: bad input is one line naming the file", "[analysis]
     }
   }
   CHECK_THROWS_AS(read_correction_csv("/nonexistent/correction.csv"), InputError);
+}
+
+TEST_CASE("correction files: angles within a turn, trailing separators of spreadsheets", "[analysis][bad-input]") {
+  const std::string head = "quantity,index,value\n";
+  CHECK_THROWS_WITH(parse_correction_csv(head + "method,0,lut:4\nlut_deg,0,1\nlut_deg,1,720\n", "c.csv"),
+                    Catch::Contains("correction c.csv line 4: lut_deg = 720: allowed an angle in [-360, 360] deg"));
+  const Correction c = parse_correction_csv(
+      "quantity;index;value;\nmethod;0;lut:4;\nlut_deg;0;360;\nlut_deg;1;-360;;\nlut_deg;2;0,5;\nlut_deg;3;1;\n", "c.csv");
+  CHECK(c.lut_deg[0] == 360);
+  CHECK(c.lut_deg[2] == 0.5);
 }

@@ -115,3 +115,21 @@ TEST_CASE("inspect: bad groups are refused with one line", "[analysis][bad-input
   CHECK_THROWS_AS(magenc::parse_inspect_groups("", "--free"), magenc::InputError);
   CHECK(magenc::parse_inspect_groups("direction,offset", "--free") == std::vector<std::string>{"direction", "offset"});
 }
+
+TEST_CASE("inspect: a fit that explains nothing of the scan is a failure, not a result", "[analysis][bad-input]") {
+  Magnet m;
+  magenc::InspectOptions opts;
+  // Readings unrelated to the magnet (seeded Gaussian, 10 mT per component): the best fit leaves most of them.
+  FieldScan noise{scan_points({4.55, 5.55}), Eigen::Matrix3Xd(3, 98)};
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n(0.0, 10e-3);
+  for (Eigen::Index j = 0; j < noise.B_T.cols(); ++j)
+    for (int c = 0; c < 3; ++c) noise.B_T(c, j) = n(rng);
+  CHECK_THROWS_WITH(magenc::inspect_scan(m, noise, opts),
+                    Catch::Contains("inspect: the fit leaves a residual RMS of") && Catch::Contains("allowed at most 50 %"));
+  // A scan 1 km away whose readings are 1 mT: only an absurd polarization reaches them.
+  FieldScan far{scan_points({1e6}), Eigen::Matrix3Xd::Constant(3, 49, 1e-3)};
+  CHECK_THROWS_AS(magenc::inspect_scan(m, far, opts), magenc::ComputeError);
+  // The good scan still fits.
+  CHECK_NOTHROW(magenc::inspect_scan(m, synthetic_scan(m, scan_points({4.55}), kTruth, 0.05, 3), opts));
+}

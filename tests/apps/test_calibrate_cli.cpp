@@ -68,6 +68,12 @@ TEST_CASE("calibrate CLI: bad input is one line, exit 2, no output", "[apps][bad
     std::ofstream f(bad);
     f << "quantity,index,value\nmethod,0,lut:4\nlut_deg,0,1\n";
   }
+  const fs::path lut32 = fs::temp_directory_path() / ("magenc_test_lut32_" + std::to_string(::getpid()) + ".csv");
+  {
+    std::ofstream f(lut32);
+    f << "quantity,index,value\nmethod,0,lut:32\nturns,0,1\n";
+    for (int k = 0; k < 32; ++k) f << "lut_deg," << k << "," << 0.1 * std::sin(0.2 * k) << "\n";
+  }
   const fs::path out = temp_out("calibrate_bad");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--correction '" + bad.string() + "'", "lut_deg"},
@@ -76,6 +82,10 @@ TEST_CASE("calibrate CLI: bad input is one line, exit 2, no output", "[apps][bad
       {"--method lut:2", "calibration.method"},
       {"--method harmonics:8 --set 'calibration.at={mount.nope=1}'", "calibration.at"},
       {"--method ogp --measured '" + bad.string() + "'", bad.string()},
+      // A table applied under another method, or of a sensor of other turns.
+      {"--method lut:64 --correction '" + lut32.string() + "'", "calibration.method = lut:64 (--method) contradicts"},
+      {"--set sensor.principle=amr --set sensor.array=point --correction '" + lut32.string() + "'",
+       "has turns 1 but sensor.principle amr"},
   };
   for (const auto& [args, names] : cases) {
     CAPTURE(args);
@@ -86,4 +96,12 @@ TEST_CASE("calibrate CLI: bad input is one line, exit 2, no output", "[apps][bad
     CHECK_FALSE(fs::exists(out));
   }
   fs::remove(bad);
+  // The same table under its own method, or none given, applies.
+  for (const std::string method : {"", "--method lut:32 "}) {
+    CAPTURE(method);
+    const StudyRun r = run_study_exe("calibrate", out, method + "--correction '" + lut32.string() + "'");
+    CHECK(r.code == 0);
+    fs::remove_all(out);
+  }
+  fs::remove(lut32);
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/errors.hpp"
@@ -78,7 +79,8 @@ TEST_CASE("text table: the separator, decimal mark, BOM and line ends come from 
   // A forced separator wins over recognition; a quoted cell may hold the separator and "" is a quote.
   CHECK(rows_of("a;b c\n", {"#", ' '})[0].cells == std::vector<std::string>{"a;b", "c"});
   CHECK(rows_of("\"a,\"\"b\"\"\",c\n")[0].cells == std::vector<std::string>{"a,\"b\"", "c"});
-  CHECK(rows_of("a,,b,\n")[0].cells == std::vector<std::string>{"a", "", "b", ""});
+  // An empty cell inside a line is kept; a trailing separator (a spreadsheet's used range) is no cell.
+  CHECK(rows_of("a,,b,\n")[0].cells == std::vector<std::string>{"a", "", "b"});
 }
 
 TEST_CASE("text table: numbers", "[core][contract]") {
@@ -149,9 +151,49 @@ TEST_CASE("numeric table: header and rows of finite numbers, every refusal one l
   const fs::path dir = fs::temp_directory_path() / ("magenc_test_text_table_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   CHECK(error_of([&] { read_numeric_table(dir / "none.csv", "--points"); }).find("does not exist") != std::string::npos);
-  CHECK(error_of([&] { read_numeric_table(dir, "--points"); }).find("is not a file") != std::string::npos);
+  CHECK(error_of([&] { read_numeric_table(dir, "--points"); }).find("is a directory, not a file") != std::string::npos);
+  // A named pipe is refused without opening it (opening would wait for a writer).
+  REQUIRE(::mkfifo((dir / "pipe.csv").c_str(), 0600) == 0);
+  CHECK(error_of([&] { read_numeric_table(dir / "pipe.csv", "--points"); }).find("is not a regular file (a named pipe") !=
+        std::string::npos);
   std::ofstream(dir / "p.csv") << "x_mm\r\n1,5\r\n";
   CHECK(read_numeric_table(dir / "p.csv", "--points").at(0, 0) == 1.5);  // one column: ',' is the decimal mark
   CHECK(error_of([&] { read_text_file(dir / "p.csv", "p", 4); }).find("bytes: allowed at most 4") != std::string::npos);
   fs::remove_all(dir);
+}
+
+TEST_CASE("text table: trailing separators of a spreadsheet's used range are no columns", "[core][contract]") {
+  // Excel and LibreOffice write "a;b;" (and "a;b;;") when the used range is wider than the table.
+  for (int extra : {1, 2}) {
+    CAPTURE(extra);
+    const std::string text = test::trailing_separators(test::european("theta_deg,error_deg\n0,0.5\n90,-0.25\n"), ';', extra);
+    const NumericTable t = parse_numeric_table(text, "c.csv", {"theta_deg", "error_deg"});
+    REQUIRE(t.columns == std::vector<std::string>{"theta_deg", "error_deg"});
+    REQUIRE(t.rows() == 2);
+    CHECK(t.at(1, 1) == -0.25);
+    const NumericTable u = parse_numeric_table(test::trailing_separators("x_mm,y_mm,z_mm\n1,2,3\n", ',', extra), "p.csv");
+    CHECK(u.columns.size() == 3);
+    CHECK(u.at(0, 2) == 3);
+  }
+  // A row with trailing separators under a header without them is the same row.
+  CHECK(parse_numeric_table("a;b\n1;2;;\n", "t.csv").at(0, 1) == 2);
+  // An empty cell inside the header's width is still an empty cell, not a trailing separator.
+  const std::string m = error_of([] { parse_numeric_table("a;b;c\n1;2;\n", "t.csv"); });
+  CHECK(m.find("line 2: column c is empty") != std::string::npos);
+}
+
+TEST_CASE("text table: UTF-16 without a byte-order mark is named as such", "[core][bad-input]") {
+  // Excel's "Unicode Text" and other UTF-16 writers: little or big endian, with or without the mark.
+  const std::string ascii = "theta_deg,error_deg\n0,0.5\n";
+  std::string le, be;
+  for (char c : ascii) le += std::string{c, '\0'}, be += std::string{'\0', c};
+  for (const std::string& text : {le, be, "\xFF\xFE" + le}) {
+    const std::string m = error_of([&] { parse_numeric_table(text, "c.csv"); });
+    CAPTURE(m);
+    CHECK(m.find("c.csv is UTF-16 text") == 0);
+    CHECK(m.find("save as \"CSV UTF-8\"") != std::string::npos);
+    CHECK(utf16_hint(text).size() > 0);
+  }
+  CHECK(utf16_hint(ascii).empty());
+  CHECK(utf16_hint(std::string("a,b\n1,2\n3,\0\n", 12)).empty());  // one NUL byte is not UTF-16
 }

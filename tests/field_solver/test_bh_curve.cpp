@@ -2,6 +2,7 @@
 // mu0 extension beyond the last row, and bad tables as one-line input errors.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "field_solver/mesh/bh_curve.hpp"
 #include "core/errors.hpp"
+#include "support/spreadsheet_text.hpp"
 
 using namespace magenc::fem;
 
@@ -85,6 +87,10 @@ TEST_CASE("B-H curve: bad tables are one-line input errors", "[field_solver][bad
       {"H_A_per_m,B_mT\n0,0\n100,500\n200,600\n300,1000\n", "column"},               // wrong header
       {"H_A_per_m,B_T\n0,0\n100,abc\n200,0.6\n300,1.0\n", "not a number"},           // not a number
       {"", "empty"},
+      // Units other than the header's (the steel curve above): B in mT, H in kA/m, a near-duplicate H.
+      {"H_A_per_m,B_T\n0,0\n100,200\n300,900\n600,1200\n10000,1700\n", "row 2 (H 100 A/m, B 200 T) has a polarization"},
+      {"H_A_per_m,B_T\n0,0\n0.1,0.2\n0.3,0.9\n0.6,1.2\n10,1.7\n", "(H 0.1 A/m, B 0.2 T) gives a relative permeability of"},
+      {"H_A_per_m,B_T\n0,0\n100,0.1\n100.0001,0.2\n1000,1.2\n10000,1.9\n", "over the segment from the row before"},
   };
   for (const auto& [text, needle] : cases) {
     const std::string e = error_of(text);
@@ -94,5 +100,28 @@ TEST_CASE("B-H curve: bad tables are one-line input errors", "[field_solver][bad
     CHECK(e.find('\n') == std::string::npos);
   }
   CHECK(error_of(kSteel).empty());
+  // Trailing separators as spreadsheet programs write them ("H_A_per_m;B_T;;") are no columns.
+  CHECK(error_of(magenc::test::trailing_separators(kSteel, ',', 2)).empty());
   CHECK_THROWS_AS(read_bh_csv("/nonexistent/curve.csv"), magenc::InputError);
+}
+
+TEST_CASE("B-H curve: a steep start keeps the curve's own initial permeability", "[field_solver][regression]") {
+  // The three-point end slope of 0,0 / 100,0.1 / 110,0.2 is negative; the slope at H = 0 is then the first
+  // segment's secant B_1 / H_1 = 1e-3 T m/A (mu_r 796), not mu0 (which made a steel part air near H = 0).
+  const BhCurve c = parse_bh_csv("H_A_per_m,B_T\n0,0\n100,0.1\n110,0.2\n1000,1.2\n10000,1.9\n", "t");
+  CHECK(c.dB_dH(0.0) == Approx(1e-3).epsilon(1e-12));
+  CHECK(c.mu_r(0.0) == Approx(1e-3 / kMu0_T_m_per_A).epsilon(1e-12));
+  // Still monotone, through the rows, with B >= mu0 H everywhere below the last row.
+  double prev = -1;
+  for (double H = 0; H <= 10000; H += 0.5) {
+    const double b = c.B_T(H);
+    CHECK(b >= prev);
+    CHECK(b >= kMu0_T_m_per_A * H);
+    prev = b;
+  }
+  for (std::size_t i = 0; i < c.H().size(); ++i) CHECK(c.B_T(c.H()[i]) == Approx(c.B()[i]).epsilon(1e-14));
+  // The curves of materials/ are plausible (none trips the unit checks).
+  for (const char* f : {"electrical_steel_bh.csv", "free_cutting_steel_bh.csv", "low_carbon_steel_hot_rolled_bh.csv",
+                        "structural_steel_bh.csv"})
+    CHECK_NOTHROW(read_bh_csv(std::filesystem::path(MAGENC_SOURCE_DIR) / "materials" / f));
 }

@@ -80,8 +80,8 @@ std::string parse_error(const std::string& text, const FieldTableLimits& limits 
   return "";
 }
 
-// A small 2-D table: x = 0..3 (step 1), y = 0..2 (step 0.5), Bz = x + 10 y (T), in row order.
-std::string small_table(const std::string& header = "x_mm,y_mm,Bz_T") {
+// A small 2-D table: x = 0..3 (step 1), y = 0..2 (step 0.5), Bz = x + 10 y (mT), in row order.
+std::string small_table(const std::string& header = "x_mm,y_mm,Bz_mT") {
   std::string t = header + "\n";
   for (int j = 0; j < 5; ++j)
     for (int i = 0; i < 4; ++i) t += std::to_string(i) + "," + std::to_string(0.5 * j) + "," + std::to_string(i + 5 * j) + "\n";
@@ -272,7 +272,7 @@ TEST_CASE("bad tables: one line naming the problem and the first offending line"
   SECTION("a good small table parses") {
     const GridData g = parse_field_table(small_table(), "t.csv", 4.55);
     CHECK(g.dims == std::array<int, 3>{4, 5, 1});
-    CHECK(g.Bz_T[3 + 4 * 2] == Approx(13));
+    CHECK(g.Bz_T[3 + 4 * 2] == Approx(13e-3));
   }
   struct Bad {
     std::string what, text, expect1, expect2;
@@ -299,9 +299,9 @@ TEST_CASE("bad tables: one line naming the problem and the first offending line"
       {"decimal comma", replace_line(t, 8, "2,0.5,1,5"), "line 8:", "4 values, the header has 3"},
       {"empty cell", replace_line(t, 8, "2,,1"), "line 8:", "not a number"},
       {"too few cells", replace_line(t, 5, "3 0 3"), "line 5:", "1 values"},
-      {"unknown column", small_table("x_mm,y_mm,Bq_T"), "line 1:", "unknown column 'Bq_T'"},
+      {"unknown column", small_table("x_mm,y_mm,Bq_mT"), "line 1:", "unknown column 'Bq_mT'"},
       {"unknown unit", small_table("x_mm,y_mm,Bz_G"), "line 1:", "unknown column 'Bz_G'"},
-      {"mixed coordinate units", small_table("x_mm,y_m,Bz_T"), "line 1:", "mixes units"},
+      {"mixed coordinate units", small_table("x_mm,y_m,Bz_mT"), "line 1:", "mixes units"},
       {"mixed field units", "x_mm,y_mm,Bz_T,Bx_mT,By_mT\n0,0,1,1,1\n", "line 1:", "mixes units"},
       {"duplicate column", "x_mm,x_mm,Bz_T\n", "line 1:", "appears twice"},
       {"no Bz column", "x_mm,y_mm,Bx_T\n", "line 1:", "no Bz column"},
@@ -359,7 +359,7 @@ TEST_CASE("bad tables: one line naming the problem and the first offending line"
     FieldOptions linear;
     linear.interp = Interp::Linear;
     const auto f = make_field_source("table:" + (dir / "small.csv").string(), cfg, linear);
-    CHECK(f->Bz_T(Vec3(1.5, 0.75, 4.55)) == Approx(1.5 + 7.5));  // Bz = x + 10 y is linear: exact
+    CHECK(f->Bz_T(Vec3(1.5, 0.75, 4.55)) == Approx(1e-3 * (1.5 + 7.5)));  // Bz = x + 10 y is linear: exact
     fs::remove_all(dir);
   }
 }
@@ -397,7 +397,7 @@ TEST_CASE("error_spectrum --field table: and table_to_vti", "[fields][cli]") {
   CHECK(std::abs(std::stod(column("table.csv", "c1_deg")) - std::stod(column("exact.csv", "c1_deg"))) < 1e-5);
   CHECK(std::abs(std::stod(column("table.csv", "c3_deg")) - std::stod(column("exact.csv", "c3_deg"))) < 1e-5);
   // A bad table: one line, exit 2, no output.
-  write_text(dir / "bad.csv", small_table("x_mm,y_m,Bz_T"));
+  write_text(dir / "bad.csv", small_table("x_mm,y_m,Bz_mT"));
   Run r = run_cmd(bin + "/error_spectrum --field table:" + (dir / "bad.csv").string() + " --out " +
                       (dir / "bad_out.csv").string(), dir);
   CHECK(r.code == 2);
@@ -429,4 +429,48 @@ TEST_CASE("error_spectrum --field table: and table_to_vti", "[fields][cli]") {
   r = run_cmd(bin + "/table_to_vti", dir);  // --table is required
   CHECK(r.code == 2);
   fs::remove_all(dir);
+}
+
+TEST_CASE("tables in other units than their header claims are refused, naming the column and the range",
+          "[fields][bad-input]") {
+  // small_table(): Bz = x + 10 y in mT on x 0..3 mm, y 0..2 mm.
+  auto scaled = [](const std::string& header, double coord, double field, double at_origin = 0) {
+    std::string t = header + "\n";
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const double b = (i == 0 && j == 0) ? at_origin : field * (i + 5 * j);
+        t += std::to_string(coord * i) + "," + std::to_string(coord * 0.5 * j) + "," + std::to_string(b) + "\n";
+      }
+    return t;
+  };
+  struct Bad {
+    std::string what, text, expect1, expect2;
+  };
+  const std::vector<Bad> bad = {
+      {"all zero", scaled("x_mm,y_mm,Bz_T", 1, 0), "every field value is zero", "between 0.1 mT and 10 T"},
+      {"one 1e300 node", scaled("x_mm,y_mm,Bz_mT", 1, 1, 1e300), "column 'Bz_mT' holds |B| = 1e+300 mT", "10 T"},
+      {"tesla under Bz_mT", scaled("x_mm,y_mm,Bz_mT", 1, 1e-3), "largest |B| of the table is 0.023 mT",
+       "values in T under a mT header?"},
+      {"mT under Bz_T", scaled("x_mm,y_mm,Bz_T", 1, 1), "column 'Bz_T' holds |B| = 23 T", "values in mT under a T header?"},
+      {"mm under x_m", scaled("x_m,y_m,Bz_mT", 1, 1), "the grid spans 3000 mm in x (read in m)",
+       "coordinates in mm under a m header"},
+      {"m under x_mm", scaled("x_mm,y_mm,Bz_mT", 5e-4, 1), "the grid spacing in x is 0.0005 mm",
+       "coordinates in m under a mm header"},
+  };
+  for (const auto& b : bad) {
+    CAPTURE(b.what, b.text);
+    const std::string msg = parse_error(b.text);
+    CAPTURE(msg);
+    CHECK(contains(msg, "table t.csv: "));
+    CHECK(contains(msg, b.expect1));
+    CHECK(contains(msg, b.expect2));
+    CHECK(contains(msg, "allowed"));
+    CHECK(msg.find('\n') == std::string::npos);
+  }
+  // Near the edges is allowed: |B| of 0.1 mT and 10 T, a 990 mm grid, a 0.002 mm spacing; trailing separators.
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1e-4 / 23)).empty());
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 10.0 / 23)).empty());
+  CHECK(parse_error(scaled("x_m,y_m,Bz_mT", 0.33, 1)).empty());
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_mT", 4e-3, 1)).empty());
+  CHECK(parse_error(test::trailing_separators(test::european(small_table()), ';', 2)).empty());
 }

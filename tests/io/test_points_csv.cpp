@@ -87,3 +87,16 @@ TEST_CASE("points and scan CSV: files as spreadsheet programs save them (byte-or
   CHECK(s.B_T(0, 0) == -20.5e-3);
   CHECK(s.p_mm(2, 0) == 4.55);
 }
+
+TEST_CASE("scan CSV: readings in other units than the header claims are refused", "[io][bad-input]") {
+  using Catch::Contains;
+  const std::string head_mT = "x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n", head_T = "x_mm,y_mm,z_mm,Bx_T,By_T,Bz_T\n";
+  CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0,0,0\n1,0,4,0,0,0\n", "s"),
+                    Contains("s: every reading is zero: allowed a largest |B| between 0.1 mT and 10 T"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0.02,0.001,0.05\n", "s"),
+                    Contains("the largest reading is 0.05 mT") && Contains("readings in T under a mT header?"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv(head_T + "0,0,4,-20,1,50\n1,0,4,1,1,1\n", "s"),
+                    Contains("column Bz_T holds 50 T (row 1)") && Contains("readings in mT under a T header?"));
+  CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,1,1e300,1\n", "s"), Contains("column By_mT holds 1e+300 mT"));
+  CHECK(magenc::parse_scan_csv(head_mT + "0,0,4,0.2,0,0\n", "s").B_T(0, 0) == Approx(2e-4));
+}

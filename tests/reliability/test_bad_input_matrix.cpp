@@ -6,6 +6,8 @@
 // every key gets the bad values of its type.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <set>
 #include <regex>
@@ -567,6 +569,15 @@ TEST_CASE("bad-input matrix: measured curves, field tables and the studies' free
   for (int i = 0; i < 4096; ++i) garbage += char((i * 7919 + 13) % 256);
   curve_case("corrupted (binary)", add("garbage.csv", garbage));
   curve_case("NUL bytes", add("nul.csv", curve.substr(0, 200) + std::string(1, '\0') + curve.substr(200)));
+  {
+    std::string utf16;  // Excel's "Unicode Text" without the byte-order mark
+    for (char c : curve) utf16 += std::string{c, '\0'};
+    const std::string f = add("utf16.csv", utf16);
+    m.check("measured curve UTF-16", dg, {"--measured", f, "--out", "out"}, s, inputs, {"save as \"CSV UTF-8\""});
+  }
+  REQUIRE(::mkfifo((s.dir / "pipe.csv").c_str(), 0600) == 0);  // read, it would wait for a writer
+  inputs.push_back("pipe.csv");
+  curve_case("a named pipe", "pipe.csv");
   for (const auto& [cls, v] : std::vector<std::pair<std::string, std::string>>{
            {"NaN", "nan"}, {"inf", "inf"}, {"overflow", "1e999"}, {"text", "abc"}, {"empty cell", ""}}) {
     std::string c = curve;
@@ -594,6 +605,15 @@ TEST_CASE("bad-input matrix: measured curves, field tables and the studies' free
     tables.push_back({"point off the lattice", off});
     tables.push_back({"unknown column", "x_mm,y_mm,Hz_A_per_m\n" + t.substr(t.find('\n') + 1)});
     tables.push_back({"corrupted (binary)", garbage});
+    std::string zero = "x_mm,y_mm,Bz_T\n", huge = t;
+    for (int j = -1; j <= 1; ++j)
+      for (int i = -2; i <= 2; ++i) zero += std::to_string(0.5 * i) + "," + std::to_string(0.5 * j) + ",0\n";
+    tables.push_back({"all zero", zero});
+    huge.replace(huge.rfind(",0.0"), 5, ",1e300");
+    tables.push_back({"one 1e300 T node", huge});
+    tables.push_back({"mT values under Bz_T", "x_mm,y_mm,Bz_T\n0,0,20\n1,0,30\n0,1,40\n1,1,50\n"});
+    tables.push_back({"T values under Bz_mT", "x_mm,y_mm,Bz_mT\n0,0,0.02\n1,0,0.03\n0,1,0.04\n1,1,0.05\n"});
+    tables.push_back({"mm coordinates under x_m", "x_m,y_m,Bz_T\n-5,-5,0.02\n5,-5,0.03\n-5,5,0.04\n5,5,0.05\n"});
     tables.push_back({"empty", ""});
   }
   int k = 0;

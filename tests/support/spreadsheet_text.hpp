@@ -1,6 +1,7 @@
 // Test helper: a plain CSV text (',' between fields, '.' decimals, LF line ends) rewritten the way
 // spreadsheet programs save it: Excel's "CSV UTF-8" (a byte-order mark), Windows line ends, the
-// European form (';' between fields, decimal comma), tab-separated text with a decimal comma.
+// European form (';' between fields, decimal comma), tab-separated text with a decimal comma, trailing
+// separators.
 #pragma once
 #include <string>
 
@@ -34,6 +35,27 @@ inline std::string european(const std::string& text, char sep = ';') {
     }
   }
   flush();
+  return out;
+}
+
+// One more separator (`extra` of them) at the end of every line that is not a comment, as spreadsheet
+// programs write a used range wider than the table ("theta_deg;error_deg;").
+inline std::string trailing_separators(const std::string& text, char sep = ';', int extra = 1) {
+  std::string out, line;
+  auto flush = [&] {
+    const bool comment = line.empty() || line[0] == '#' || line[0] == '%';
+    out += line + (comment ? std::string() : std::string(std::size_t(extra), sep));
+    line.clear();
+  };
+  for (char c : text) {
+    if (c == '\n') {
+      flush();
+      out += '\n';
+    } else {
+      line += c;
+    }
+  }
+  if (!line.empty()) flush();
   return out;
 }
 
