@@ -163,6 +163,10 @@ int run(int argc, char** argv) {
     row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});
     row.extra.push_back({"in_window", res.in_window ? "1" : "0"});
     if (setup.speed.moving()) row.extra.push_back({"rpm", g10(setup.speed.rpm)});  // a run at speed
+    if (setup.multipole) {  // a multipole track: the orders p..4p of the pole period
+      const auto ce = magenc::electrical_harmonics_deg(res.eps_deg, setup.pole_pairs);
+      for (int k = 0; k < 4; ++k) row.extra.push_back({"ce" + std::to_string(k + 1) + "_deg", g10(ce[k])});
+    }
     if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));
   }
