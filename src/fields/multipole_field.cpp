@@ -117,6 +117,7 @@ int MultipoleField::nodes_at(const Vec3& p) const {
   return n;
 }
 
+template <bool kFull>
 void MultipoleField::add_axial_node(const Vec3& p, double c, double s, double wq, Vec3& H) const {
   const double u = p.x() * c + p.y() * s, pp = -p.x() * s + p.y() * c;
   const double h = magnet_.top_z_mm();
@@ -127,11 +128,13 @@ void MultipoleField::add_axial_node(const Vec3& p, double c, double s, double wq
       const double v = (end > 0 ? magnet_.radius_mm : magnet_.inner_radius_mm) - u;
       const double D = std::sqrt(v * v + w2);
       K += end * (u * v - w2) / (w2 * D);
-      J += end * (log_v_plus_s(v, D, w2) - (v + u) / D);
+      if constexpr (kFull) J += end * (log_v_plus_s(v, D, w2) - (v + u) / D);
     }
     const double f = face * wq;
-    H.x() += f * (-s * pp * K - c * J);
-    H.y() += f * (c * pp * K - s * J);
+    if constexpr (kFull) {
+      H.x() += f * (-s * pp * K - c * J);
+      H.y() += f * (c * pp * K - s * J);
+    }
     H.z() += f * t * K;
   }
 }
@@ -186,7 +189,8 @@ Vec3 MultipoleField::remanence_at_T(const Vec3& p) const {
   return Vec3::Zero();
 }
 
-Vec3 MultipoleField::B_T(const Vec3& p) const {
+template <bool kFull>
+Vec3 MultipoleField::H_sum(const Vec3& p) const {
   const GaussRule& rule = gauss_rule();
   const double y0 = singularity_distance(p), phi = std::atan2(p.y(), p.x());
   Vec3 H = Vec3::Zero();
@@ -199,13 +203,19 @@ Vec3 MultipoleField::B_T(const Vec3& p) const {
         const double ph = c0 + hw * rule.x[i], wq = hw * rule.w[i] * sec.q;
         const double c = std::cos(ph), s = std::sin(ph);
         if (axial_)
-          add_axial_node(p, c, s, wq, H);
+          add_axial_node<kFull>(p, c, s, wq, H);
         else
           add_radial_node(p, c, s, wq, H);
       }
     }
   }
-  return magnet_.br_T / (4 * kPi) * H + remanence_at_T(p);
+  return H;
+}
+
+Vec3 MultipoleField::B_T(const Vec3& p) const { return magnet_.br_T / (4 * kPi) * H_sum<true>(p) + remanence_at_T(p); }
+
+double MultipoleField::Bz_T(const Vec3& p) const {
+  return magnet_.br_T / (4 * kPi) * H_sum<false>(p).z() + remanence_at_T(p).z();
 }
 
 }  // namespace magenc

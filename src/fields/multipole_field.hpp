@@ -62,6 +62,8 @@ class MultipoleField final : public FieldSource {
 
   std::string name() const override { return "analytic"; }
   Vec3 B_T(const Vec3& p_mm) const override;
+  // Bz alone: the same nodes without the in-plane terms (an axial pattern's logarithms are skipped).
+  double Bz_T(const Vec3& p_mm) const override;
   using FieldSource::B_T;
   using FieldSource::Bz_T;
   const Magnet* exact_magnet() const override { return &magnet_; }
@@ -77,7 +79,10 @@ class MultipoleField final : public FieldSource {
   // Panels for the sector [a, b] seen from a point at azimuth phi with singularity half-distance y0.
   static int panels_for(double a, double b, double phi, double y0);
   double singularity_distance(const Vec3& p_mm) const;
+  template <bool kFull>
   void add_axial_node(const Vec3& p, double c, double s, double wq, Vec3& H) const;
+  template <bool kFull>
+  Vec3 H_sum(const Vec3& p_mm) const;
   void add_radial_node(const Vec3& p, double c, double s, double wq, Vec3& H) const;
   // mu0 M at p (T): zero outside the material.
   Vec3 remanence_at_T(const Vec3& p_mm) const;

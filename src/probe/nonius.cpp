@@ -65,6 +65,8 @@ TrackSumField::TrackSumField(FieldSourcePtr master, FieldSourcePtr second, doubl
 
 Vec3 TrackSumField::B_T(const Vec3& p) const { return master_->B_T(p) + second_->B_T(Vec3(p - Vec3(0, 0, dz_))); }
 
+double TrackSumField::Bz_T(const Vec3& p) const { return master_->Bz_T(p) + second_->Bz_T(Vec3(p - Vec3(0, 0, dz_))); }
+
 FieldSourcePtr with_nonius(const FieldSourcePtr& master, const NoniusTrack& track) {
   return std::make_shared<TrackSumField>(master, std::make_shared<MultipoleField>(track.magnet), track.z_offset_mm);
 }

@@ -38,6 +38,7 @@ class TrackSumField final : public FieldSource {
   TrackSumField(FieldSourcePtr master, FieldSourcePtr second, double second_z_offset_mm);
   std::string name() const override { return master_->name(); }
   Vec3 B_T(const Vec3& p_mm) const override;
+  double Bz_T(const Vec3& p_mm) const override;
   using FieldSource::B_T;
   using FieldSource::Bz_T;
   const Magnet* exact_magnet() const override { return master_->exact_magnet(); }

@@ -221,3 +221,11 @@ TEST_CASE("multipole patterns: bad input is one line naming the keys", "[fields]
   const Magnet m = ring(MagnetPattern::RadialMultipole, 4, 3.0, 6.0, 1.5);
   CHECK_THROWS_AS(magenc::AnalyticField(m), magenc::InputError);
 }
+
+TEST_CASE("Bz alone equals the z component of the full field", "[fields][regression]") {
+  for (const auto pattern : {MagnetPattern::AxialMultipole, MagnetPattern::RadialMultipole, MagnetPattern::Radial}) {
+    const MultipoleField f(ring(pattern, 4, 3.0, 6.0, 1.5));
+    for (const Vec3& x : {Vec3(4.5, 0.3, 1.15), Vec3(7.0, -2.0, 0.3), Vec3(4.0, 1.0, 0.5)})
+      CHECK(f.Bz_T(x) == f.B_T(x).z());
+  }
+}
