@@ -1,5 +1,6 @@
 #include "multipole_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -71,25 +72,23 @@ std::string box_csv(const MultipoleStudyResult& r) {
 
 void interpolation_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
   PlotPanel pp = panel("peak-to-peak error (ideal mount)", "read gap above the top face [mm]", "pp [deg]");
-  PlotPanel ce = panel("c_e4 (order 4p) and c_e2 (order 2p)", "read gap above the top face [mm]", "amplitude [deg]");
+  PlotPanel ce = panel("c_{e4} (order 4p; ring:N has none: its error lies at orders (N +- 1) p)",
+                       "read gap above the top face [mm]", "amplitude [deg]");
   pp.logy = true;
   ce.logy = true;
   for (const auto& a : r.options.arrays) {
-    PlotSeries s = series(plot_literal(a)), c4 = series(plot_literal(a + ", ce4")), c2 = series(plot_literal(a + ", ce2"));
+    PlotSeries s = series(plot_literal(a)), c4 = series(plot_literal(a));
     for (const auto& p : r.interpolation)
       if (p.array == a) {
         s.x.push_back(p.gap_mm);
         s.y.push_back(p.pp_deg > 1e-12 ? p.pp_deg : std::nan(""));
         c4.x.push_back(p.gap_mm);
         c4.y.push_back(p.ce_deg[3] > 1e-12 ? p.ce_deg[3] : std::nan(""));
-        c2.x.push_back(p.gap_mm);
-        c2.y.push_back(p.ce_deg[1] > 1e-12 ? p.ce_deg[1] : std::nan(""));
       }
     pp.series.push_back(s);
-    ce.series.push_back(c4);
-    ce.series.push_back(c2);
+    if (std::any_of(c4.y.begin(), c4.y.end(), [](double v) { return !std::isnan(v); })) ce.series.push_back(c4);
   }
-  ce.commands = {"set key below"};
+  ce.commands = {"set key top right"};
   write_plot(dir, "interpolation", PlotSpec{"Interpolation error of the pole period against read gap (p = " +
                                                 std::to_string(r.pole_pairs) + ", r0 = " + fmt(r.r0_mm, 2) + " mm)",
                                             {pp, ce}, 2, 1400, 600});
@@ -137,19 +136,19 @@ void poles_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir)
 }
 
 void box_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel p = panel("synchronisation margin over the tolerance box", "|d| magnet eccentricity [mm]",
-                      "margin [master electrical deg]");
+  PlotPanel p = panel("synchronisation margin over the tolerance box (a smaller gap: more interpolation error)",
+                      "air-gap change dz [mm]", "margin [master electrical deg]");
   PlotSeries ok = series("no slip", "points"), bad = series("slips (gross error 360/p)", "points");
   for (const auto& b : r.box) {
     PlotSeries& s = b.slipped_samples > 0 ? bad : ok;
-    s.x.push_back(std::hypot(b.mount.dx_mm, b.mount.dy_mm));
+    s.x.push_back(b.mount.dz_mm);
     s.y.push_back(b.margin_deg);
   }
   p.series = {ok};
   if (!bad.x.empty()) p.series.push_back(bad);
-  p.commands = {"set key below"};
+  p.commands = {"set key bottom right"};
   write_plot(dir, "nonius_margin", PlotSpec{"Nonius (" + std::to_string(r.pole_pairs) + ", " +
-                                                std::to_string(r.nonius_pole_pairs) + "): margin against eccentricity",
+                                                std::to_string(r.nonius_pole_pairs) + "): margin against the air gap",
                                             {p}, 1, 900, 650});
 }
 
