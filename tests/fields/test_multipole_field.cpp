@@ -204,7 +204,7 @@ TEST_CASE("pole errors are seeded: same seed same field, edges and amplitudes as
   CHECK(seed_diff > 0);
 }
 
-TEST_CASE("multipole patterns: bad input is one line naming the keys", "[fields][input]") {
+TEST_CASE("multipole patterns: bad input is one line naming the keys", "[fields][bad-input]") {
   magenc::Config cfg(magenc::common_keys());
   cfg.set("magnet.inner_radius_mm=11");
   cfg.set("magnet.radius_mm=15");

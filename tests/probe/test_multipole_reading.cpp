@@ -37,7 +37,7 @@ magenc::Config code_ring() {
 }  // namespace
 
 TEST_CASE("a 32-pole-pair ring read by `two` with electrical spacing: the reference values",
-          "[probe][physics][reference]") {
+          "[probe][physics][regression]") {
   const magenc::Config cfg = code_ring();
   const auto field = magenc::make_field_source("analytic", cfg);
   const magenc::ProbeSetup setup = magenc::sensor_setup_from_config(cfg, "two");
@@ -77,7 +77,7 @@ TEST_CASE("the e/r law: c1 = e / r0 rad for a small dynamic eccentricity", "[pro
   }
 }
 
-TEST_CASE("a multipole read head off the track is refused", "[probe][input]") {
+TEST_CASE("a multipole read head off the track is refused", "[probe][bad-input]") {
   magenc::Config cfg = code_ring();
   cfg.set("sensor.r0_mm=16");
   CHECK_THROWS_WITH(magenc::sensor_setup_from_config(cfg, "two"), Catch::Contains("sensor.r0_mm = 16"));
@@ -96,7 +96,7 @@ magenc::Config with_nonius_track() {
 }  // namespace
 
 TEST_CASE("a nonius pair (32, 31): the absolute angle and its margin, the reference values",
-          "[probe][physics][reference]") {
+          "[probe][physics][regression]") {
   const magenc::Config cfg = with_nonius_track();
   REQUIRE(magenc::NoniusTrack::present(cfg));
   const magenc::NoniusTrack track = magenc::NoniusTrack::from_config(cfg);
@@ -120,7 +120,7 @@ TEST_CASE("a nonius pair (32, 31): the absolute angle and its margin, the refere
   CHECK(s.eps_deg.cwiseAbs().maxCoeff() > 0.9 * 360.0 / 32);
 }
 
-TEST_CASE("nonius bad input: equal pole pairs, no multipole master, a head off its track", "[probe][input]") {
+TEST_CASE("nonius bad input: equal pole pairs, no multipole master, a head off its track", "[probe][bad-input]") {
   magenc::Config cfg = with_nonius_track();
   cfg.set("nonius.pole_pairs=32");
   CHECK_THROWS_WITH(magenc::NoniusTrack::from_config(cfg), Catch::Contains("nonius.pole_pairs = 32"));
