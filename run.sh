@@ -18,6 +18,7 @@
 #      design             magnet, gap, sensor, r0 from requirements -> output/design
 #      speed              the turning encoder: delay, filter, hold, prediction -> output/speed
 #      off_axis           ring magnet: side-shaft chip and bore arrays (< 1 min) -> output/off_axis
+#      multipole          32-pole-pair code ring, read heads, nonius (< 1 min) -> output/multipole
 #   9. error_spectrum --paths  probe paths for ParaView       -> output/probe_paths
 #  10. diagnosis          diagnose round trip + anomalies    -> output/diagnosis
 #      (exact field, 100 cases per array; FE field 5 cases per array from output/field)
@@ -47,6 +48,7 @@ step "$BIN/steel_parts" --config studies/steel_parts/steel_parts.toml --out outp
 step "$BIN/design" --config studies/design/design.toml --out output/design
 step "$BIN/speed" --config studies/speed/speed.toml --out output/speed
 step "$BIN/off_axis" --config studies/off_axis/off_axis.toml --out output/off_axis
+step "$BIN/multipole" --config studies/multipole/multipole.toml --out output/multipole
 # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
 step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
   --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv

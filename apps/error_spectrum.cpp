@@ -46,6 +46,7 @@
 #include "fields/magnet.hpp"
 #include "io/probe_paths_vtk.hpp"
 #include "io/tables.hpp"
+#include "probe/nonius.hpp"
 
 namespace {
 
@@ -72,6 +73,22 @@ void apply_flag(Config& cfg, const std::string& flag, const std::string& key,
       throw InputError(flag + " " + *text + " (" + key + ") is invalid: allowed " + magenc::allowed_range(*s));
     throw;
   }
+}
+
+// A multipole track: the amplitudes of the orders p..4p of the pole period (ce1_deg..ce4_deg).
+void add_ce_columns(const Eigen::VectorXd& eps_deg, int pole_pairs, magenc::SpectrumRow& row) {
+  const auto ce = magenc::electrical_harmonics_deg(eps_deg, pole_pairs);
+  for (std::size_t k = 0; k < ce.size(); ++k)
+    row.extra.push_back({"ce" + std::to_string(k + 1) + "_deg", magenc::fmt_sig(ce[k], 10)});
+}
+
+// A [nonius] track (docs/physics.md "Multipole rings and nonius"): the absolute reading on both rings' fields
+// replaces the row's spectrum (a slip shows in it) and adds nonius_margin_deg.
+void add_nonius(const magenc::FieldSource& both, const magenc::ProbeSetup& setup, const magenc::NoniusTrack& track,
+                const magenc::Mount& mount, magenc::SpectrumRow& row) {
+  const magenc::NoniusResult n = magenc::nonius_reading(both, setup, magenc::nonius_setup(setup, track), mount);
+  row.spectrum = n.spectrum;
+  row.extra.push_back({"nonius_margin_deg", magenc::fmt_sig(n.margin_deg, 10)});
 }
 
 void apply_flags(Config& cfg, const Flags& f) {
@@ -131,10 +148,16 @@ int run(int argc, char** argv) {
                       : magenc::read_cases_csv(f.cases);
   magenc::FieldOptions field_opts;
   field_opts.interp = magenc::parse_interp(f.interp, "--interp");
-  const magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, field_opts);
+  std::optional<magenc::NoniusTrack> track;
+  if (magenc::NoniusTrack::present(cfg)) track = magenc::NoniusTrack::from_config(cfg);
+  magenc::FieldSourcePtr field = magenc::open_field_source(f.field, cfg, field_opts);
+  if (track) field = magenc::with_nonius(field, *track);  // both rings' fields at every probe
   // calibration.method: the correction taken at calibration.at; the table then describes the residual.
   const magenc::Correction correction = magenc::correction_from_config(
       *field, cfg, cfg.str("sensor.array"), f.array ? "--array" : "sensor.array");
+  if (track && !correction.method.none())
+    throw InputError("calibration.method = " + correction.method.name() +
+                     " with a [nonius] track: the absolute reading is not corrected: allowed calibration.method = none");
 
   // 4. One spectrum per case (all computed before anything is written).
   std::vector<magenc::SpectrumRow> rows;
@@ -163,6 +186,8 @@ int run(int argc, char** argv) {
     row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});
     row.extra.push_back({"in_window", res.in_window ? "1" : "0"});
     if (setup.speed.moving()) row.extra.push_back({"rpm", g10(setup.speed.rpm)});  // a run at speed
+    if (setup.multipole) add_ce_columns(res.eps_deg, setup.pole_pairs, row);
+    if (track) add_nonius(*field, setup, *track, mount, row);
     if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));
   }

@@ -34,6 +34,9 @@ const std::vector<AnalyticField::NodeTable>& AnalyticField::node_tables() {
 
 AnalyticField::AnalyticField(const Magnet& magnet) : magnet_(magnet), tables_(&node_tables()) {
   magnet_.validate();
+  if (!magnet_.is_uniform())
+    throw InputError("magnet.pattern = " + pattern_name(magnet_.pattern) +
+                     " is not computed here: this field (and the FEM) takes magnet.pattern = uniform only");
   const double el_rad = deg_to_rad(magnet_.magnetization_elevation_deg);
   if (magnet_.magnetization_elevation_deg != 0.0) {
     cos_el_ = std::cos(el_rad);

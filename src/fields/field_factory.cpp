@@ -4,6 +4,7 @@
 
 #include "fields/analytic_field.hpp"
 #include "fields/field_table.hpp"
+#include "fields/multipole_field.hpp"
 #include "core/errors.hpp"
 
 namespace magenc {
@@ -14,7 +15,11 @@ FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg) {
 
 FieldSourcePtr make_field_source(const std::string& spec, const Config& cfg, const FieldOptions& opts) {
   if (spec == "linear") return std::make_shared<LinearField>();
-  if (spec == "analytic") return std::make_shared<AnalyticField>(Magnet::from_config(cfg));
+  if (spec == "analytic") {
+    const Magnet magnet = Magnet::from_config(cfg);
+    if (!magnet.is_uniform()) return std::make_shared<MultipoleField>(magnet);
+    return std::make_shared<AnalyticField>(magnet);
+  }
   if (spec.rfind("grid:", 0) == 0) {
     const std::string file = spec.substr(5);
     if (file.empty()) throw InputError("--field grid: needs a file: grid:FILE.vti (plane.vti or box.vti of solve_field)");

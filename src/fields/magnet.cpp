@@ -1,5 +1,6 @@
 #include "fields/magnet.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -7,6 +8,47 @@
 #include "core/units.hpp"
 
 namespace magenc {
+
+std::string pattern_name(MagnetPattern p) {
+  switch (p) {
+    case MagnetPattern::Radial: return "radial";
+    case MagnetPattern::AxialMultipole: return "axial_multipole";
+    case MagnetPattern::RadialMultipole: return "radial_multipole";
+    case MagnetPattern::Uniform: break;
+  }
+  return "uniform";
+}
+
+namespace {
+
+MagnetPattern parse_pattern(const std::string& text) {
+  for (MagnetPattern p : {MagnetPattern::Uniform, MagnetPattern::Radial, MagnetPattern::AxialMultipole,
+                          MagnetPattern::RadialMultipole})
+    if (pattern_name(p) == text) return p;
+  throw InputError("magnet.pattern = '" + text +
+                   "' is not a pattern: allowed uniform, radial, axial_multipole, radial_multipole");
+}
+
+void validate_pattern(const Magnet& m) {
+  if (m.is_uniform()) return;
+  const std::string name = "magnet.pattern = " + pattern_name(m.pattern);
+  if (m.is_multipole() && m.pole_pairs < 1)
+    throw InputError(name + " with magnet.pole_pairs = " + std::to_string(m.pole_pairs) +
+                     " is out of range: allowed pole_pairs >= 1 for a multipole pattern");
+  if (m.magnetization_deg != 0.0 || m.magnetization_elevation_deg != 0.0)
+    throw InputError(name + " with magnet.magnetization_deg = " + num(m.magnetization_deg) +
+                     ", magnet.magnetization_elevation_deg = " + num(m.magnetization_elevation_deg) +
+                     ": the direction keys apply to the uniform pattern only: allowed 0 and 0");
+  if (!(std::isfinite(m.pole_edge_sigma_deg) && m.pole_edge_sigma_deg >= 0 &&
+        m.pole_edge_sigma_deg * std::max(1, m.pole_pairs) < 30.0))
+    throw InputError("magnet.pole_edge_sigma_deg = " + num(m.pole_edge_sigma_deg) +
+                     " is out of range: allowed 0 <= sigma < 30/pole_pairs deg (a sixth of a pole)");
+  if (!(std::isfinite(m.pole_amplitude_sigma) && m.pole_amplitude_sigma >= 0 && m.pole_amplitude_sigma < 0.3))
+    throw InputError("magnet.pole_amplitude_sigma = " + num(m.pole_amplitude_sigma) +
+                     " is out of range: allowed [0, 0.3)");
+}
+
+}  // namespace
 
 void Magnet::validate() const {
   auto positive = [](const char* name, double v, const char* unit) {
@@ -26,6 +68,7 @@ void Magnet::validate() const {
   if (!(std::isfinite(magnetization_elevation_deg) && std::abs(magnetization_elevation_deg) <= 90.0))
     throw InputError("magnet.magnetization_elevation_deg = " + num(magnetization_elevation_deg) +
                      " is out of range: allowed [-90, 90] deg");
+  validate_pattern(*this);
 }
 
 bool Magnet::contains_mm(double x_mm, double y_mm, double z_mm) const {
@@ -49,6 +92,11 @@ Magnet Magnet::from_config(const Config& cfg) {
   m.mu_r = cfg.real("magnet.mu_r");
   m.magnetization_deg = cfg.real("magnet.magnetization_deg");
   m.magnetization_elevation_deg = cfg.real("magnet.magnetization_elevation_deg");
+  m.pattern = parse_pattern(cfg.str("magnet.pattern"));
+  m.pole_pairs = static_cast<int>(cfg.integer("magnet.pole_pairs"));
+  m.pole_edge_sigma_deg = cfg.real("magnet.pole_edge_sigma_deg");
+  m.pole_amplitude_sigma = cfg.real("magnet.pole_amplitude_sigma");
+  m.pole_seed = cfg.integer("magnet.pole_seed");
   m.validate();
   return m;
 }
@@ -70,6 +118,15 @@ std::vector<KeySpec> Magnet::keys() {
                "direction of M in the xy plane of the magnet frame"),
       real_key("magnet.magnetization_elevation_deg", 0.0, -90, 90, "deg",
                "elevation of M out of the xy plane: M = M0 (cos el cos az, cos el sin az, sin el)"),
+      string_key("magnet.pattern", "uniform", {"uniform", "radial", "axial_multipole", "radial_multipole"},
+                 "magnetization pattern: uniform (the direction keys), radial (M0 e_rho), axial_multipole or "
+                 "radial_multipole (+-M0 e_z or e_rho on 2 pole_pairs sectors, a north pole centred on phi = 0)"),
+      int_key("magnet.pole_pairs", 1, 0, 100000, "pole pairs p of a multipole pattern (>= 1 with one)"),
+      real_key("magnet.pole_edge_sigma_deg", 0.0, 0, 30, "deg",
+               "pole errors: each sector boundary of a multipole pattern shifted by a normal draw of this sigma"),
+      real_key("magnet.pole_amplitude_sigma", 0.0, 0, 0.3, "",
+               "pole errors: relative M0 of each sector of a multipole pattern, 1 + a normal draw of this sigma"),
+      int_key("magnet.pole_seed", 1, 0, 2147483647, "seed of the pole errors"),
   };
 }
 

@@ -343,8 +343,11 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       res.channels(m, 0) = ch_cos;
       res.channels(m, 1) = ch_sin;
       const double phi_rad = std::atan2(ch_sin, ch_cos);
-      res.eps_deg[m] = identity ? wrap_deg(rad_to_deg(phi_rad - theta_rad[m]))
-                                : oriented_error_deg(setup.orientation, rad_to_deg(phi_rad), theta_deg[m], 1);
+      if (setup.pole_pairs != 1)  // incremental reading of a multipole track: wrap(phi_e - p theta) / p
+        res.eps_deg[m] = oriented_error_deg(setup.orientation, rad_to_deg(phi_rad), theta_deg[m], setup.pole_pairs);
+      else
+        res.eps_deg[m] = identity ? wrap_deg(rad_to_deg(phi_rad - theta_rad[m]))
+                                  : oriented_error_deg(setup.orientation, rad_to_deg(phi_rad), theta_deg[m], 1);
       check_finite(m);
     }
     // Field window: the peak |reading| of each probe over the turn; min and max over the probes.
@@ -360,7 +363,7 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       res.inplane_B_T.col(1).array() += stray_T[1];
     }
     // 3. Channels by principle, signal chain, angle (electrical angle psi; amr: phi = psi/2) and error.
-    const int turns = electrical_turns(setup.principle);
+    const int turns = reading_turns(setup);
     double winding_deg = 0, field_prev = 0, field_first = 0;
     for (Eigen::Index m = 0; m < M; ++m) {
       const double b1 = res.inplane_B_T(m, 0), b2 = res.inplane_B_T(m, 1);
@@ -391,7 +394,7 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
     }
     if (check_winding && M > 1) {
       winding_deg += wrap_deg(field_first - field_prev);
-      if (std::abs(winding_deg - 360.0 * setup.orientation.direction) > 180.0)
+      if (std::abs(winding_deg - 360.0 * setup.pole_pairs * setup.orientation.direction) > 180.0)
         throw InputError("the field direction at the sensing spot turns " + num(winding_deg / 360.0) +
                          " times per turn, not " + (setup.orientation.direction == 1 ? "once" : "once backwards") +
                          " as sensor.direction = " + std::to_string(setup.orientation.direction) +
@@ -446,7 +449,7 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
       throw InputError("speed.rpm = " + num(setup.speed.rpm) +
                        " with sensor.direction, sensor.zero_deg or sensor.gain_trim set: allowed speed.rpm = 0 for an "
                        "oriented chip (side-shaft, off-axis), or the default orientation at speed");
-    setup.speed.apply(res.channels, res.eps_deg, electrical_turns(setup.principle));
+    setup.speed.apply(res.channels, res.eps_deg, reading_turns(setup));
     for (Eigen::Index m = 0; m < res.eps_deg.size(); ++m)
       if (!std::isfinite(res.eps_deg[m]))
         throw ComputeError(field.name() + " field gave a non-finite angle at speed, theta = " +
@@ -509,7 +512,7 @@ ProbeSetup resolve_orientation(const FieldSource& field, const ProbeSetup& setup
   nominal.chain = SignalChain{};
   nominal.env = Environment{};
   nominal.orientation = ChipOrientation{};
-  const int turns = electrical_turns(setup.principle);
+  const int turns = reading_turns(setup);
   const Eigen::VectorXd th_deg = uniform_theta_deg(setup.steps), th_rad = th_deg * (kPi / 180.0);
   const AngleErrorResult raw = angle_error_at_rad(field, nominal, Mount{}, th_deg, th_rad);
   const double winding = channel_winding_turns(raw.channels);
@@ -577,8 +580,28 @@ ProbeSetup sensor_setup_from_config(const Config& cfg, const std::string& array_
     throw InputError("sensor.center_mm has " + std::to_string(center.size()) + " numbers: allowed [x, y] in mm");
   s.center_mm = {center[0], center[1]};
   s.orientation = ChipOrientation::from_config(cfg);
+  apply_multipole_reading(cfg, s);
   check_nominal_points_outside_magnet(cfg, s);
   return s;
+}
+
+int reading_turns(const ProbeSetup& setup) { return electrical_turns(setup.principle) * setup.pole_pairs; }
+
+void apply_multipole_reading(const Config& cfg, ProbeSetup& setup) {
+  const std::string pattern = cfg.str("magnet.pattern");
+  if (pattern != "axial_multipole" && pattern != "radial_multipole") return;
+  const long p = cfg.integer("magnet.pole_pairs");
+  if (p < 1)
+    throw InputError("magnet.pattern = " + pattern + " with magnet.pole_pairs = " + std::to_string(p) +
+                     " is out of range: allowed pole_pairs >= 1 for a multipole pattern");
+  setup.pole_pairs = static_cast<int>(p);
+  setup.multipole = true;
+  if (setup.array.is_point()) return;
+  const double Ri = cfg.real("magnet.inner_radius_mm"), R = cfg.real("magnet.radius_mm");
+  if (!(setup.r0_mm >= Ri && setup.r0_mm <= R))
+    throw InputError("sensor.r0_mm = " + num(setup.r0_mm) + " is not over the track of magnet.inner_radius_mm = " +
+                     num(Ri) + ", magnet.radius_mm = " + num(R) + ": allowed inner_radius_mm <= r0_mm <= radius_mm");
+  for (double& b : setup.array.angle_deg) b /= static_cast<double>(p);
 }
 
 }  // namespace magenc

@@ -45,6 +45,12 @@ struct ProbeSetup {
   Eigen::Vector2d center_mm = Eigen::Vector2d::Zero();
   // The chip's direction, zero and gain trim (probe/sensor.hpp); the default changes nothing.
   ChipOrientation orientation{};
+  // A multipole track (docs/physics.md "Multipole rings and nonius"): the read head's ELECTRICAL spacing
+  // (the array's angles b_k / p: sensor_setup_from_config divides them), the electrical angle phi_e =
+  // atan2(u_s, u_c) read incrementally, eps = wrap(phi_e - p theta) / p in (-180/p, 180/p]. 1 and false:
+  // the single-period reading of a uniform magnet, unchanged.
+  int pole_pairs = 1;
+  bool multipole = false;
 };
 
 // The setup with every "auto" of its orientation resolved on the nominal mount (docs/physics.md "Ring
@@ -149,5 +155,14 @@ AngleErrorResult angle_error_at(const FieldSource& field, const ProbeSetup& setu
 // channels of the whole turn; angle_error_at() has no whole turn and refuses a speed (InputError).
 // Convenience: only the spectrum.
 Spectrum error_spectrum(const FieldSource& field, const ProbeSetup& setup, const Mount& mount);
+
+// Periods of the read angle per turn: the principle's (amr 2) times the track's pole pairs.
+int reading_turns(const ProbeSetup& setup);
+
+// The electrical spacing of a multipole magnet: with magnet.pattern = axial_multipole or radial_multipole
+// (pole pairs p) the array's angles are divided by p and the reading is incremental (ProbeSetup::pole_pairs);
+// refuses (InputError naming the keys) a bz array whose read radius does not lie over the track (outside
+// [magnet.inner_radius_mm, magnet.radius_mm]). No change for the other patterns.
+void apply_multipole_reading(const Config& cfg, ProbeSetup& setup);
 
 }  // namespace magenc

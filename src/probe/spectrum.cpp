@@ -59,6 +59,24 @@ Spectrum spectrum_of(const Eigen::VectorXd& eps_deg) {
   return sp;
 }
 
+std::array<double, 4> electrical_harmonics_deg(const Eigen::VectorXd& eps_deg, int pole_pairs) {
+  const Eigen::Index M = eps_deg.size();
+  std::array<double, 4> out{};
+  for (int k = 1; k <= 4; ++k) {
+    const long n = static_cast<long>(k) * pole_pairs;
+    if (2 * n > M) continue;
+    double re = 0, im = 0;
+    for (Eigen::Index m = 0; m < M; ++m) {
+      // The phase n m / M reduced modulo 1 before the sine: exact for large orders.
+      const double a = 2.0 * kPi * static_cast<double>((n * m) % M) / static_cast<double>(M);
+      re += eps_deg[m] * std::cos(a);
+      im += eps_deg[m] * std::sin(a);
+    }
+    out[static_cast<std::size_t>(k - 1)] = 2.0 / static_cast<double>(M) * std::hypot(re, im);
+  }
+  return out;
+}
+
 double Spectrum::column(const std::string& name) const {
   if (name == "pp_deg") return pp_deg;
   if (name == "a0_deg") return a0_deg;

@@ -44,6 +44,10 @@ Eigen::VectorXd harmonics_ls(const Eigen::VectorXd& theta_deg, const Eigen::Vect
 // Amplitude c_n = hypot(a_n, b_n) of harmonic n >= 1 of a harmonics_ls vector h = (a0, a1, b1, ...).
 double harmonic_amplitude(const Eigen::VectorXd& h, int n);
 
+// Amplitudes (deg) of the orders p, 2p, 3p, 4p of eps over one turn (uniform samples; orders above M/2
+// give 0): ce1..ce4, the interpolation error of a multipole track's pole period (docs/physics.md).
+std::array<double, 4> electrical_harmonics_deg(const Eigen::VectorXd& eps_deg, int pole_pairs);
+
 // A Spectrum (a0, a_n, b_n, c_n for n <= kHarmonics; pp = 0) from harmonics_ls coefficients.
 Spectrum spectrum_from_ls(const Eigen::VectorXd& h);
 

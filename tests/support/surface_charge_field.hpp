@@ -90,3 +90,74 @@ inline Vec3 B_by_surface_charges(const Magnet& m, const Vec3& x) {
 }
 
 }  // namespace magenc::test
+
+namespace magenc::test {
+
+// An independent reference for the sector patterns (magnet.pattern = radial, axial_multipole,
+// radial_multipole): B (T) of sectors phi_a <= phi' < phi_b with signed amplitudes q, magnetized q M0 e_z
+// (axial) or q M0 e_rho, from their charges: +-q M0 on the end faces (axial); +q M0 on the outer curved face,
+// -q M0 on the bore's, and the volume charge -q M0 / rho' (radial). Every integral (phi', rho', z') by the
+// nested adaptive Gauss-Kronrod above, none in closed form; B = mu0 H plus mu0 M in the material.
+struct ReferenceSector {
+  double phi_a_rad, phi_b_rad, q;
+};
+
+inline Vec3 B_of_sectors_by_charges(const Magnet& m, const std::vector<ReferenceSector>& sectors, bool axial,
+                                    const Vec3& x) {
+  const double R = m.radius_mm, Ri = m.inner_radius_mm, h = 0.5 * m.height_mm;
+  const double r = std::hypot(x.x(), x.y()), phi_p = std::atan2(x.y(), x.x());
+  Vec3 H = Vec3::Zero();
+  for (const ReferenceSector& sec : sectors) {
+    // The point's azimuth folded into the sector (a break where the integrand peaks).
+    const double phi_in = sec.phi_a_rad + std::fmod(phi_p - sec.phi_a_rad + 8 * kPi, 2 * kPi);
+    const std::vector<double> phi_breaks{phi_in};
+    for (int c = 0; c < 3; ++c) {
+      if (axial) {
+        for (int s : {1, -1}) {
+          auto face = [&](double phi) {
+            const double cp = std::cos(phi), sp = std::sin(phi);
+            auto inner = [&](double rho) {
+              const Vec3 d(x.x() - rho * cp, x.y() - rho * sp, x.z() - s * h);
+              return rho * d[c] / std::pow(d.squaredNorm(), 1.5);
+            };
+            return s * sec.q * integrate(inner, Ri, R, {r});
+          };
+          H[c] += integrate(face, sec.phi_a_rad, sec.phi_b_rad, phi_breaks);
+        }
+        continue;
+      }
+      for (const auto& [a, sign] : {std::pair<double, double>{R, 1.0}, {Ri, -1.0}}) {
+        if (a == 0) continue;
+        auto curved = [&, a = a, sign = sign](double phi) {
+          const double cx = a * std::cos(phi), cy = a * std::sin(phi);
+          auto inner = [&](double zp) {
+            const Vec3 d(x.x() - cx, x.y() - cy, x.z() - zp);
+            return d[c] / std::pow(d.squaredNorm(), 1.5);
+          };
+          return sign * sec.q * a * integrate(inner, -h, h, {x.z()});
+        };
+        H[c] += integrate(curved, sec.phi_a_rad, sec.phi_b_rad, phi_breaks);
+      }
+      auto volume = [&](double phi) {
+        const double cp = std::cos(phi), sp = std::sin(phi);
+        auto mid = [&](double rho) {
+          auto inner = [&](double zp) {
+            const Vec3 d(x.x() - rho * cp, x.y() - rho * sp, x.z() - zp);
+            return d[c] / std::pow(d.squaredNorm(), 1.5);
+          };
+          return integrate(inner, -h, h, {x.z()});  // charge -q M0 / rho times the Jacobian rho
+        };
+        return -sec.q * integrate(mid, Ri, R, {r});
+      };
+      H[c] += integrate(volume, sec.phi_a_rad, sec.phi_b_rad, phi_breaks);
+    }
+  }
+  Vec3 B = m.br_T / (4 * kPi) * H;
+  if (in_material(m, x))
+    for (const ReferenceSector& sec : sectors)
+      if (std::fmod(phi_p - sec.phi_a_rad + 8 * kPi, 2 * kPi) < sec.phi_b_rad - sec.phi_a_rad)
+        B += m.br_T * sec.q * (axial ? Vec3::UnitZ() : Vec3(x.x() / r, x.y() / r, 0.0));
+  return B;
+}
+
+}  // namespace magenc::test
