@@ -362,6 +362,13 @@ bool DomainSpec::has_permeable_part() const {
   return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.mu_r != 1.0 || p.bh != nullptr; });
 }
 
+bool DomainSpec::permeable_part_region(int region) const {
+  const int i = region - kRegionPartFirst;
+  if (i < 0 || i >= static_cast<int>(parts.size())) return false;
+  const PartSpec& p = parts[static_cast<size_t>(i)];
+  return p.mu_r != 1.0 || p.bh != nullptr;
+}
+
 bool DomainSpec::has_nonlinear_part() const {
   return std::any_of(parts.begin(), parts.end(), [](const PartSpec& p) { return p.bh != nullptr; });
 }

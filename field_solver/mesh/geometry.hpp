@@ -144,6 +144,8 @@ struct DomainSpec {
   bool has_permeable_part() const;
   // True when a part has a B-H curve (a nonlinear solve).
   bool has_nonlinear_part() const;
+  // region is a [[parts]] region whose part is permeable (mu_r != 1 or a B-H curve).
+  bool permeable_part_region(int region) const;
   // True when a part with mu_r != 1 or a B-H curve touches the magnet (its faces on the magnet's faces):
   // the split potential does not hold there (see reduced_potential.hpp), fem.potential = auto takes the total.
   bool has_permeable_part_touching_magnet() const;

@@ -173,7 +173,7 @@ void MagnetostaticSolver::setup_system() {
   br_cell_ = cell_br(mesh_, domain_.magnet.remanence_T());
   cell_total_.clear();
   if (options_.potential == Potential::Split) {
-    cell_total_ = total_potential_cells(mesh_, mu_r_cell_);
+    cell_total_ = total_potential_cells(mesh_, domain_);
     if (std::none_of(cell_total_.begin(), cell_total_.end(), [](char c) { return c != 0; }))
       cell_total_.clear();  // no permeable part: the split is the reduced potential
   }
@@ -223,7 +223,7 @@ PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeS
     l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
   } else {
     const AnalyticField field(source);
-    const std::vector<char> total = total_potential_cells(mesh, mu_r);
+    const std::vector<char> total = total_potential_cells(mesh, domain_);
     l.interface_phi_s = interface_source_potential(space, total, field, odd_axis);
     l.f = assemble_split_rhs(mesh, space, mu_r, total, field, l.interface_phi_s);
   }

@@ -89,11 +89,10 @@ Eigen::VectorXd assemble_reaction_rhs(const TetMesh& mesh, const FeSpace& space,
   return assemble_weighted_source_rhs(mesh, space, (mu_r_cell.array() - 1.0).matrix(), source);
 }
 
-std::vector<char> total_potential_cells(const TetMesh& mesh, const Eigen::VectorXd& mu_r_cell) {
+std::vector<char> total_potential_cells(const TetMesh& mesh, const DomainSpec& domain) {
   std::vector<char> total(static_cast<size_t>(mesh.num_tets()), 0);
   for (int t = 0; t < mesh.num_tets(); ++t)
-    total[static_cast<size_t>(t)] =
-        mesh.region[t] == kRegionShaft || (mesh.region[t] >= kRegionPartFirst && mu_r_cell[t] != 1.0);
+    total[static_cast<size_t>(t)] = mesh.region[t] == kRegionShaft || domain.permeable_part_region(mesh.region[t]);
   return total;
 }
 

@@ -45,6 +45,7 @@
 
 #include "field_solver/fe/fe_space.hpp"
 #include "fields/analytic_field.hpp"
+#include "field_solver/mesh/geometry.hpp"
 #include "field_solver/mesh/mesh.hpp"
 
 namespace magenc::fem {
@@ -55,8 +56,10 @@ Eigen::VectorXd assemble_reaction_rhs(const TetMesh& mesh, const FeSpace& space,
                                       const AnalyticField& source);
 
 // Split potential: 1 for the cells that carry the total potential (the shaft's and
-// those of the [[parts]] with mu_r != 1), 0 elsewhere.
-std::vector<char> total_potential_cells(const TetMesh& mesh, const Eigen::VectorXd& mu_r_cell);
+// those of the permeable [[parts]]: mu_r != 1 or a B-H curve, whatever the curve's start
+// value), 0 elsewhere. A B-H part must be total from the start: its mu_r changes while
+// the nonlinear iteration runs, and a reduced cell's load assumes a fixed mu_r.
+std::vector<char> total_potential_cells(const TetMesh& mesh, const DomainSpec& domain);
 
 // phi_s (T*mm) at the interface dofs (dofs of both a total and a reduced cell), 0 elsewhere; up to
 // a constant, or 0 on the plane x_odd_axis = 0 when the potential is odd across it (0 or 1; -1: none).
