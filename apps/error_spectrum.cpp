@@ -108,7 +108,9 @@ int run(int argc, char** argv) {
   CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
-  const auto schema = magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys());
+  // [nonius] only where a second track is read (here and the multipole study): elsewhere its keys are unknown.
+  const auto schema =
+      magenc::merge_schemas(magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys()), magenc::NoniusTrack::keys());
   magenc::add_common_options(app, common, schema);
   app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, table:FILE, fem:DIR (default analytic)");
   app.add_option("--array", f.array, "probe array: two, diff4, ring:N (principle bz); point (inplane, xmr, amr) (sensor.array)");

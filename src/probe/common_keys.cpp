@@ -5,7 +5,6 @@
 #include "fields/magnet.hpp"
 #include "probe/environment.hpp"
 #include "probe/mounting.hpp"
-#include "probe/nonius.hpp"
 #include "probe/sensor.hpp"
 #include "probe/speed.hpp"
 
@@ -13,7 +12,7 @@ namespace magenc {
 
 std::vector<KeySpec> common_keys() {
   std::vector<KeySpec> keys = Magnet::keys();
-  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys(), speed_keys(), NoniusTrack::keys()})
+  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys(), speed_keys()})
     keys = merge_schemas(std::move(keys), group);  // throws if a group redeclares a key
   return keys;
 }

@@ -14,7 +14,7 @@ namespace magenc {
 
 std::vector<KeySpec> MultipoleStudyOptions::keys() {
   const MultipoleStudyOptions d;
-  return {
+  return merge_schemas(NoniusTrack::keys(), {
       int_key("study.steps", d.steps, 16, 100000, "theta samples per turn"),
       real_list_key("study.gaps_mm", {0.2, 0.4, 0.6, 0.8, 1.0}, -100, 100, "mm",
                     "read gaps above the top face of the interpolation part (sensor.plane_height_mm)"),
@@ -32,7 +32,7 @@ std::vector<KeySpec> MultipoleStudyOptions::keys() {
                "tolerance box: magnet eccentricity dx, dy uniform in +-"),
       real_key("study.box_dz_mm", d.box_dz_mm, 0, 100, "mm", "tolerance box: air-gap change dz uniform in +-"),
       int_key("study.seed", d.seed, 0, 2147483647, "seed of the tolerance box"),
-  };
+  });
 }
 
 MultipoleStudyOptions MultipoleStudyOptions::from_config(const Config& cfg) {

@@ -26,7 +26,7 @@
 namespace {
 
 magenc::Config code_ring() {
-  magenc::Config cfg(magenc::common_keys());
+  magenc::Config cfg(magenc::merge_schemas(magenc::common_keys(), magenc::NoniusTrack::keys()));
   for (const char* kv : {"magnet.pattern=axial_multipole", "magnet.pole_pairs=32", "magnet.inner_radius_mm=11",
                          "magnet.radius_mm=15", "magnet.height_mm=1.5", "magnet.br_T=0.3", "sensor.r0_mm=13",
                          "sensor.plane_height_mm=0.4", "sensor.steps=360"})
@@ -130,4 +130,13 @@ TEST_CASE("nonius bad input: equal pole pairs, no multipole master, a head off i
   cfg.set("nonius.r0_mm=8.5");
   cfg.set("magnet.pattern=uniform");
   CHECK_THROWS_WITH(magenc::NoniusTrack::from_config(cfg), Catch::Contains("multipole master"));
+}
+
+TEST_CASE("the [nonius] keys exist only where a second track is read", "[probe][bad-input][regression]") {
+  // Every other executable read the master ring alone and ignored a given nonius track: its keys are unknown
+  // there (one line naming the key), and error_spectrum and the multipole study add them.
+  magenc::Config cfg(magenc::common_keys());
+  CHECK_THROWS_WITH(cfg.set("nonius.radius_mm=10"), Catch::Contains("nonius.radius_mm"));
+  magenc::Config with_track(magenc::merge_schemas(magenc::common_keys(), magenc::NoniusTrack::keys()));
+  CHECK_NOTHROW(with_track.set("nonius.radius_mm=10"));
 }
