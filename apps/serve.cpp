@@ -211,9 +211,9 @@ int run(int argc, char** argv) {
   app.add_option("--port", port, "TCP port (default 8765; 0: a free port)")->check(CLI::Range(0, 65535));
   app.add_option("--bind", bind, "address to listen on (default 127.0.0.1: this machine only)");
   magenc::parse_cli(app, argc, argv);
+  const Config base = magenc::load_config(schema, common);  // a bad --config or --set is named first
   if (!common.out.empty())  // every other executable's --out; serve answers requests and writes no file
     throw InputError("--out " + common.out + ": serve writes no files: allowed no --out (the page shows the results)");
-  const Config base = magenc::load_config(schema, common);
   const std::string chart_js = read_file(MAGENC_CHARTJS);
   httplib::Server server;
   server.set_payload_max_length(kMaxBody);  // a longer body is refused (413) before it is read

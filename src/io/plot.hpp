@@ -9,6 +9,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace magenc {
@@ -31,6 +32,15 @@ struct PlotPanel {
   // "set boxwidth 0.2". Settings are reset between panels.
   std::vector<std::string> commands;
 };
+
+// A panel with its title and axis labels (series and settings added by the caller).
+inline PlotPanel plot_panel(std::string title, std::string xlabel, std::string ylabel) {
+  PlotPanel p;
+  p.title = std::move(title);
+  p.xlabel = std::move(xlabel);
+  p.ylabel = std::move(ylabel);
+  return p;
+}
 
 struct PlotSpec {
   std::string title;               // figure title

@@ -14,14 +14,6 @@ namespace {
 
 std::string g(double v) { return fmt_sig(v, 10); }
 
-PlotPanel panel(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
-  PlotPanel p;
-  p.title = title;
-  p.xlabel = xlabel;
-  p.ylabel = ylabel;
-  return p;
-}
-
 PlotSeries series(const std::string& title, const std::string& style = "linespoints") {
   PlotSeries s;
   s.title = title;
@@ -71,8 +63,8 @@ std::string box_csv(const MultipoleStudyResult& r) {
 }
 
 void interpolation_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel pp = panel("peak-to-peak error (ideal mount)", "read gap above the top face [mm]", "pp [deg]");
-  PlotPanel ce = panel("c_{e4} (order 4p; ring:N has none: its error lies at orders (N +- 1) p)",
+  PlotPanel pp = plot_panel("peak-to-peak error (ideal mount)", "read gap above the top face [mm]", "pp [deg]");
+  PlotPanel ce = plot_panel("c_{e4} (order 4p; ring:N has none: its error lies at orders (N +- 1) p)",
                        "read gap above the top face [mm]", "amplitude [deg]");
   pp.logy = true;
   ce.logy = true;
@@ -95,7 +87,7 @@ void interpolation_plot(const MultipoleStudyResult& r, const std::filesystem::pa
 }
 
 void eccentricity_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel p = panel("c1 against the e/r law", "dynamic eccentricity e [mm]", "c1 [deg]");
+  PlotPanel p = plot_panel("c1 against the e/r law", "dynamic eccentricity e [mm]", "c1 [deg]");
   p.logx = true;
   p.logy = true;
   PlotSeries c1 = series("c1 (exact field, " + plot_literal(r.array) + ")", "points"), law = series("e / r0", "lines");
@@ -111,7 +103,7 @@ void eccentricity_plot(const MultipoleStudyResult& r, const std::filesystem::pat
 }
 
 void poles_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel p = panel("sorted over the rings (ideal mount)", "fraction of rings", "[deg]");
+  PlotPanel p = plot_panel("sorted over the rings (ideal mount)", "fraction of rings", "[deg]");
   std::vector<double> pp, c1;
   for (const auto& s : r.poles) {
     pp.push_back(s.pp_deg);
@@ -136,7 +128,7 @@ void poles_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir)
 }
 
 void box_plot(const MultipoleStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel p = panel("synchronisation margin over the tolerance box (a smaller gap: more interpolation error)",
+  PlotPanel p = plot_panel("synchronisation margin over the tolerance box (a smaller gap: more interpolation error)",
                       "air-gap change dz [mm]", "margin [master electrical deg]");
   PlotSeries ok = series("no slip", "points"), bad = series("slips (gross error 360/p)", "points");
   for (const auto& b : r.box) {

@@ -54,14 +54,6 @@ void write_tables(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& 
   out.write_text("field_map.csv", fm.str());
 }
 
-PlotPanel panel(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
-  PlotPanel p;
-  p.title = title;
-  p.xlabel = xlabel;
-  p.ylabel = ylabel;
-  return p;
-}
-
 PlotSeries series(const std::string& title, const std::vector<double>& x, const std::vector<double>& y,
                   const std::string& style = "linespoints") {
   PlotSeries s;
@@ -84,8 +76,8 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   PlotSpec curves;
   curves.title = "Nominal mount: angle error of each reader";
   curves.columns = 2;
-  PlotPanel raw = panel("pp above 5 deg: raw, and what a correction leaves of it", "{/Symbol q} [deg]", "error [deg]");
-  PlotPanel fixed = panel("pp below 5 deg: trimmed or calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]");
+  PlotPanel raw = plot_panel("pp above 5 deg: raw, and what a correction leaves of it", "{/Symbol q} [deg]", "error [deg]");
+  PlotPanel fixed = plot_panel("pp below 5 deg: trimmed or calibrated, bore arrays", "{/Symbol q} [deg]", "error [deg]");
   raw.commands = {"set xrange [0:360]", "set xtics 90", "set key outside bottom"};
   fixed.commands = raw.commands;
   for (const auto& x : r.readers)
@@ -98,11 +90,11 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
   PlotSpec scans;
   scans.title = "p99 of pp over the tolerance box";
   scans.columns = 2;
-  PlotPanel side = panel("side-shaft: read radius", "die centre x [mm]", "p99 pp [deg]");
+  PlotPanel side = plot_panel("side-shaft: read radius", "die centre x [mm]", "p99 pp [deg]");
   side.logy = true;
   side.series.push_back(series("raw", o.scan_side_x_mm, r.scan_side_p99_raw));
   side.series.push_back(series("trimmed (BCT)", o.scan_side_x_mm, r.scan_side_p99_trim));
-  PlotPanel gap = panel("bore arrays: gap above the ring", "plane height above the top face [mm]", "p99 pp [deg]");
+  PlotPanel gap = plot_panel("bore arrays: gap above the ring", "plane height above the top face [mm]", "p99 pp [deg]");
   gap.logy = true;
   for (std::size_t a = 0; a < o.bore_arrays.size(); ++a)
     gap.series.push_back(series(plot_literal(o.bore_arrays[a]), o.scan_gap_mm, r.scan_gap_p99[a]));
@@ -113,7 +105,7 @@ void write_plots(const OffAxisResult& r, const OffAxisOptions& o, StudyOutput& o
 
   PlotSpec spectra;
   spectra.title = "Mean harmonic amplitude over the box";
-  PlotPanel sp = panel("", "harmonic n", "mean c_n [deg]");
+  PlotPanel sp = plot_panel("", "harmonic n", "mean c_n [deg]");
   sp.logy = true;
   sp.commands = {"set xtics 1", "set key outside right"};
   for (const auto& x : r.readers) {

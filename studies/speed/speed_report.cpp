@@ -12,14 +12,6 @@ namespace {
 
 std::string g(double v) { return fmt_sig(v, 10); }
 
-PlotPanel panel(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
-  PlotPanel p;
-  p.title = title;
-  p.xlabel = xlabel;
-  p.ylabel = ylabel;
-  return p;
-}
-
 PlotSeries series(const std::string& title) {
   PlotSeries s;
   s.title = title;
@@ -79,8 +71,8 @@ std::string calibration_csv(const SpeedStudyResult& r) {
 }
 
 void sweep_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel lag = panel("mean error a0 (negative: the output lags)", "speed [rpm]", "a0 [deg]");
-  PlotPanel pp = panel("peak-to-peak error", "speed [rpm]", "pp [deg]");
+  PlotPanel lag = plot_panel("mean error a0 (negative: the output lags)", "speed [rpm]", "a0 [deg]");
+  PlotPanel pp = plot_panel("peak-to-peak error", "speed [rpm]", "pp [deg]");
   for (const auto& t : r.options.timings)
     for (const Prediction p : {Prediction::None, Prediction::Ideal}) {
       PlotSeries a = series(plot_literal(label(t.name, p))), b = a;
@@ -100,8 +92,8 @@ void sweep_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
 }
 
 void commutation_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
-  PlotPanel el = panel("electrical error (mean p a0)", "speed [rpm]", "electrical error [deg]");
-  PlotPanel tq = panel("torque factor cos(p eps), least over the turn", "speed [rpm]", "torque factor");
+  PlotPanel el = plot_panel("electrical error (mean p a0)", "speed [rpm]", "electrical error [deg]");
+  PlotPanel tq = plot_panel("torque factor cos(p eps), least over the turn", "speed [rpm]", "torque factor");
   for (const auto& t : r.options.timings)
     for (const Prediction p : {Prediction::None, Prediction::Ideal})
       for (const long pairs : r.options.pole_pairs) {
@@ -123,8 +115,8 @@ void commutation_plot(const SpeedStudyResult& r, const std::filesystem::path& di
 
 void attenuation_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
   const std::string filter = fmt(r.options.filter_hz, 0) + " Hz";
-  PlotPanel value = panel("c_n behind a first-order filter at " + filter, "speed [rpm]", "c_n [deg]");
-  PlotPanel ratio = panel("c_n at speed / c_n at rest (harmonics of at least 1 % of c_1 at rest)", "speed [rpm]", "ratio");
+  PlotPanel value = plot_panel("c_n behind a first-order filter at " + filter, "speed [rpm]", "c_n [deg]");
+  PlotPanel ratio = plot_panel("c_n at speed / c_n at rest (harmonics of at least 1 % of c_1 at rest)", "speed [rpm]", "ratio");
   value.logy = true;
   const Spectrum& still = r.attenuation.front().spectrum;
   for (int n = 1; n <= 4; ++n) {
@@ -146,9 +138,9 @@ void attenuation_plot(const SpeedStudyResult& r, const std::filesystem::path& di
 
 void calibration_plot(const SpeedStudyResult& r, const std::filesystem::path& dir) {
   const std::string timing = r.options.calibration_timing.name;
-  PlotPanel max_abs = panel(plot_literal("largest |error|, " + r.options.calibration_method + ", timing " + timing + " (no hold)"),
+  PlotPanel max_abs = plot_panel(plot_literal("largest |error|, " + r.options.calibration_method + ", timing " + timing + " (no hold)"),
                     "speed of the run [rpm]", "max |eps| [deg]");
-  PlotPanel pp = panel("peak-to-peak", "speed of the run [rpm]", "pp [deg]");
+  PlotPanel pp = plot_panel("peak-to-peak", "speed of the run [rpm]", "pp [deg]");
   const std::string moving = "calibrated at " + fmt(r.options.calibration_rpm, 0) + " rpm";
   for (PlotPanel* pn : {&max_abs, &pp}) {
     const bool m = pn == &max_abs;

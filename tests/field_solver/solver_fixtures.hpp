@@ -1,8 +1,14 @@
 // Shared setup of the FEM tests that solve meshes/coarse.toml through the configuration, as
 // solve_field does (test_reduced_potential.cpp, test_split_potential.cpp, test_linear_solvers.cpp).
 #pragma once
+#include <unistd.h>
+
 #include <Eigen/Dense>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -51,6 +57,26 @@ inline std::pair<double, double> diff(const FieldEvaluator& a, const FieldEvalua
   const double peak = B.colwise().norm().maxCoeff();
   const Eigen::VectorXd d = (A - B).colwise().norm();
   return {std::sqrt(d.squaredNorm() / static_cast<double>(d.size())) / peak, d.maxCoeff() / peak};
+}
+
+// Volume per region id of a mesh (mm^3).
+inline std::map<int, double> region_volumes(const TetMesh& m) {
+  std::map<int, double> v;
+  for (int t = 0; t < m.num_tets(); ++t) {
+    Eigen::Matrix3d J;
+    for (int k = 0; k < 3; ++k) J.col(k) = m.nodes.col(m.tets(k + 1, t)) - m.nodes.col(m.tets(0, t));
+    v[m.region[t]] += std::abs(J.determinant()) / 6.0;
+  }
+  return v;
+}
+
+// A B-H table file in the temporary directory (rows as given, full precision); the caller removes it.
+inline std::string bh_file(const std::string& name, const std::vector<std::pair<double, double>>& rows) {
+  const std::string path = (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".csv")).string();
+  std::ofstream out(path);
+  out << std::setprecision(17) << "H_A_per_m,B_T\n";
+  for (const auto& [H, B] : rows) out << H << "," << B << "\n";
+  return path;
 }
 
 }  // namespace magenc::fem::test

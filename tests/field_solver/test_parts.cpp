@@ -259,15 +259,6 @@ TEST_CASE("parts: a cylinder part under the magnet is the shaft", "[field_solver
 
 namespace {
 
-// A B-H table file in the temporary directory (rows as given, full precision).
-std::string bh_file(const std::string& name, const std::vector<std::pair<double, double>>& rows) {
-  const std::string path = (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".csv")).string();
-  std::ofstream out(path);
-  out << std::setprecision(17) << "H_A_per_m,B_T\n";
-  for (const auto& [H, B] : rows) out << H << "," << B << "\n";
-  return path;
-}
-
 std::string gap_cup(const std::string& material) {
   return "parts=[{name = \"h\", shape = \"cup\", r_inner_mm = 2.2, r_outer_mm = 2.7, z_min_mm = -2.7, z_max_mm = 1.5, "
          "base_mm = 0.5, material = \"" + material + "\"}]";

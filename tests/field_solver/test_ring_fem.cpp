@@ -43,26 +43,9 @@ std::string shaft(const std::string& material) {
          "z_max_mm = 1.5, material = \"" + material + "\"}]";
 }
 
-std::map<int, double> region_volumes(const TetMesh& m) {
-  std::map<int, double> v;
-  for (int t = 0; t < m.num_tets(); ++t) {
-    Eigen::Matrix3d J;
-    for (int k = 0; k < 3; ++k) J.col(k) = m.nodes.col(m.tets(k + 1, t)) - m.nodes.col(m.tets(0, t));
-    v[m.region[t]] += std::abs(J.determinant()) / 6.0;
-  }
-  return v;
-}
-
 // Points in the bore, clear of its wall and of the faces' edges (r <= 0.5 mm of Ri 1 mm, |z| <= 1 mm).
 magenc::GridData bore_grid() { return magenc::GridData::from_range({-0.35, -0.35, -1.0}, {0.35, 0.35, 1.0}, {0.35, 0.35, 0.5}); }
 
-std::string bh_file(const std::string& name, const std::vector<std::pair<double, double>>& rows) {
-  const std::string path = (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".csv")).string();
-  std::ofstream out(path);
-  out << std::setprecision(17) << "H_A_per_m,B_T\n";
-  for (const auto& [H, B] : rows) out << H << "," << B << "\n";
-  return path;
-}
 
 }  // namespace
 

@@ -32,21 +32,13 @@
 #include "field_solver/solve/magnetostatic_solver.hpp"
 #include "field_solver/mesh/symmetric_mesh.hpp"
 #include "core/units.hpp"
+#include "solver_fixtures.hpp"
 
 using namespace magenc::fem;
+using magenc::fem::test::region_volumes;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::map<int, double> region_volumes(const TetMesh& m) {
-  std::map<int, double> v;
-  for (int t = 0; t < m.num_tets(); ++t) {
-    Eigen::Matrix3d J;
-    for (int k = 0; k < 3; ++k) J.col(k) = m.nodes.col(m.tets(k + 1, t)) - m.nodes.col(m.tets(0, t));
-    v[m.region[t]] += std::abs(J.determinant()) / 6.0;
-  }
-  return v;
-}
 
 DomainSpec geometry(const std::string& name) {
   DomainSpec d = test::coarse_domain(0.8);
