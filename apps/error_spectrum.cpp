@@ -103,14 +103,19 @@ void apply_flags(Config& cfg, const Flags& f) {
   apply_flag(cfg, "--dz", "mount.dz_mm", f.dz);
 }
 
+// The common and calibration keys, and [nonius]: it exists only where a second track is read (here and the
+// multipole study); elsewhere its keys are unknown.
+std::vector<magenc::KeySpec> error_spectrum_keys() {
+  return magenc::merge_schemas(magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys()),
+                               magenc::NoniusTrack::keys());
+}
+
 int run(int argc, char** argv) {
   // 1. Options.
   CLI::App app{"Angle-error spectra of a magnetic rotary encoder under mounting errors (docs/interfaces.md)"};
   magenc::CommonOptions common;
   Flags f;
-  // [nonius] only where a second track is read (here and the multipole study): elsewhere its keys are unknown.
-  const auto schema =
-      magenc::merge_schemas(magenc::merge_schemas(magenc::common_keys(), magenc::calibration_keys()), magenc::NoniusTrack::keys());
+  const auto schema = error_spectrum_keys();
   magenc::add_common_options(app, common, schema);
   app.add_option("--field", f.field, "field source: linear, analytic, grid:FILE.vti, table:FILE, fem:DIR (default analytic)");
   app.add_option("--array", f.array, "probe array: two, diff4, ring:N (principle bz); point (inplane, xmr, amr) (sensor.array)");

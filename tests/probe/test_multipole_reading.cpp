@@ -132,7 +132,7 @@ TEST_CASE("nonius bad input: equal pole pairs, no multipole master, a head off i
   CHECK_THROWS_WITH(magenc::NoniusTrack::from_config(cfg), Catch::Contains("multipole master"));
 }
 
-TEST_CASE("the [nonius] keys exist only where a second track is read", "[probe][bad-input][regression]") {
+TEST_CASE("the nonius keys exist only where a second track is read", "[probe][bad-input][regression]") {
   // Every other executable read the master ring alone and ignored a given nonius track: its keys are unknown
   // there (one line naming the key), and error_spectrum and the multipole study add them.
   magenc::Config cfg(magenc::common_keys());
