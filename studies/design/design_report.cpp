@@ -17,10 +17,13 @@ std::string num10(double v) { return std::isfinite(v) ? fmt_sig(v, 10) : std::st
 std::string g3(double v) { return std::isfinite(v) ? fmt_sig(v, 3) : std::string(v > 0 ? "inf" : "nan"); }
 
 std::string design_text(const DesignOptions& o, const Design& d) {
-  return d.material + " R " + g3(d.magnet_radius_mm) + " mm" +
-         (d.magnet_inner_radius_mm > 0 ? " (ring, Ri " + g3(d.magnet_inner_radius_mm) + " mm)" : "") + " x L " +
-         g3(d.magnet_height_mm) + " mm, gap " +
-         g3(d.gap_mm) + " mm, " + o.space.sensors[d.sensor].name + " at r0 " + g3(d.r0_mm) + " mm";
+  const std::string magnet = d.material + " R " + g3(d.magnet_radius_mm) + " mm" +
+                             (d.magnet_inner_radius_mm > 0 ? " (ring, Ri " + g3(d.magnet_inner_radius_mm) + " mm)" : "") +
+                             " x L " + g3(d.magnet_height_mm) + " mm, ";
+  if (d.side)
+    return magnet + o.space.sensor_name(d.sensor) + " at r " + g3(d.side_radius_mm) + " mm, " +
+           g3(d.side_height_mm) + " mm above the mid-plane";
+  return magnet + "gap " + g3(d.gap_mm) + " mm, " + o.space.sensor_name(d.sensor) + " at r0 " + g3(d.r0_mm) + " mm";
 }
 
 // The sensor whose best design (field in the window) has the smallest p99: the recommended design's when
@@ -46,13 +49,16 @@ bool has_rings(const DesignOptions& o) {
   return std::any_of(o.space.magnet_inner_radius_mm.begin(), o.space.magnet_inner_radius_mm.end(),
                      [](double ri) { return ri != 0.0; });
 }
+// Side-shaft readers in the space (design.side_principles): designs.csv adds side_radius_mm, side_height_mm
+// after r0_mm (NaN for a Bz array; gap_mm and r0_mm NaN for a side-shaft reader).
+bool has_side(const DesignOptions& o) { return !o.space.side_principles.empty(); }
 }  // namespace
 
 std::string design_csv(const DesignOptions& o, const DesignStudyResult& r) {
   std::ostringstream os;
-  const bool rings = has_rings(o);
+  const bool rings = has_rings(o), side = has_side(o);
   os << "index,material,br_T,magnet_radius_mm," << (rings ? "magnet_inner_radius_mm," : "")
-     << "magnet_height_mm,gap_mm,sensor,r0_mm,volume_mm3,seed,"
+     << "magnet_height_mm,gap_mm,sensor,r0_mm," << (side ? "side_radius_mm,side_height_mm," : "") << "volume_mm3,seed,"
         "bz_amplitude_mT,p50_uncal_deg,p99_uncal_deg,p50_cal_deg,p99_cal_deg,field_min_mT,field_max_mT,"
         "field_lo_mT,field_hi_mT,margin_mT,pass,reason\n";
   for (std::size_t i = 0; i < r.designs.size(); ++i) {
@@ -60,8 +66,10 @@ std::string design_csv(const DesignOptions& o, const DesignStudyResult& r) {
     const DesignResult& x = r.results[i];
     os << d.index << "," << d.material << "," << num10(d.br_T) << "," << num10(d.magnet_radius_mm) << ",";
     if (rings) os << num10(d.magnet_inner_radius_mm) << ",";
-    os << num10(d.magnet_height_mm) << "," << num10(d.gap_mm) << "," << o.space.sensors[d.sensor].name << ","
-       << num10(d.r0_mm) << "," << num10(d.volume_mm3()) << "," << design_seed(o, d.index) << ","
+    os << num10(d.magnet_height_mm) << "," << num10(d.gap_mm) << "," << o.space.sensor_name(d.sensor) << ","
+       << num10(d.r0_mm) << ",";
+    if (side) os << num10(d.side_radius_mm) << "," << num10(d.side_height_mm) << ",";
+    os << num10(d.volume_mm3()) << "," << design_seed(o, d.index) << ","
        << num10(x.bz_amplitude_mT) << "," << num10(x.p50_uncal_deg) << "," << num10(x.p99_uncal_deg) << ","
        << num10(x.p50_cal_deg) << "," << num10(x.p99_cal_deg) << "," << num10(x.field_min_mT) << ","
        << num10(x.field_max_mT) << "," << num10(x.field_lo_mT) << "," << num10(x.field_hi_mT) << ","
@@ -75,7 +83,7 @@ std::string design_pareto_csv(const DesignOptions& o, const DesignStudyResult& r
   os << "sensor,index,volume_mm3,p99_deg,pass\n";
   for (std::size_t s = 0; s < r.pareto.size(); ++s)
     for (std::size_t i : r.pareto[s])
-      os << o.space.sensors[s].name << "," << i << "," << num10(r.designs[i].volume_mm3()) << ","
+      os << o.space.sensor_name(s) << "," << i << "," << num10(r.designs[i].volume_mm3()) << ","
          << num10(r.results[i].p99_req_deg(o.req)) << "," << (r.results[i].pass(o.req) ? 1 : 0) << "\n";
   return os.str();
 }
@@ -112,8 +120,14 @@ std::string design_summary_md(const DesignOptions& o, const DesignStudyResult& r
   os << r.designs.size() << " designs (" << o.space.materials.size() << " materials x " << o.space.magnet_radius_mm.size()
      << " radii x " << (has_rings(o) ? std::to_string(o.space.magnet_inner_radius_mm.size()) + " inner radii x " : "")
      << o.space.magnet_height_mm.size() << " heights x " << o.space.gap_mm.size() << " gaps x "
-     << o.space.r0_mm.size() << " r0 x " << o.space.sensors.size() << " sensors), " << o.samples
-     << " Monte Carlo samples each (exact field, fast pipeline, " << o.fast_steps << " theta steps), "
+     << o.space.r0_mm.size() << " r0 x " << o.space.sensors.size() << " sensors"
+     << (has_side(o) ? " + " + std::to_string(o.space.side_radius_mm.size()) + " side-shaft radii x " +
+                           std::to_string(o.space.side_height_mm.size()) + " heights x " +
+                           std::to_string(o.space.side_principles.size()) + " principles per magnet"
+                     : std::string())
+     << "), " << o.samples
+     << " Monte Carlo samples each (exact field, fast pipeline" << (has_side(o) ? "; side-shaft: direct" : "") << ", "
+     << o.fast_steps << " theta steps), "
      << (o.seed_per_design ? "seeded per design from design.seed = " : "common samples of design.seed = ") << o.seed
      << "; evaluated on " << ranks << " MPI rank" << (ranks == 1 ? "" : "s") << " in " << fmt(wall_s, 1) << " s. "
      << r.passing << " designs meet every requirement.\n\n";
@@ -137,7 +151,8 @@ std::string design_summary_md(const DesignOptions& o, const DesignStudyResult& r
                    {{"magnet volume", g3(r.designs[i].volume_mm3()) + " mm^3"},
                     {"p99 uncalibrated", g3(x.p99_uncal_deg) + " deg"},
                     {"p99 calibrated", o.req.calibration.none() ? "(none)" : g3(x.p99_cal_deg) + " deg"},
-                    {"Bz amplitude on the circle", g3(x.bz_amplitude_mT) + " mT"},
+                    {r.designs[i].side ? "in-plane field at the nominal mount" : "Bz amplitude on the circle",
+                     r.designs[i].side ? "(field window row)" : g3(x.bz_amplitude_mT) + " mT"},
                     {"field over the box at the temperature extremes", g3(x.field_lo_mT) + " .. " + g3(x.field_hi_mT) + " mT"},
                     {"window margin", g3(x.margin_mT) + " mT"}})
        << "\n";
@@ -154,7 +169,7 @@ std::string design_summary_md(const DesignOptions& o, const DesignStudyResult& r
     for (std::size_t i : r.pareto[s])
       rows.push_back({std::to_string(i), design_text(o, r.designs[i]), g3(r.designs[i].volume_mm3()),
                       g3(r.results[i].p99_req_deg(o.req)), r.results[i].pass(o.req) ? "yes" : "no"});
-    os << "### " << o.space.sensors[s].name << "\n\n"
+    os << "### " << o.space.sensor_name(s) << "\n\n"
        << (rows.empty() ? std::string("No design of this sensor keeps the field in the window.\n")
                         : md_table({"design", "what", "volume [mm^3]", "p99 [deg]", "meets all"}, rows))
        << "\n";
@@ -172,12 +187,12 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
   p.logx = true;
   p.logy = true;
   double vmin = std::numeric_limits<double>::infinity(), vmax = 0;
-  for (std::size_t s = 0; s < o.space.sensors.size(); ++s) {
+  for (std::size_t s = 0; s < o.space.sensor_count(); ++s) {
     PlotSeries all, front;
-    all.title = plot_literal(o.space.sensors[s].name) + " designs";
+    all.title = plot_literal(o.space.sensor_name(s)) + " designs";
     all.style = "points";
     all.extra = "pt 7 ps 0.6 lc " + std::to_string(s + 1);
-    front.title = plot_literal(o.space.sensors[s].name) + " Pareto front";
+    front.title = plot_literal(o.space.sensor_name(s)) + " Pareto front";
     front.style = "linespoints";
     front.extra = "lw 2 pt 5 lc " + std::to_string(s + 1);
     for (std::size_t i = 0; i < r.designs.size(); ++i) {
@@ -219,14 +234,17 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
   spec.width_px = 1200;
   write_plot(dir, "design_pareto", spec);
 
-  // 2. Map over magnet radius x gap for the best sensor: the smallest p99 over the other variables.
+  // 2. Map over magnet radius x gap (a side-shaft reader: x its read radius) for the best sensor: the smallest
+  // p99 over the other variables.
   const std::size_t s = best_sensor(o, r);
+  const bool side = o.space.is_side(s);
   const auto& R = o.space.magnet_radius_mm;
-  const auto& G = o.space.gap_mm;
+  const auto& G = side ? o.space.side_radius_mm : o.space.gap_mm;
   HeatmapSpec h;
-  h.title = plot_literal(o.space.sensors[s].name) + ": smallest p99 [deg] over material, height, r0 (out: field leaves the window)";
+  h.title = plot_literal(o.space.sensor_name(s)) + ": smallest p99 [deg] over material, height, " +
+            (side ? "plane" : "r0") + " (out: field leaves the window)";
   h.xlabel = "magnet radius [mm]";
-  h.ylabel = "gap [mm]";
+  h.ylabel = side ? "side-shaft read radius [mm]" : "gap [mm]";
   h.cblabel = "p99 [deg]";
   for (double x : R) h.column_labels.push_back(g3(x));
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -236,7 +254,7 @@ void write_design_plots(const DesignOptions& o, const DesignStudyResult& r, cons
     std::vector<std::string> text(R.size());
     for (std::size_t i = 0; i < r.designs.size(); ++i) {
       const Design& d = r.designs[i];
-      if (d.sensor != s || d.gap_mm != G[gi]) continue;
+      if (d.sensor != s || (side ? d.side_radius_mm : d.gap_mm) != G[gi]) continue;
       const auto ri = static_cast<std::size_t>(std::find(R.begin(), R.end(), d.magnet_radius_mm) - R.begin());
       const double v = r.results[i].p99_req_deg(o.req);
       std::vector<double>& target = r.results[i].field_ok() ? row : out_row;

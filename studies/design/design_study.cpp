@@ -14,6 +14,7 @@
 #include "core/format.hpp"
 #include "core/units.hpp"
 #include "fields/analytic_field.hpp"
+#include "probe/angle_error.hpp"
 #include "probe/environment.hpp"
 
 namespace magenc {
@@ -45,7 +46,19 @@ std::vector<KeySpec> DesignOptions::keys() {
                     "air gaps to try: sensing plane height above the magnet's top face", true),
       real_list_key("design.r0_mm", d.space.r0_mm, 0, 100, "mm", "probe radii r0 to try (every sensor)", true),
       string_list_key("design.sensors", {"two", "diff4", "ring:8"}, {},
-                      "Bz arrays to try: two, diff4, ring:N (3 <= N <= 1024)"),
+                      "Bz arrays to try: two, diff4, ring:N (3 <= N <= 1024); at design.r0_mm and design.gap_mm "
+                      "(around a ring's bore: the bore array's circle and plane)",
+                      0),
+      string_list_key("design.side_principles", {}, {"inplane", "xmr"},
+                      "side-shaft readers to try (one spot beside the magnet, direction, zero and gain trim automatic "
+                      "at the nominal mount) at design.side_radius_mm and design.side_height_mm; [] none",
+                      0),
+      real_list_key("design.side_radius_mm", d.space.side_radius_mm, 0, 1000, "mm",
+                    "side-shaft read radii to try: the die centre at [radius, 0] (every radius clear of the magnet "
+                    "by the tolerance box's and drift's reach where the plane crosses it)",
+                    true),
+      real_list_key("design.side_height_mm", d.space.side_height_mm, -1000, 1000, "mm",
+                    "side-shaft die plane heights to try, above the magnet's mid-plane (0: the mid-plane)"),
       real_key("design.target_p99_deg", d.req.target_p99_deg, 0, 180, "deg",
                "requirement: p99 of the peak-to-peak angle error (calibrated unless design.calibration = none)", true),
       real_key("design.temperature_min_C", d.req.temperature_min_C, -273.15, 1000, "C",
@@ -94,6 +107,10 @@ DesignOptions DesignOptions::from_config(const Config& cfg) {
                        "' is a one-spot principle, not in the fast path: allowed two, diff4, ring:N");
     o.space.sensors.push_back(a);
   }
+  for (const auto& s : cfg.strings("design.side_principles"))
+    o.space.side_principles.push_back(parse_principle(s, "design.side_principles"));
+  o.space.side_radius_mm = cfg.reals("design.side_radius_mm");
+  o.space.side_height_mm = cfg.reals("design.side_height_mm");
   o.req.target_p99_deg = cfg.real("design.target_p99_deg");
   o.req.temperature_min_C = cfg.real("design.temperature_min_C");
   o.req.temperature_max_C = cfg.real("design.temperature_max_C");
@@ -142,7 +159,10 @@ void DesignOptions::validate() const {
                        "design.magnet_radius_mm (smallest " + num(r) + " mm)");
   }
   nonempty(space.r0_mm, "design.r0_mm");
-  if (space.sensors.empty()) throw InputError("design.sensors is empty: allowed one or more of two, diff4, ring:N");
+  if (space.sensors.empty() && space.side_principles.empty())
+    throw InputError("design.sensors is empty and so is design.side_principles: allowed one or more of two, diff4, "
+                     "ring:N (or a side-shaft principle)");
+  validate_side();
   for (const auto& a : space.sensors)
     if (a.name == "point")
       throw InputError("design.sensors: 'point' is a one-spot principle, not in the fast path: allowed two, diff4, "
@@ -171,6 +191,35 @@ void DesignOptions::validate() const {
     }
 }
 
+void DesignOptions::validate_side() const {
+  if (space.side_principles.empty()) return;
+  auto nonempty = [](const std::vector<double>& v, const char* key) {
+    if (v.empty()) throw InputError(std::string(key) + " is empty: allowed one or more values with design.side_principles");
+  };
+  nonempty(space.side_radius_mm, "design.side_radius_mm");
+  nonempty(space.side_height_mm, "design.side_height_mm");
+  for (SensorPrinciple p : space.side_principles)
+    if (p != SensorPrinciple::InPlane && p != SensorPrinciple::Xmr)
+      throw InputError("design.side_principles: '" + principle_name(p) + "' is not a side-shaft reader: allowed inplane, xmr");
+  // The spot's reach: the box's and the drift's in-plane offsets, the magnet lean's sway of the magnet (its
+  // height and radius times the sine of the largest lean), the air gap's offset along z.
+  const double lean = std::sin(std::sqrt(2.0) * box.magnet_tilt_deg * kPi / 180.0);
+  for (double R : space.magnet_radius_mm)
+    for (double L : space.magnet_height_mm)
+      for (double Ri : space.magnet_inner_radius_mm)
+        for (double rs : space.side_radius_mm)
+          for (double h : space.side_height_mm) {
+            const double reach = box.max_inplane_mm() + 4 * drift_inplane_mm + L * lean;
+            const double reach_z = box.dz_mm + drift_dz_mm + R * lean;
+            if (std::abs(h) < 0.5 * L + reach_z && rs + reach > Ri && rs - reach < R)
+              throw InputError("design.side_radius_mm = " + num(rs) + " with design.side_height_mm = " + num(h) +
+                               " is out of range: the tolerance box and drift move the chip by up to " + num(reach) +
+                               " mm into the magnet (R " + num(R) + ", Ri " + num(Ri) + ", L " + num(L) +
+                               " mm): allowed > " + num(R + reach) + " mm, or a plane beyond +-" +
+                               num(0.5 * L + reach_z) + " mm");
+          }
+}
+
 ToleranceBox DesignOptions::run_box(double br_tc_per_K) const {
   ToleranceBox d;
   d.sx_mm = d.sy_mm = d.dx_mm = d.dy_mm = drift_inplane_mm;
@@ -186,18 +235,36 @@ double Design::volume_mm3() const {
   return kPi * (magnet_radius_mm * magnet_radius_mm - magnet_inner_radius_mm * magnet_inner_radius_mm) * magnet_height_mm;
 }
 
+std::string DesignSpace::sensor_name(std::size_t sensor) const {
+  return is_side(sensor) ? "side " + principle_name(side_principles[sensor - sensors.size()]) : sensors[sensor].name;
+}
+
 Design design_at(const DesignSpace& s, std::size_t index) {
   if (index >= s.size()) throw InputError("design index " + std::to_string(index) + " is out of range: allowed < " +
                                           std::to_string(s.size()));
   Design d;
   d.index = index;
   std::size_t i = index;
-  d.sensor = i % s.sensors.size();
-  i /= s.sensors.size();
-  d.r0_mm = s.r0_mm[i % s.r0_mm.size()];
-  i /= s.r0_mm.size();
-  d.gap_mm = s.gap_mm[i % s.gap_mm.size()];
-  i /= s.gap_mm.size();
+  std::size_t reader = i % s.readers();
+  i /= s.readers();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (reader < s.bz_readers()) {
+    d.sensor = reader % s.sensors.size();
+    reader /= s.sensors.size();
+    d.r0_mm = s.r0_mm[reader % s.r0_mm.size()];
+    reader /= s.r0_mm.size();
+    d.gap_mm = s.gap_mm[reader];
+    d.side_radius_mm = d.side_height_mm = nan;
+  } else {
+    reader -= s.bz_readers();
+    d.side = true;
+    d.sensor = s.sensors.size() + reader % s.side_principles.size();
+    reader /= s.side_principles.size();
+    d.side_height_mm = s.side_height_mm[reader % s.side_height_mm.size()];
+    reader /= s.side_height_mm.size();
+    d.side_radius_mm = s.side_radius_mm[reader];
+    d.gap_mm = d.r0_mm = nan;
+  }
   d.magnet_height_mm = s.magnet_height_mm[i % s.magnet_height_mm.size()];
   i /= s.magnet_height_mm.size();
   d.magnet_inner_radius_mm = s.magnet_inner_radius_mm[i % s.magnet_inner_radius_mm.size()];
@@ -316,6 +383,8 @@ class WindowExtremes {
   std::vector<double> lo_, hi_;  // per OpenMP thread
 };
 
+DesignResult result_of(const DesignOptions& o, const Design& d, const Eigen::MatrixXd& v);
+
 DesignResult evaluate_with(const DesignOptions& o, const Design& d, const CircleFieldModel& model,
                            const ToleranceBox& box, bool drift) {
   const FastPipeline fast(model, {o.space.sensors[d.sensor]}, d.magnet_height_mm);
@@ -365,7 +434,13 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
       out[1] = out[0];
     }
   };
-  const Eigen::MatrixXd v = evaluate_cases(factory, 4, f);
+  DesignResult r = result_of(o, d, evaluate_cases(factory, 4, f));
+  r.bz_amplitude_mT = 1e3 * model.amplitude_T();
+  return r;
+}
+
+// The numbers of a design from its samples' rows (uncalibrated pp, calibrated pp, field min, field max).
+DesignResult result_of(const DesignOptions& o, const Design& d, const Eigen::MatrixXd& v) {
   DesignResult r;
   const SampleStats su = sample_stats(v.col(0)), sc = sample_stats(v.col(1));
   r.p99_uncal_deg = su.p99;
@@ -382,7 +457,76 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   r.margin_mT = o.req.window.active()
                     ? std::min(r.field_lo_mT - o.req.window.min_mT, o.req.window.max_mT - r.field_hi_mT)
                     : std::numeric_limits<double>::infinity();
-  r.bz_amplitude_mT = 1e3 * model.amplitude_T();
+  return r;
+}
+
+// A side-shaft reader on the exact field: one spot, fast_steps per turn, direction, zero and gain trim (BCT)
+// resolved once at the nominal mount.
+ProbeSetup side_setup(const DesignOptions& o, const Design& d, const AnalyticField& field) {
+  ProbeSetup s;
+  s.array = ProbeArray::parse("point");
+  s.principle = o.space.side_principles[d.sensor - o.space.sensors.size()];
+  s.plane_z_mm = d.side_height_mm;
+  s.center_mm = {d.side_radius_mm, 0.0};
+  s.steps = o.fast_steps;
+  s.magnet_height_mm = d.magnet_height_mm;
+  s.orientation.direction_auto = s.orientation.zero_auto = s.orientation.gain_auto = true;
+  try {
+    return resolve_orientation(field, s);
+  } catch (const InputError& e) {
+    throw InputError("design.side_radius_mm = " + num(d.side_radius_mm) + " with design.side_height_mm = " +
+                     num(d.side_height_mm) + " (design " + std::to_string(d.index) + "): " + e.what());
+  }
+}
+
+// A side-shaft design: the direct pipeline (angle_error) on the same samples, drift, environment, speed and
+// calibration as a Bz array's fast path; the field window is the in-plane magnitude's over the turn.
+DesignResult evaluate_side(const DesignOptions& o, const Design& d, const ToleranceBox& box, bool drift) {
+  Magnet m;
+  m.radius_mm = d.magnet_radius_mm;
+  m.height_mm = d.magnet_height_mm;
+  m.inner_radius_mm = d.magnet_inner_radius_mm;
+  m.br_T = d.br_T;
+  m.validate();
+  const AnalyticField field(m);
+  const ProbeSetup nominal = side_setup(o, d, field);
+  ProbeSetup turning = nominal;
+  turning.speed = o.speed;
+  const bool moving = o.speed.acts();
+  const std::uint64_t seed = design_seed(o, d.index);
+  const std::vector<ToleranceCase> factory = monte_carlo_cases(box, o.samples, seed);
+  const ToleranceBox run_box = o.run_box(d.br_tc_per_K);
+  const bool has_run = drift && !run_box.empty();
+  const std::uint64_t drift_seed = splitmix64(seed + kDriftStream);
+  const Eigen::VectorXd theta = uniform_theta_deg(o.fast_steps);
+  auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
+    ProbeSetup at_factory = nominal;
+    at_factory.env = fc.env;
+    const AngleErrorResult at = angle_error(field, at_factory, fc.mount);
+    out[2] = at.field_min_mT;
+    out[3] = at.field_max_mT;
+    AngleErrorResult later;
+    if (has_run || moving) {
+      ProbeSetup s = turning;
+      Mount mount = fc.mount;
+      s.env = fc.env;
+      if (has_run) {
+        const ToleranceCase dc = run_box.case_sample(drift_seed, i);
+        mount.sx_mm += dc.mount.sx_mm;
+        mount.sy_mm += dc.mount.sy_mm;
+        mount.dx_mm += dc.mount.dx_mm;
+        mount.dy_mm += dc.mount.dy_mm;
+        mount.dz_mm += dc.mount.dz_mm;
+        s.env = dc.env;
+      }
+      later = angle_error(field, s, mount);
+    }
+    const Eigen::VectorXd& run = has_run || moving ? later.eps_deg : at.eps_deg;
+    out[0] = run.maxCoeff() - run.minCoeff();
+    out[1] = o.req.calibration.none() ? out[0] : calibrated_pp_deg(o.req.calibration, theta, at.eps_deg, run);
+  };
+  DesignResult r = result_of(o, d, evaluate_cases(factory, 4, f));
+  r.bz_amplitude_mT = std::numeric_limits<double>::quiet_NaN();
   return r;
 }
 
@@ -396,6 +540,7 @@ bool same_geometry(const Design& a, const Design& b) {
 
 DesignResult evaluate_design(const DesignOptions& o, std::size_t index, const ToleranceBox& box, bool drift) {
   const Design d = design_at(o.space, index);
+  if (d.side) return evaluate_side(o, d, box, drift);
   const DesignModel dm(o, d, o.box, true);  // the models of the full box: the same for every budget line
   return evaluate_with(o, d, *dm.model, box, drift);
 }
@@ -406,6 +551,10 @@ std::vector<DesignResult> evaluate_designs(const DesignOptions& o, std::size_t b
   Design last;
   for (std::size_t i = begin; i < end; ++i) {
     const Design d = design_at(o.space, i);
+    if (d.side) {
+      out.push_back(evaluate_side(o, d, o.box, true));
+      continue;
+    }
     // The models depend on the geometry alone (sensors innermost): reuse them across sensors.
     if (!dm || !same_geometry(d, last)) dm = std::make_unique<DesignModel>(o, d, o.box, true);
     last = d;
@@ -421,7 +570,7 @@ DesignStudyResult summarize_designs(const DesignOptions& o, std::vector<DesignRe
   DesignStudyResult s;
   s.results = std::move(results);
   for (std::size_t i = 0; i < s.results.size(); ++i) s.designs.push_back(design_at(o.space, i));
-  s.pareto.resize(o.space.sensors.size());
+  s.pareto.resize(o.space.sensor_count());
   auto better = [&](std::size_t a, std::size_t b) {  // smaller volume, then p99, then index
     const double va = s.designs[a].volume_mm3(), vb = s.designs[b].volume_mm3();
     if (va != vb) return va < vb;
@@ -429,7 +578,7 @@ DesignStudyResult summarize_designs(const DesignOptions& o, std::vector<DesignRe
     if (pa != pb) return pa < pb;
     return a < b;
   };
-  for (std::size_t sensor = 0; sensor < o.space.sensors.size(); ++sensor) {
+  for (std::size_t sensor = 0; sensor < o.space.sensor_count(); ++sensor) {
     std::vector<std::size_t> cand;
     for (std::size_t i = 0; i < s.designs.size(); ++i)
       if (s.designs[i].sensor == sensor && s.results[i].field_ok()) cand.push_back(i);

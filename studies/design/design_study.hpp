@@ -46,10 +46,26 @@ struct DesignSpace {
   std::vector<double> gap_mm = {2.55};                       // plane height above the magnet's top face
   std::vector<double> r0_mm = {2.4};                         // probe radius
   std::vector<ProbeArray> sensors;                           // Bz arrays: two, diff4, ring:N
+  // Side-shaft readers (design.side_principles: inplane, xmr; none by default): one spot beside the magnet, the
+  // die centre at [side_radius, 0] and its plane side_height above the magnet's mid-plane; direction, zero and
+  // gain trim (BCT) automatic at the nominal mount. Per magnet, their designs follow the Bz arrays'.
+  std::vector<SensorPrinciple> side_principles;
+  std::vector<double> side_radius_mm = {3.5};                // read radii (die centre's distance from the axis)
+  std::vector<double> side_height_mm = {0.0};                // die plane above the magnet's mid-plane
+  // The readers of one magnet: the Bz arrays at every gap and r0, then the side-shaft readers at every radius
+  // and height. Reader indices: sensor innermost, then r0, gap; side: principle innermost, then height, radius.
+  std::size_t bz_readers() const { return gap_mm.size() * r0_mm.size() * sensors.size(); }
+  std::size_t readers() const {
+    return bz_readers() + side_radius_mm.size() * side_height_mm.size() * side_principles.size();
+  }
   std::size_t size() const {
     return materials.size() * magnet_radius_mm.size() * magnet_inner_radius_mm.size() * magnet_height_mm.size() *
-           gap_mm.size() * r0_mm.size() * sensors.size();
+           readers();
   }
+  // Sensor indices (Design::sensor): the Bz arrays, then the side-shaft principles.
+  std::size_t sensor_count() const { return sensors.size() + side_principles.size(); }
+  bool is_side(std::size_t sensor) const { return sensor >= sensors.size(); }
+  std::string sensor_name(std::size_t sensor) const;  // "ring:8", "side inplane"
 };
 
 struct DesignRequirements {
@@ -84,6 +100,8 @@ struct DesignOptions {
   // box's reach, a temperature range with min > max.
   static DesignOptions from_config(const Config& cfg);
   void validate() const;
+  // The side-shaft axes (design.side_*): non-empty with a side principle, every spot clear of every magnet.
+  void validate_side() const;
   // The drift box with the environment of the requirements, for a material's Br coefficient.
   ToleranceBox run_box(double br_tc_per_K) const;
 };
@@ -95,9 +113,13 @@ struct Design {
   double br_T = 0, br_tc_per_K = 0;
   double magnet_radius_mm = 0, magnet_height_mm = 0, gap_mm = 0, r0_mm = 0;
   double magnet_inner_radius_mm = 0;   // a ring when > 0 (the arrays read around its bore)
-  std::size_t sensor = 0;              // index into DesignSpace::sensors
+  std::size_t sensor = 0;              // DesignSpace::sensor_count() indices: a Bz array, then a side principle
+  // A side-shaft reader (DesignSpace::is_side): its die centre's radius and plane height above the mid-plane;
+  // gap_mm and r0_mm are then NaN (not its axes), and these are NaN for a Bz array.
+  bool side = false;
+  double side_radius_mm = 0, side_height_mm = 0;
   double volume_mm3() const;
-  double plane_z_mm() const { return 0.5 * magnet_height_mm + gap_mm; }
+  double plane_z_mm() const { return side ? side_height_mm : 0.5 * magnet_height_mm + gap_mm; }
 };
 Design design_at(const DesignSpace& s, std::size_t index);
 
@@ -109,7 +131,7 @@ struct DesignResult {
   double field_min_mT = 0, field_max_mT = 0;  // extremes of the probes' peak |Bz| at 20 C over the factory samples
   double field_lo_mT = 0, field_hi_mT = 0;    // the same at the temperature extremes, widened by the stray field
   double margin_mT = 0;                // window margin (negative: outside; +inf without a window)
-  double bz_amplitude_mT = 0;          // first-harmonic Bz amplitude on the probe circle
+  double bz_amplitude_mT = 0;          // first-harmonic Bz amplitude on the probe circle (NaN: a side-shaft reader)
   static constexpr int kValues = 10;
   void to(double* v) const;
   static DesignResult from(const double* v);

@@ -61,11 +61,14 @@ TEST_CASE("FEM ring: Bz on the sensing plane within the solid magnet's accuracy 
   CAPTURE(er.peak_T, er.rms_rel(), er.max_rel(), es.peak_T, es.rms_rel(), es.max_rel());
   // The bore takes flux off the plane: the ring's peak is well below the solid magnet's.
   CHECK(er.peak_T < 0.9 * es.peak_T);
-  // Same mesh density, same order: the ring's error is of the solid magnet's size (measured
+  // Same mesh density, same order: the ring's error is at most the solid magnet's (measured
   // RMS 6.6e-3 / max 1.8e-2 of the peak for the ring, 7.9e-3 / 2.0e-2 for the solid magnet;
   // a cylinder meshed in place of the ring would be off by the ~30 % the bore takes away).
-  CHECK(er.rms_rel() < 1.5 * es.rms_rel());
-  CHECK(er.max_rel() < 1.5 * es.max_rel());
+  // This mesh (0.8 mm zone, no core) does not show the default density's 1.9x (3.05e-4 against
+  // 1.64e-4, docs/fem.md: the two PLCs, not the ring): here the zone's discretization error
+  // dominates both alike, so the ring must not be worse than the solid magnet at all.
+  CHECK(er.rms_rel() < es.rms_rel());
+  CHECK(er.max_rel() < es.max_rel());
   // In the bore the FE field is the exact field too (the bore is air, the material's J is absent).
   const Eigen::Matrix3Xd P = bore_grid().points_mm();
   const Eigen::Matrix3Xd B_fe = ring->evaluator().B_T(P);

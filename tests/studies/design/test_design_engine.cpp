@@ -245,6 +245,24 @@ TEST_CASE("design: bad input is refused with one line naming the key", "[studies
   refuse("design.magnet_inner_radius_mm=[0, 2.0]", "design.magnet_inner_radius_mm");  // Ri >= R = 2
   refuse("design.magnet_inner_radius_mm=[]", "design.magnet_inner_radius_mm");
   refuse("sensor.principle=xmr", "sensor.principle");
+  // The side-shaft axes: a principle that is not a side-shaft reader, a spot the box moves into the magnet
+  // (R 2 mm: 2.3 mm is within the box's reach on the mid-plane), empty lists.
+  refuse("design.side_principles=[\"bz\"]", "design.side_principles");
+  refuse("design.side_principles=[\"amr\"]", "design.side_principles");
+  {
+    Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
+    cfg.set("design.side_principles=[\"inplane\"]");
+    CHECK_NOTHROW(DesignOptions::from_config(cfg));  // the default read radius 3.5 mm beside R 2 mm
+    cfg.set("design.side_radius_mm=[3.5, 2.3]");
+    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm = 2.3") &&
+                                                          Catch::Contains("allowed >"));
+    cfg.set("design.side_height_mm=[3]");  // a plane 1 mm above the top face: clear of the magnet
+    CHECK_NOTHROW(DesignOptions::from_config(cfg));
+    cfg.set("design.side_radius_mm=[]");
+    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm"));
+    cfg.set("design.side_radius_mm=[0]");
+    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm"));
+  }
   // The defaults are a valid design space.
   Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
   CHECK_NOTHROW(DesignOptions::from_config(cfg));
@@ -354,4 +372,70 @@ TEST_CASE("design: the ring's inner radius is an axis (Ri = 0 the solid magnet, 
   // ring:8 on an ideal array around the bore: the mount's error stays of the solid magnet's order.
   CHECK(both[1].p99_uncal_deg > 0);
   CHECK(both[1].p99_uncal_deg < 10 * both[0].p99_uncal_deg);
+}
+
+TEST_CASE("design: the side-shaft read radius and height are axes (physics.md's ellipse, trimmed)", "[studies][physics]") {
+  // physics.md's ring (R 16, Ri 11, L 4 mm, Br 1.2 T): a bore array (ring:8 at r0 13.5 mm, 1 mm above the top
+  // face) and an inplane spot beside the ring on its mid-plane at r 18 and 27 mm.
+  DesignOptions o;
+  o.space.magnet_radius_mm = {16.0};
+  o.space.magnet_inner_radius_mm = {11.0};
+  o.space.magnet_height_mm = {4.0};
+  o.space.sensors = {ProbeArray::parse("ring:8")};
+  o.space.r0_mm = {13.5};
+  o.space.gap_mm = {1.0};
+  DesignOptions bz_only = o;
+  o.space.side_principles = {SensorPrinciple::InPlane};
+  o.space.side_radius_mm = {18.0, 27.0};
+  o.space.side_height_mm = {0.0};
+  o.samples = 30;
+  o.seed = 3;
+  bz_only.samples = o.samples;
+  bz_only.seed = o.seed;
+  o.validate();
+  REQUIRE(o.space.size() == 3);
+  const Design d0 = design_at(o.space, 0), d1 = design_at(o.space, 1), d2 = design_at(o.space, 2);
+  CHECK(!d0.side);
+  CHECK(d0.r0_mm == 13.5);
+  CHECK(d1.side);
+  CHECK(d1.side_radius_mm == 18.0);
+  CHECK(d1.side_height_mm == 0.0);
+  CHECK(std::isnan(d1.gap_mm));
+  CHECK(d2.side_radius_mm == 27.0);
+  CHECK(o.space.sensor_name(d1.sensor) == "side inplane");
+  const std::vector<DesignResult> all = evaluate_designs(o, 0, 3);
+  // The Bz array's design is the one of a space without side-shaft readers, number for number.
+  CHECK(values_of({all[0]}) == values_of(evaluate_designs(bz_only, 0, 1)));
+
+  // A zero box: the automatic trim (BCT) removes the ellipse (physics.md: ideal mount 0), and the in-plane
+  // field's extremes (theta 0 and 90 deg lie on the 360-step grid) are in the ratio k = 4.19468 (physics.md,
+  // 6 digits: 1e-5 relative); farther out the ellipse is flatter (k < 3 at 27 mm).
+  DesignOptions zero = o;
+  zero.box = ToleranceBox{};
+  zero.box.sx_mm = zero.box.sy_mm = zero.box.dx_mm = zero.box.dy_mm = zero.box.dz_mm = 0;
+  const std::vector<DesignResult> z = evaluate_designs(zero, 1, 3);
+  CHECK(z[0].p99_uncal_deg < 1e-9);
+  CHECK(z[0].field_max_mT / z[0].field_min_mT == Approx(4.19468).epsilon(1e-5));
+  CHECK(z[1].field_max_mT / z[1].field_min_mT < 3.0);
+  CHECK(z[1].field_max_mT / z[1].field_min_mT > 1.5);
+  CHECK(std::isnan(z[0].bz_amplitude_mT));
+
+  // Under the box: the p99 of the design study equals the direct pipeline of the same samples set up from
+  // the [sensor] keys (the die centre [18, 0], plane -2 mm from the top face = the mid-plane, everything
+  // automatic), within round-off.
+  Config cfg(common_keys());
+  for (const char* k : {"magnet.radius_mm=16", "magnet.inner_radius_mm=11", "magnet.height_mm=4", "magnet.br_T=1.2",
+                        "sensor.principle=inplane", "sensor.center_mm=[18, 0]", "sensor.plane_height_mm=-2",
+                        "sensor.direction=auto", "sensor.zero_deg=auto", "sensor.gain_trim=auto", "sensor.steps=360"})
+    cfg.set(k);
+  const AnalyticField ring(Magnet::from_config(cfg));
+  const ProbeSetup setup = resolve_orientation(ring, sensor_setup_from_config(cfg, "point"));
+  std::vector<double> pp;
+  for (long i = 0; i < o.samples; ++i)
+    pp.push_back(error_spectrum(ring, setup, o.box.sample(design_seed(o, 1), static_cast<std::uint64_t>(i))).pp_deg);
+  const double p99 = percentile(pp, 99);
+  CAPTURE(all[1].p99_uncal_deg, p99);
+  CHECK(all[1].p99_uncal_deg == Approx(p99).epsilon(1e-9));
+  CHECK(p99 > 0.1);  // the mount's residual: eccentricity and offsets (about 2 deg in the off_axis study)
+  CHECK(p99 < 10);
 }
