@@ -198,6 +198,9 @@ void DesignOptions::validate_side() const {
   };
   nonempty(space.side_radius_mm, "design.side_radius_mm");
   nonempty(space.side_height_mm, "design.side_height_mm");
+  if (fast_steps < 16)
+    throw InputError("design.fast_steps = " + std::to_string(fast_steps) +
+                     " is out of range with design.side_principles: allowed >= 16 (the direct pipeline's turn)");
   for (SensorPrinciple p : space.side_principles)
     if (p != SensorPrinciple::InPlane && p != SensorPrinciple::Xmr)
       throw InputError("design.side_principles: '" + principle_name(p) + "' is not a side-shaft reader: allowed inplane, xmr");
