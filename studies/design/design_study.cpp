@@ -322,6 +322,11 @@ namespace {
 struct DesignModel {
   std::unique_ptr<AnalyticField> field;
   std::unique_ptr<CircleFieldModel> model;
+  // Bz = f(rho, z) cos(phi - theta) with f < 0 on the probe circle (over a ring's inner rim or its bore): the
+  // array reads theta + 180 deg, the constant that the chip's zero takes out at installation (as zero =
+  // auto does for a side-shaft reader); the design reads it with its channels' signs turned instead of a
+  // wrapped error of 360 deg. Never for a solid magnet above its top face (f > 0).
+  bool reversed = false;
   DesignModel(const DesignOptions& o, const Design& d, const ToleranceBox& box, bool drift) {
     Magnet m;
     m.radius_mm = d.magnet_radius_mm;
@@ -350,6 +355,7 @@ struct DesignModel {
     const auto [xy, z] = model_reach_mm(ro, d.r0_mm);
     model = std::make_unique<CircleFieldModel>(*field, d.r0_mm, d.plane_z_mm(), o.fast_steps, xy, z, o.surrogate_order,
                                                box.has_tilts(), o.surrogate_build);
+    reversed = field->Bz_T(Vec3(d.r0_mm, 0, d.plane_z_mm())) < 0;
   }
 };
 
@@ -389,8 +395,14 @@ class WindowExtremes {
 DesignResult result_of(const DesignOptions& o, const Design& d, const Eigen::MatrixXd& v);
 
 DesignResult evaluate_with(const DesignOptions& o, const Design& d, const CircleFieldModel& model,
-                           const ToleranceBox& box, bool drift) {
-  const FastPipeline fast(model, {o.space.sensors[d.sensor]}, d.magnet_height_mm);
+                           const ToleranceBox& box, bool drift, bool reversed) {
+  ProbeArray array = o.space.sensors[d.sensor];
+  if (reversed)
+    for (std::size_t k = 0; k < array.w_cos.size(); ++k) {
+      array.w_cos[k] = -array.w_cos[k];
+      array.w_sin[k] = -array.w_sin[k];
+    }
+  const FastPipeline fast(model, {array}, d.magnet_height_mm);
   FastPipeline fast_run = fast;  // the run state: at speed.rpm when the encoder turns
   fast_run.set_speed(o.speed);
   const bool moving = o.speed.acts();
@@ -545,7 +557,7 @@ DesignResult evaluate_design(const DesignOptions& o, std::size_t index, const To
   const Design d = design_at(o.space, index);
   if (d.side) return evaluate_side(o, d, box, drift);
   const DesignModel dm(o, d, o.box, true);  // the models of the full box: the same for every budget line
-  return evaluate_with(o, d, *dm.model, box, drift);
+  return evaluate_with(o, d, *dm.model, box, drift, dm.reversed);
 }
 
 std::vector<DesignResult> evaluate_designs(const DesignOptions& o, std::size_t begin, std::size_t end) {
@@ -561,7 +573,7 @@ std::vector<DesignResult> evaluate_designs(const DesignOptions& o, std::size_t b
     // The models depend on the geometry alone (sensors innermost): reuse them across sensors.
     if (!dm || !same_geometry(d, last)) dm = std::make_unique<DesignModel>(o, d, o.box, true);
     last = d;
-    out.push_back(evaluate_with(o, d, *dm->model, o.box, true));
+    out.push_back(evaluate_with(o, d, *dm->model, o.box, true, dm->reversed));
   }
   return out;
 }

@@ -439,3 +439,30 @@ TEST_CASE("design: the side-shaft read radius and height are axes (physics.md's 
   CHECK(p99 > 0.1);  // the mount's residual: eccentricity and offsets (about 2 deg in the off_axis study)
   CHECK(p99 < 10);
 }
+
+TEST_CASE("design: a bore array where Bz is reversed (over the ring's inner rim) reads theta + 180, not a 360 deg error",
+          "[studies][physics][regression]") {
+  // physics.md's ring; r0 12 mm, 1 mm above the top face: 1 mm outside the bore, where the inner face's
+  // charge dominates and f(rho, z) < 0. The chip's zero takes the constant 180 deg out; before, the design
+  // reported the wrapped constant as a pp of 360 deg.
+  DesignOptions o;
+  o.space.magnet_radius_mm = {16.0};
+  o.space.magnet_inner_radius_mm = {11.0};
+  o.space.magnet_height_mm = {4.0};
+  o.space.sensors = {ProbeArray::parse("ring:8")};
+  o.space.r0_mm = {12.0, 13.5};
+  o.space.gap_mm = {1.0};
+  o.samples = 30;
+  Magnet m;
+  m.radius_mm = 16.0;
+  m.inner_radius_mm = 11.0;
+  const AnalyticField ring(m);
+  REQUIRE(ring.Bz_T(Vec3(12.0, 0, 3.0)) < 0);
+  REQUIRE(ring.Bz_T(Vec3(13.5, 0, 3.0)) > 0);
+  const std::vector<DesignResult> r = evaluate_designs(o, 0, 2);
+  CAPTURE(r[0].p99_uncal_deg, r[1].p99_uncal_deg);
+  // The reversed circle's error is the mount's, of the same order as the other circle's (not 360 deg).
+  CHECK(r[0].p99_uncal_deg < 5.0);
+  CHECK(r[0].p99_uncal_deg > 0);
+  CHECK(r[0].p50_uncal_deg < 5.0);
+}
