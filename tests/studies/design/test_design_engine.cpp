@@ -246,22 +246,25 @@ TEST_CASE("design: bad input is refused with one line naming the key", "[studies
   refuse("design.magnet_inner_radius_mm=[]", "design.magnet_inner_radius_mm");
   refuse("sensor.principle=xmr", "sensor.principle");
   // The side-shaft axes: a principle that is not a side-shaft reader, a spot the box moves into the magnet
-  // (R 2 mm: 2.3 mm is within the box's reach on the mid-plane), empty lists.
+  // (R 2 mm: the default box reaches 0.28 mm, so 2.2 mm on the mid-plane can touch it), empty lists.
   refuse("design.side_principles=[\"bz\"]", "design.side_principles");
   refuse("design.side_principles=[\"amr\"]", "design.side_principles");
   {
     Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
     cfg.set("design.side_principles=[\"inplane\"]");
     CHECK_NOTHROW(DesignOptions::from_config(cfg));  // the default read radius 3.5 mm beside R 2 mm
-    cfg.set("design.side_radius_mm=[3.5, 2.3]");
-    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm = 2.3") &&
+    cfg.set("design.side_radius_mm=[3.5, 2.3]");  // 2.3 - 0.28 > 2: clear
+    CHECK_NOTHROW(DesignOptions::from_config(cfg));
+    cfg.set("design.side_radius_mm=[3.5, 2.2]");
+    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm = 2.2") &&
                                                           Catch::Contains("allowed >"));
     cfg.set("design.side_height_mm=[3]");  // a plane 1 mm above the top face: clear of the magnet
     CHECK_NOTHROW(DesignOptions::from_config(cfg));
-    cfg.set("design.side_radius_mm=[]");
-    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm"));
-    cfg.set("design.side_radius_mm=[0]");
-    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.side_radius_mm"));
+    CHECK_THROWS_WITH(cfg.set("design.side_radius_mm=[]"), Catch::Contains("design.side_radius_mm"));
+    CHECK_THROWS_WITH(cfg.set("design.side_radius_mm=[0]"), Catch::Contains("design.side_radius_mm"));
+    cfg.set("design.side_radius_mm=[3.5]");
+    cfg.set("design.fast_steps=8");
+    CHECK_THROWS_WITH(DesignOptions::from_config(cfg), Catch::Contains("design.fast_steps") && Catch::Contains("allowed"));
   }
   // The defaults are a valid design space.
   Config cfg(merge_schemas(common_keys(), DesignOptions::keys()));
