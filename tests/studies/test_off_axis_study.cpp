@@ -61,3 +61,26 @@ TEST_CASE("off_axis study: bad input is refused", "[studies][bad-input][cli]") {
     CHECK_FALSE(fs::exists(out));
   }
 }
+
+TEST_CASE("error_spectrum: a ring's bad off-axis keys are one line naming them, exit 2, no output",
+          "[studies][bad-input][cli]") {
+  // The acceptance list's refusals at the command line: Ri >= R, a sensing point in the ring's material,
+  // a direction other than 1, -1, auto, a die centre that puts the array over the material beside the ring.
+  const std::string ring = "--set magnet.radius_mm=16 --set magnet.inner_radius_mm=11 --set magnet.height_mm=4 ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--set magnet.radius_mm=4 --set magnet.inner_radius_mm=4", "magnet.inner_radius_mm"},
+      {ring + "--set sensor.principle=inplane --set 'sensor.center_mm=[13, 0]' --set sensor.plane_height_mm=-2",
+       "sensor.center_mm"},
+      {ring + "--set sensor.direction=2", "sensor.direction"},
+      {ring + "--set sensor.r0_mm=2 --set 'sensor.center_mm=[12, 0]' --set sensor.plane_height_mm=-1",
+       "sensor.center_mm"}};
+  for (const auto& [args, key] : cases) {
+    const fs::path out = temp_out("error_spectrum_bad");  // a file path that does not exist
+    const StudyRun r = run_study_exe("error_spectrum", out, args);
+    CAPTURE(args, r.err);
+    CHECK(r.code == 2);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(r.err.find(key) != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+  }
+}
