@@ -156,8 +156,9 @@ TEST_CASE("nonlinear: the Newton step with BiCGSTAB and BoomerAMG reaches Eigen'
   // P2: the Jacobian is not symmetric (test above). fem.solver = petsc-hypre solves each Newton step
   // with PETSc's BiCGSTAB and BoomerAMG, eigen-pcg with Eigen's BiCGSTAB and Jacobi; both iterations
   // to |R| / |f| < 1e-9 (CG 1e-11) give one field: Bz on the plane equal to the level that residual
-  // allows (1e-7 of the peak; different steps, so not bit-equal), and the multigrid needs a fraction
-  // of the Krylov iterations (measured on this cup: 57 against 737, the first, linear CG step included).
+  // allows (limit 1e-8 of the peak, measured 5e-10; different steps, so not bit-equal), and the
+  // multigrid needs a fraction of the Krylov iterations (measured 65 against 855 over 9 iterations,
+  // the first, linear CG step included).
   if (!petsc_available()) {
     WARN("built without PETSc: only eigen-pcg");
     return;
@@ -179,7 +180,7 @@ TEST_CASE("nonlinear: the Newton step with BiCGSTAB and BoomerAMG reaches Eigen'
           jacobi->stats().nonlinear_iterations, amg->stats().nonlinear_residuals.back(),
           jacobi->stats().nonlinear_residuals.back(), max_dz);
   CHECK(amg->stats().nonlinear_residuals.back() < 1e-9);
-  CHECK(max_dz < 1e-7);
+  CHECK(max_dz < 1e-8);
   CHECK(amg->stats().iterations * 4 < jacobi->stats().iterations);
 }
 
