@@ -88,8 +88,10 @@ LinearSolveResult eigen_pcg_solve(const SparseMatrix& K, const Eigen::VectorXd& 
 // relative residual tol (unpreconditioned 2-norm); across all MPI ranks when
 // the process runs under mpirun (rank 0 only calls this; the other ranks are
 // in MpiSession::serve()). Throws ComputeError when CG does not converge.
+// nonsymmetric: K need not be symmetric (the Newton Jacobian of a B-H solve):
+// BiCGSTAB instead of CG with the same multigrid, same stopping rule.
 LinearSolveResult petsc_solve(const SparseMatrix& K, const Eigen::VectorXd& f, LinearSolverKind backend, double tol,
-                              int max_iterations, Eigen::VectorXd& x);
+                              int max_iterations, Eigen::VectorXd& x, bool nonsymmetric = false);
 
 // One per process of an executable that may run under mpirun. Under an MPI
 // launcher it initializes MPI/PETSc; without one (one rank) PETSc starts with

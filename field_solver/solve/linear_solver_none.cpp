@@ -14,7 +14,7 @@ LinearSolverKind resolve_linear_solver(LinearSolverKind requested) {
 }
 
 LinearSolveResult petsc_solve(const SparseMatrix&, const Eigen::VectorXd&, LinearSolverKind backend, double, int,
-                              Eigen::VectorXd&) {
+                              Eigen::VectorXd&, bool) {
   throw InputError("fem.solver = " + to_string(backend) + " is not available: this build has no PETSc");
 }
 

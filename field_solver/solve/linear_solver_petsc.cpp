@@ -68,7 +68,10 @@ enum Command : int { kQuit = 0, kSolve = 1 };
 struct Header {
   double cmd = kQuit, n = 0, backend = 0, max_iterations = 0, tol = 0;
 };
-int backend_code(LinearSolverKind b) { return b == LinearSolverKind::PetscHypre ? 1 : 0; }
+// backend: 0 GAMG, 1 BoomerAMG; + 2 for a nonsymmetric matrix (BiCGSTAB instead of CG).
+int backend_code(LinearSolverKind b, bool nonsymmetric) {
+  return (b == LinearSolverKind::PetscHypre ? 1 : 0) + (nonsymmetric ? 2 : 0);
+}
 
 // Non-blocking broadcast of the header; the waiting ranks poll it with a
 // sleep so that they do not spin a core while rank 0 meshes and assembles.
@@ -103,7 +106,9 @@ struct LocalSystem {  // this rank's rows, CSR with global columns
 constexpr int kTagRowptr = 101, kTagCols = 102, kTagVals = 103, kTagRhs = 104;
 
 // Every rank: assemble the MPIAIJ matrix from its rows, solve, return its x rows.
-LinearSolveResult solve_local(LocalSystem& s, int backend, double tol, int max_iterations, std::vector<double>& x_local) {
+LinearSolveResult solve_local(LocalSystem& s, int code, double tol, int max_iterations, std::vector<double>& x_local) {
+  const int backend = code % 2;
+  const bool nonsymmetric = code >= 2;
   const int m = s.hi - s.lo;
   Mat A;
   check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, s.n_global, s.n_global, s.rowptr.data(), s.cols.data(),
@@ -113,8 +118,10 @@ LinearSolveResult solve_local(LocalSystem& s, int backend, double tol, int max_i
   std::vector<PetscInt>().swap(s.rowptr);
   std::vector<PetscInt>().swap(s.cols);
   std::vector<PetscScalar>().swap(s.vals);
-  check(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption");
+  if (!nonsymmetric) {
+    check(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+    check(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption");
+  }
   Vec b, x;
   check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
   PetscScalar* pb;
@@ -126,7 +133,7 @@ LinearSolveResult solve_local(LocalSystem& s, int backend, double tol, int max_i
   PC pc;
   check(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
   check(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-  check(KSPSetType(ksp, KSPCG), "KSPSetType");
+  check(KSPSetType(ksp, nonsymmetric ? KSPBCGS : KSPCG), "KSPSetType");
   check(KSPGetPC(ksp, &pc), "KSPGetPC");
   if (backend == 1) {
     check(PCSetType(pc, PCHYPRE), "PCSetType(hypre)");
@@ -285,7 +292,7 @@ int mpi_world_size() {
 }
 
 LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f, LinearSolverKind backend, double tol,
-                              int max_iterations, Eigen::VectorXd& x) {
+                              int max_iterations, Eigen::VectorXd& x, bool nonsymmetric) {
   ensure_petsc();
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -303,7 +310,7 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   Header h;
   h.cmd = kSolve;
   h.n = n;
-  h.backend = backend_code(backend);
+  h.backend = backend_code(backend, nonsymmetric);
   h.max_iterations = max_iterations;
   h.tol = tol;
   LocalSystem s;
@@ -340,7 +347,7 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
     s.f.assign(f.data(), f.data() + s.hi);
   }
   std::vector<double> x_local;
-  LinearSolveResult r = solve_local(s, h.backend > 0.5 ? 1 : 0, tol, max_iterations, x_local);
+  LinearSolveResult r = solve_local(s, static_cast<int>(h.backend + 0.5), tol, max_iterations, x_local);
   x.resize(n);
   if (size > 1) {
     std::vector<double> xp(static_cast<size_t>(n));
@@ -351,10 +358,11 @@ LinearSolveResult petsc_solve(const SparseMatrix& K_in, const Eigen::VectorXd& f
   }
   gather_rss(0, size);
   if (r.iterations < 0) {
+    const std::string ksp = nonsymmetric ? "BiCGSTAB" : "CG";
     if (r.iterations <= -1000000)
-      throw ComputeError("CG did not converge: PETSc KSP reason " + std::to_string(-(r.iterations + 1000000)) +
+      throw ComputeError(ksp + " did not converge: PETSc KSP reason " + std::to_string(-(r.iterations + 1000000)) +
                          " (fem.solver = " + to_string(backend) + ")");
-    throw ComputeError("CG did not converge: relative residual " + num(r.residual) + " > fem.tolerance = " + num(tol) +
+    throw ComputeError(ksp + " did not converge: relative residual " + num(r.residual) + " > fem.tolerance = " + num(tol) +
                        " after " + std::to_string(-r.iterations - 1) + " iterations (fem.max_iterations = " +
                        std::to_string(max_iterations) + ", fem.solver = " + to_string(backend) + ")");
   }
@@ -384,7 +392,7 @@ void MpiSession::serve() {
     if (h.cmd == static_cast<double>(kQuit)) return;
     LocalSystem s = receive_rows(h, rank_, size_);
     std::vector<double> x_local;
-    solve_local(s, h.backend > 0.5 ? 1 : 0, h.tol, static_cast<int>(h.max_iterations), x_local);
+    solve_local(s, static_cast<int>(h.backend + 0.5), h.tol, static_cast<int>(h.max_iterations), x_local);
     gather_solution(x_local, s.n_global, size_, nullptr);
     gather_rss(rank_, size_);
   }

@@ -285,14 +285,25 @@ void MagnetostaticSolver::throw_not_converged(const std::vector<double>& hist, d
 }
 
 // Inexact Newton direction: J d = -R solved to eta |R|, eta = min(0.1, max(r, 0.5 tol / r)) (no
-// tighter than the step needs to reach the tolerance; never below fem.tolerance). BiCGSTAB on one
-// thread below kSerialKrylovDofs unknowns: its ~2 sparse products per iteration are too small to
-// share (on 2 busy cores the threads' barriers cost more than they save: the cup's quadrant,
-// 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md). False when it fails.
+// tighter than the step needs to reach the tolerance; never below fem.tolerance). J is not
+// symmetric (mu_r and its derivative at the centroid, the P2 gradients across the cell): BiCGSTAB,
+// with the multigrid of fem.solver when it is a PETSc one, else (eigen-pcg) Eigen's BiCGSTAB with
+// Jacobi, on one thread below kSerialKrylovDofs unknowns: its ~2 sparse products per iteration are
+// too small to share (on 2 busy cores the threads' barriers cost more than they save: the cup's
+// quadrant, 13,713 unknowns, 5.3 s -> 1.9 s with 2 threads, docs/benchmarks.md). False when it fails.
 bool MagnetostaticSolver::newton_direction(const SparseMatrix& J, const Eigen::VectorXd& R, double r, Eigen::VectorXd& d,
                                            long& linear_iterations) const {
   constexpr Eigen::Index kSerialKrylovDofs = 20000;
   const double eta = std::max(options_.tolerance, std::min(0.1, std::max(r, 0.5 * options_.nonlinear_tolerance / r)));
+  if (options_.solver == LinearSolverKind::PetscHypre || options_.solver == LinearSolverKind::PetscGamg) {
+    try {
+      const LinearSolveResult st = petsc_solve(J, -R, options_.solver, eta, options_.max_iterations, d, true);
+      linear_iterations += st.iterations;
+      return d.allFinite();
+    } catch (const ComputeError&) {
+      return false;  // not converged: the caller takes the fixed-point step
+    }
+  }
   Eigen::setNbThreads(J.rows() < kSerialKrylovDofs ? 1 : options_.threads);
   Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> bicg;
   bicg.setTolerance(eta);

@@ -16,9 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "core/cli.hpp"
 #include "core/errors.hpp"
 #include "field_solver/field_io/fem_field.hpp"
 #include "field_solver/mesh/tetgen_mesher.hpp"
+#include "field_solver/solve/fem_config.hpp"
 
 namespace fs = std::filesystem;
 
@@ -203,6 +205,23 @@ TEST_CASE("a zone core cylinder refines the mesh about the probes, nested or dow
   CAPTURE(none, nested, to_magnet);
   CHECK(nested > none);
   CHECK(to_magnet > nested);
+}
+
+TEST_CASE("meshes/equal_accuracy.toml loads and holds the GetDP comparison's grid and potential", "[field_solver][contract]") {
+  // scripts/bench_getdp.sh measures its plane.vti on the 81 x 81 grid -4..4 mm (step 0.1) at z_s = 4.55 mm
+  // against the exact field, in the total potential (docs/benchmarks.md, "Equal accuracy").
+  magenc::CommonOptions o;
+  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/equal_accuracy.toml";
+  o.sets = {"magnet.mu_r=1"};
+  const magenc::fem::FemSettings s = magenc::fem::fem_settings_from_config(magenc::load_config(magenc::fem::solve_field_schema(), o));
+  CHECK(s.solver.potential == magenc::fem::Potential::Total);
+  CHECK(s.plane.dims[0] == 81);
+  CHECK(s.plane.dims[1] == 81);
+  CHECK(s.plane.origin_mm.x() == Approx(-4.0));
+  CHECK(s.plane.origin_mm.y() == Approx(-4.0));
+  CHECK(s.plane.spacing_mm.x() == Approx(0.1));
+  CHECK(s.plane_z_mm == Approx(4.55));
+  CHECK(s.domain.magnet.mu_r == 1.0);
 }
 
 TEST_CASE("TetGen adapter rejects an empty PLC with a ComputeError", "[field_solver][bad-input]") {
