@@ -155,8 +155,12 @@ std::unique_ptr<magenc::FieldSource> mc_field(const McLayout& l) {
   if (l.magnet.is_uniform()) return std::make_unique<magenc::AnalyticField>(l.magnet);
   return std::make_unique<magenc::MultipoleField>(l.magnet);
 }
+// 360 theta nodes; the multipole's 512 (its electrically spaced ring:8 has probes every 45/32 deg, and the
+// nodes must fall on them: a multiple of 256).
+int mc_nodes(const McLayout& l) { return l.magnet.is_uniform() ? 360 : 512; }
 magenc::CircleFieldModel mc_model(const magenc::FieldSource& f, const McLayout& l) {
-  return {f, l.r0_mm, l.plane_z_mm, 360, 0.3, 0.3, 4, false, magenc::CircleFieldModel::construction_named("automatic")};
+  return {f, l.r0_mm, l.plane_z_mm, mc_nodes(l), 0.3, 0.3, 4, false,
+          magenc::CircleFieldModel::construction_named("automatic")};
 }
 void McModelBuild(benchmark::State& state, McRing ring) {
   const McLayout l = mc_layout(ring);
@@ -177,7 +181,11 @@ void McSample(benchmark::State& state, McRing ring) {
   const McLayout l = mc_layout(ring);
   const auto f = mc_field(l);
   const magenc::CircleFieldModel model = mc_model(*f, l);
-  magenc::FastPipeline fast(model, {magenc::ProbeArray::parse("ring:8")}, l.magnet.height_mm);
+  // The multipole's probes at electrical spacing (angles / p, as apply_multipole_reading sets them): the
+  // engine has no incremental reading (pole_pairs), so this times a sample on well-formed channels only.
+  magenc::ProbeArray array = magenc::ProbeArray::parse("ring:8");
+  for (double& b : array.angle_deg) b /= l.magnet.pole_pairs;
+  magenc::FastPipeline fast(model, {array}, l.magnet.height_mm);
   magenc::ToleranceCase c;
   c.mount.sx_mm = 0.03;
   c.mount.dx_mm = 0.05;
