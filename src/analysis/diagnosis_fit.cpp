@@ -226,8 +226,8 @@ Eigen::VectorXd model_curve_deg(const FieldSource& field, const CurveInput& c, c
 namespace {
 
 // A field that replays the batch readings it recorded: the Jacobian's base evaluation records its batch
-// calls, and every evaluation whose probe positions are the same bits (a parameter of the signal chain, the
-// zero offset: they move no probe) gets those readings back instead of the field's. Bit for bit what a new
+// calls, and every evaluation whose probe positions are the same bits (a parameter of the signal chain moves
+// no probe) gets those readings back instead of the field's. Bit for bit what a new
 // evaluation would give: a batch computes each point on its own. Recording is single-threaded (outside the
 // parallel region); replaying only reads.
 class BatchReplay final : public FieldSource {
