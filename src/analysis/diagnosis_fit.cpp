@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <iterator>
@@ -224,6 +225,40 @@ Eigen::VectorXd model_curve_deg(const FieldSource& field, const CurveInput& c, c
 // ---------------------------------------------------------------------------------------------------------
 namespace {
 
+// A field that replays the batch readings it recorded: the Jacobian's base evaluation records its batch
+// calls, and every evaluation whose probe positions are the same bits (a parameter of the signal chain moves
+// no probe) gets those readings back instead of the field's. Bit for bit what a new
+// evaluation would give: a batch computes each point on its own. Recording is single-threaded (outside the
+// parallel region); replaying only reads.
+class BatchReplay final : public FieldSource {
+ public:
+  explicit BatchReplay(const FieldSource& f) : f_(f) {}
+  void set_recording(bool on) { recording_ = on; }
+  std::string name() const override { return f_.name(); }
+  Vec3 B_T(const Vec3& p_mm) const override { return f_.B_T(p_mm); }
+  bool gives_full_vector() const override { return f_.gives_full_vector(); }
+  double Bz_T(const Vec3& p_mm) const override { return f_.Bz_T(p_mm); }
+  Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const override { return replay(full_, p_mm, [&] { return f_.B_T(p_mm); }); }
+  Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const override { return replay(bz_, p_mm, [&] { return f_.Bz_T(p_mm); }); }
+  const Magnet* exact_magnet() const override { return f_.exact_magnet(); }
+  std::optional<AxisymmetricParts> axisymmetric_parts() const override { return f_.axisymmetric_parts(); }
+
+ private:
+  template <class V, class F>
+  V replay(std::vector<std::pair<Eigen::Matrix3Xd, V>>& memo, const Eigen::Matrix3Xd& p, F&& eval) const {
+    const auto bytes = static_cast<std::size_t>(p.size()) * sizeof(double);
+    for (const auto& [key, value] : memo)
+      if (key.cols() == p.cols() && std::memcmp(key.data(), p.data(), bytes) == 0) return value;
+    V v = eval();
+    if (recording_) memo.emplace_back(p, v);
+    return v;
+  }
+  const FieldSource& f_;
+  bool recording_ = false;
+  mutable std::vector<std::pair<Eigen::Matrix3Xd, Eigen::Matrix3Xd>> full_;
+  mutable std::vector<std::pair<Eigen::Matrix3Xd, Eigen::VectorXd>> bz_;
+};
+
 struct Problem {
   const FieldSource& field;
   const std::vector<CurveInput>& curves;
@@ -242,8 +277,9 @@ struct Problem {
   }
   double zero(const double* u, int c) const { return free_zero ? u[n_shared() + c] * kZeroScaleDeg : 0.0; }
   // Residuals of curve c (deg); throws InputError/ComputeError where the model is undefined.
-  Eigen::VectorXd residual(int c, const double* u) const {
-    const Eigen::VectorXd m = model_curve_deg(field, curves[c], values(u));
+  Eigen::VectorXd residual(int c, const double* u) const { return residual_on(field, c, u); }
+  Eigen::VectorXd residual_on(const FieldSource& f, int c, const double* u) const {
+    const Eigen::VectorXd m = model_curve_deg(f, curves[c], values(u));
     const Eigen::VectorXd& y = curves[c].curve.error_deg;
     Eigen::VectorXd r(m.size());
     const double z = zero(u, c);
@@ -251,24 +287,32 @@ struct Problem {
     return r;
   }
   // Residual and scaled Jacobian (N x n_vars) of curve c by central differences (zero offsets exact). The
-  // 2*n_shared + 1 model evaluations run in parallel (one OpenMP region per Jacobian: the field's own batch
-  // parallelism is nested inside and runs serially there), so a Jacobian costs one barrier, not 2p + 1 —
-  // which matters on a loaded machine, where every barrier waits for a time slice.
+  // base evaluation runs first (its field batch on all threads) and records its field readings; the
+  // 2*n_shared perturbed evaluations then run in parallel (one OpenMP region: the field's own batch
+  // parallelism is nested inside and runs serially there), those that move no probe replaying the base's
+  // readings (BatchReplay). So a Jacobian costs two barriers, not 2p + 1 (which matters on a loaded
+  // machine, where every barrier waits for a time slice), and a signal-chain parameter costs no field.
   void jacobian(int c, const double* u, Eigen::VectorXd* r, Eigen::MatrixXd* J) const {
     const int ns = n_shared(), evals = 2 * ns + 1;
     std::vector<Eigen::VectorXd> out(evals);
     std::vector<std::string> err(evals);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int e = 0; e < evals; ++e) {
+    BatchReplay replay(field);
+    const auto evaluate = [&](int e) {
       std::vector<double> w(u, u + n_vars());
       if (e > 0) w[(e - 1) / 2] += (e % 2 == 1 ? fd_step : -fd_step);
       try {
-        out[e] = residual(c, w.data());
+        out[e] = residual_on(replay, c, w.data());
       } catch (const std::exception& ex) {
         err[e] = ex.what();
       }
-    }
-    for (int e = 0; e < evals; ++e)
+    };
+    replay.set_recording(true);
+    evaluate(0);
+    if (!err[0].empty()) throw InputError(err[0]);
+    replay.set_recording(false);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int e = 1; e < evals; ++e) evaluate(e);
+    for (int e = 1; e < evals; ++e)
       if (!err[e].empty()) throw InputError(err[e]);
     if (r) *r = out[0];
     const auto N = curves[c].curve.theta_deg.size();
