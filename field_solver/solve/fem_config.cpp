@@ -61,6 +61,11 @@ std::vector<KeySpec> fem_keys() {
                "tolerance (total potential, meshes/coarse.toml: c4 7.5e-8 deg at 1e-8, 4.9e-10 deg at 1e-10), so "
                "checks of that symmetry set 1e-10)", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
+      real_key("fem.bh_iron_max_mu_r", kBhIronMaxMuR, 1, 1e6, "",
+               "B-H curves whose polarization B - mu0 H reaches 1.7 T (iron, steels, Fe-Si, Fe-Co): the largest "
+               "secant relative permeability allowed; above it the curve is refused as H in Oe, A/cm, kA/m or mT "
+               "of mu0 H under the H_A_per_m header (isotropic steels and irons stay below 5e4; raise it for "
+               "grain-oriented Fe-Si or hydrogen-annealed iron)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
       bool_key("fem.quadrant_solve", true,
                "with mesh.symmetric: solve on the quadrant x, y >= 0 with symmetry conditions and mirror the "
@@ -180,13 +185,13 @@ std::filesystem::path part_material_bh_file(const std::string& material) {
   return std::filesystem::path(MAGENC_SOURCE_DIR) / f;
 }
 
-double part_material_mu_r(const std::string& material, const std::string& what) {
+double part_material_mu_r(const std::string& material, const std::string& what, double iron_max_mu_r) {
   auto bad = [&]() -> double {
     throw InputError(what + ": material = '" + material + "' is out of range: allowed mu_r:VALUE (VALUE in [1, 1e6]) or one of " +
                      part_material_names());
   };
   if (const std::filesystem::path f = part_material_bh_file(material); !f.empty()) {
-    const BhCurve c = read_bh_csv(f);
+    const BhCurve c = read_bh_csv(f, iron_max_mu_r);
     return c.mu_r(0.0);
   }
   if (material.rfind("mu_r:", 0) == 0) {
@@ -236,13 +241,13 @@ std::vector<PartSpec> parts_from_config(const Config& cfg) {
     p.material = t.text("material");
     if (const std::filesystem::path f = part_material_bh_file(p.material); !f.empty()) {
       try {
-        p.bh = std::make_shared<const BhCurve>(read_bh_csv(f));
+        p.bh = std::make_shared<const BhCurve>(read_bh_csv(f, cfg.real("fem.bh_iron_max_mu_r")));
       } catch (const InputError& e) {
         throw InputError(what + ": " + e.what());
       }
       p.mu_r = std::min(1e6, std::max(1.0, p.bh->mu_r(0.0)));
     } else {
-      p.mu_r = part_material_mu_r(p.material, what);
+      p.mu_r = part_material_mu_r(p.material, what, cfg.real("fem.bh_iron_max_mu_r"));
     }
     out.push_back(std::move(p));
   }
