@@ -107,6 +107,7 @@ BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string
     check_plausible_row(i, where);
   }
   check_iron_permeability(where, iron_max_mu_r);
+  check_segments(where);
   slope_ = pchip_slopes(H_, B_);
 }
 
@@ -115,16 +116,23 @@ void BhCurve::check_plausible_row(std::size_t i, const std::string& where) const
   const double J = B_[i] - kMu0_T_m_per_A * H_[i];
   if (J > kMaxPolarization_T)
     throw InputError(row + " has a polarization B - mu0 H of " + num(J) + " T: allowed at most " +
-                     num(kMaxPolarization_T) + " T (soft iron saturates below 2.5 T; " + likely_b_unit(*std::max_element(B_.begin(), B_.end())) + ")");
+                     num(kMaxPolarization_T) + " T (soft iron saturates below 2.5 T; " +
+                     likely_b_unit(*std::max_element(B_.begin(), B_.end())) + ")");
   const double secant = B_[i] / (kMu0_T_m_per_A * H_[i]);
-  const double segment = (B_[i] - B_[i - 1]) / (kMu0_T_m_per_A * (H_[i] - H_[i - 1]));
   if (secant > kMaxRelativePermeability)
     throw InputError(row + " gives a relative permeability of " + num(secant) + ": allowed at most " +
                      num(kMaxRelativePermeability) + " (" + likely_h_unit(H_, B_, secant) + ")");
-  if (segment > kMaxRelativePermeability)
-    throw InputError(row + " gives a relative permeability of " + num(segment) +
-                     " over the segment from the row before: allowed at most " + num(kMaxRelativePermeability) +
-                     " (two rows of nearly the same H?)");
+}
+
+void BhCurve::check_segments(const std::string& where) const {
+  for (std::size_t i = 1; i < H_.size(); ++i) {
+    const double segment = (B_[i] - B_[i - 1]) / (kMu0_T_m_per_A * (H_[i] - H_[i - 1]));
+    if (segment > kMaxRelativePermeability)
+      throw InputError(where + ": row " + std::to_string(i + 1) + " (H " + num(H_[i]) + " A/m, B " + num(B_[i]) +
+                       " T) gives a relative permeability of " + num(segment) +
+                       " over the segment from the row before: allowed at most " + num(kMaxRelativePermeability) +
+                       " (two rows of nearly the same H?)");
+  }
 }
 
 void BhCurve::check_iron_permeability(const std::string& where, double iron_max_mu_r) const {

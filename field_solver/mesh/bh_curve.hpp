@@ -50,6 +50,7 @@ class BhCurve {
  private:
   void check_plausible_row(std::size_t i, const std::string& where) const;
   void check_iron_permeability(const std::string& where, double iron_max_mu_r) const;
+  void check_segments(const std::string& where) const;
   std::vector<double> H_, B_, slope_;  // rows and PCHIP slopes dB/dH at them
 };
 

@@ -44,6 +44,10 @@ std::vector<KeySpec> fem_keys() {
                "mesh.zone_half_height_mm, clamped above the magnet) takes core and zone down to the magnet's top face"),
       real_key("mesh.quality_ratio", mesh_defaults::kQualityRatio, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
       real_key("mesh.min_dihedral_deg", mesh_defaults::kMinDihedral_deg, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      real_key("mesh.max_mesher_seconds", 900, 0, 1e6, "s",
+               "time budget of each TetGen run (in a child process, stopped and refused past it; with the point "
+               "budget of 4 per 5 estimated tetrahedra it bounds a mesh that would not end; 0: no budget, TetGen in "
+               "this process)"),
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.solver", to_string(LinearSolverKind::Auto), linear_solver_names(),
@@ -406,6 +410,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   m.symmetry_order = static_cast<int>(cfg.integer("mesh.symmetry_order"));
   m.mesher.radius_edge_ratio = cfg.real("mesh.quality_ratio");
   m.mesher.min_dihedral_deg = cfg.real("mesh.min_dihedral_deg");
+  m.mesher.max_seconds = cfg.real("mesh.max_mesher_seconds");
   // Refinement zone: z_s +- half height, but never closer to the magnet than h/2.
   d.zone.half_width_mm = cfg.real("mesh.zone_half_width_mm");
   d.zone.z_min_mm = std::max(s.plane_z_mm - cfg.real("mesh.zone_half_height_mm"), top + 0.5 * h);
