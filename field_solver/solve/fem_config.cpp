@@ -13,7 +13,10 @@
 
 namespace magenc::fem {
 
-std::vector<KeySpec> fem_keys() {
+namespace {
+
+// The [mesh] keys (fem_keys() begins with them).
+std::vector<KeySpec> mesh_keys() {
   return {
       int_key("mesh.segments", mesh_defaults::kSegments, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
       bool_key("mesh.equal_area", mesh_defaults::kEqualArea, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
@@ -48,6 +51,14 @@ std::vector<KeySpec> fem_keys() {
                "time budget of each TetGen run (in a child process, stopped and refused past it; with the point "
                "budget of 4 per 5 estimated tetrahedra it bounds a mesh that would not end; 0: no budget, TetGen in "
                "this process)"),
+  };
+}
+
+}  // namespace
+
+std::vector<KeySpec> fem_keys() {
+  std::vector<KeySpec> keys = mesh_keys();
+  const std::vector<KeySpec> rest = {
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.solver", to_string(LinearSolverKind::Auto), linear_solver_names(),
@@ -119,6 +130,8 @@ std::vector<KeySpec> fem_keys() {
           "permeable parts around the magnet (holders, shafts, shields), any number; coaxial or off the axis; "
           "may touch the magnet or each other, never overlap"),
   };
+  keys.insert(keys.end(), rest.begin(), rest.end());
+  return keys;
 }
 
 namespace {

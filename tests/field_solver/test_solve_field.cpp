@@ -228,7 +228,7 @@ TEST_CASE("the mesher in a child process gives this process's mesh, and is refus
                     Catch::Contains("the mesher ran past its time budget of 1e-06 s (mesh.max_mesher_seconds)"));
 }
 
-TEST_CASE("solve_field past the mesher's time budget: one line, exit 2, no output, lock or temporary; a re-run succeeds",
+TEST_CASE("solve_field past the mesher's time budget: one line, exit 2, no output, lock or temporary, and a re-run succeeds",
           "[field_solver][bad-input][cli]") {
   const fs::path out = scratch("mesher_budget");
   const Result r = solve_field("--set mesh.max_mesher_seconds=0.000001", out);
