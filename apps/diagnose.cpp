@@ -112,6 +112,9 @@ int run(int argc, char** argv) {
   magenc::AtomicDir out(common.out.empty() ? std::string("output/diagnose") : common.out);
   magenc::write_diagnosis_outputs(out.path(), curves, res, info);
   out.commit();
+  if (!res.converged)
+    std::cerr << "diagnose: warning: the best start stopped at its iteration cap before converging (" << res.termination
+              << "): fit.json has \"converged\": false; its values may not be the minimum\n";
   std::cout << "diagnose: residual RMS " << res.residual_rms_deg << " deg; results in " << out.final_path().string()
             << "\n";
   return 0;

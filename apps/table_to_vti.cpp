@@ -37,7 +37,7 @@ int run(int argc, char** argv) {
   const magenc::Config cfg = magenc::load_config(schema, common);
 
   // 2. Read and check the table (z of a 2-D table: the configured sensing plane).
-  const magenc::GridData grid = magenc::read_field_table(table, magenc::sensing_plane_z_mm(cfg));
+  const magenc::GridData grid = magenc::read_field_table(table, magenc::sensing_plane_z_mm(cfg), magenc::field_table_limits(cfg));
 
   // 3. Write the .vti atomically.
   std::filesystem::path out = common.out;

@@ -50,9 +50,42 @@ std::vector<double> pchip_slopes(const std::vector<double>& x, const std::vector
   return m;
 }
 
+
+// The likely unit of B when the polarization exceeds 3 T: the curve's largest B read as kG, mT or G would be
+// 0.3-5 T, 0.05-5 T, 0.5-... T.
+std::string likely_b_unit(double b_max) {
+  if (b_max <= 50) return "B in kG (1 kG = 0.1 T) under a B_T header?";
+  if (b_max <= 5000) return "B in mT under a B_T header?";
+  return "B in G (1 G = 1e-4 T) under a B_T header?";
+}
+
+// The H at which the polarization B - mu0 H first reaches J_T (linear between rows), or -1.
+double h_at_polarization(const std::vector<double>& H, const std::vector<double>& B, double J_T) {
+  for (std::size_t i = 1; i < H.size(); ++i) {
+    const double j0 = B[i - 1] - kMu0_T_m_per_A * H[i - 1], j1 = B[i] - kMu0_T_m_per_A * H[i];
+    if (j1 >= J_T) return j1 > j0 ? H[i - 1] + (J_T - j0) / (j1 - j0) * (H[i] - H[i - 1]) : H[i];
+  }
+  return -1;
+}
+
+// The likely unit of H of a curve whose permeability is too large (mu_r the largest secant). Steels reach
+// 1.7 T at 1.5-20 kA/m (the curves of materials/: 4.4-6.8 kA/m), so read as Oe at 19-250, as kA/m or mT of
+// mu0 H at 1.5-25: a curve reaching 1.7 T below 20 of its units is likely kA/m, above it Oe.
+std::string likely_h_unit(const std::vector<double>& H, const std::vector<double>& B, double mu_r) {
+  constexpr double kOe_A_per_m = 1e3 / (4 * 3.14159265358979323846);  // 79.577 A/m
+  const double h17 = h_at_polarization(H, B, kBhIronPolarization_T);
+  auto as = [&](const std::string& unit, double factor) {
+    return "H likely in " + unit + ": x " + num(factor) + " gives a relative permeability of " + num(mu_r / factor) +
+           (h17 > 0 ? " and 1.7 T at " + num(h17 * factor) + " A/m" : "");
+  };
+  if (h17 > 0) return h17 < 20 ? as("kA/m (or mT of mu0 H, x 795.8)", 1000) : as("Oe (or A/cm, x 100)", kOe_A_per_m);
+  return "H in Oe (relative permeability then " + num(mu_r / kOe_A_per_m) + ") or kA/m (" + num(mu_r / 1000) +
+         ") under an H_A_per_m header?";
+}
+
 }  // namespace
 
-BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string& where)
+BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string& where, double iron_max_mu_r)
     : H_(std::move(H)), B_(std::move(B)) {
   const std::string allowed = "allowed rows H_A_per_m,B_T starting at 0,0, both strictly increasing, at least " +
                               std::to_string(kMinRows) + " rows, B >= mu0 H";
@@ -73,6 +106,8 @@ BhCurve::BhCurve(std::vector<double> H, std::vector<double> B, const std::string
                        num(kMu0_T_m_per_A * H_[i]) + " T (relative permeability below 1): " + allowed);
     check_plausible_row(i, where);
   }
+  check_iron_permeability(where, iron_max_mu_r);
+  check_segments(where);
   slope_ = pchip_slopes(H_, B_);
 }
 
@@ -81,14 +116,36 @@ void BhCurve::check_plausible_row(std::size_t i, const std::string& where) const
   const double J = B_[i] - kMu0_T_m_per_A * H_[i];
   if (J > kMaxPolarization_T)
     throw InputError(row + " has a polarization B - mu0 H of " + num(J) + " T: allowed at most " +
-                     num(kMaxPolarization_T) + " T (soft iron saturates below 2.5 T; B in mT under a B_T header?)");
+                     num(kMaxPolarization_T) + " T (soft iron saturates below 2.5 T; " +
+                     likely_b_unit(*std::max_element(B_.begin(), B_.end())) + ")");
   const double secant = B_[i] / (kMu0_T_m_per_A * H_[i]);
-  const double segment = (B_[i] - B_[i - 1]) / (kMu0_T_m_per_A * (H_[i] - H_[i - 1]));
-  if (secant > kMaxRelativePermeability || segment > kMaxRelativePermeability)
-    throw InputError(row + " gives a relative permeability of " + num(std::max(secant, segment)) +
-                     (segment > secant ? " over the segment from the row before" : "") + ": allowed at most " +
-                     num(kMaxRelativePermeability) +
-                     " (H in kA/m or Oe under an H_A_per_m header, or two rows of nearly the same H?)");
+  if (secant > kMaxRelativePermeability)
+    throw InputError(row + " gives a relative permeability of " + num(secant) + ": allowed at most " +
+                     num(kMaxRelativePermeability) + " (" + likely_h_unit(H_, B_, secant) + ")");
+}
+
+void BhCurve::check_segments(const std::string& where) const {
+  for (std::size_t i = 1; i < H_.size(); ++i) {
+    const double segment = (B_[i] - B_[i - 1]) / (kMu0_T_m_per_A * (H_[i] - H_[i - 1]));
+    if (segment > kMaxRelativePermeability)
+      throw InputError(where + ": row " + std::to_string(i + 1) + " (H " + num(H_[i]) + " A/m, B " + num(B_[i]) +
+                       " T) gives a relative permeability of " + num(segment) +
+                       " over the segment from the row before: allowed at most " + num(kMaxRelativePermeability) +
+                       " (two rows of nearly the same H?)");
+  }
+}
+
+void BhCurve::check_iron_permeability(const std::string& where, double iron_max_mu_r) const {
+  if (h_at_polarization(H_, B_, kBhIronPolarization_T) < 0) return;  // not iron or steel (or not saturated)
+  std::size_t worst = 1;
+  for (std::size_t i = 1; i < H_.size(); ++i)
+    if (B_[i] / H_[i] > B_[worst] / H_[worst]) worst = i;
+  const double mu = B_[worst] / (kMu0_T_m_per_A * H_[worst]);
+  if (mu > iron_max_mu_r)
+    throw InputError(where + ": row " + std::to_string(worst + 1) + " (H " + num(H_[worst]) + " A/m, B " +
+                     num(B_[worst]) + " T) gives a relative permeability of " + num(mu) +
+                     " on a curve reaching a polarization of 1.7 T (iron or steel): allowed at most " +
+                     num(iron_max_mu_r) + " (fem.bh_iron_max_mu_r; " + likely_h_unit(H_, B_, mu) + ")");
 }
 
 double BhCurve::B_T(double H) const {
@@ -119,7 +176,7 @@ double BhCurve::mu_r(double H) const {
   return B_T(H) / (kMu0_T_m_per_A * H);
 }
 
-BhCurve parse_bh_csv(const std::string& text, const std::string& where) {
+BhCurve parse_bh_csv(const std::string& text, const std::string& where, double iron_max_mu_r) {
   const NumericTable t = parse_numeric_table(text, where, {"H_A_per_m", "B_T"});
   const int ch = t.column("H_A_per_m"), cb = t.column("B_T");
   if (ch < 0 || cb < 0)
@@ -130,12 +187,12 @@ BhCurve parse_bh_csv(const std::string& text, const std::string& where) {
     H.push_back(t.at(r, static_cast<std::size_t>(ch)));
     B.push_back(t.at(r, static_cast<std::size_t>(cb)));
   }
-  return BhCurve(std::move(H), std::move(B), where);
+  return BhCurve(std::move(H), std::move(B), where, iron_max_mu_r);
 }
 
-BhCurve read_bh_csv(const std::filesystem::path& file) {
+BhCurve read_bh_csv(const std::filesystem::path& file, double iron_max_mu_r) {
   const std::string where = "B-H curve " + file.string();
-  return parse_bh_csv(read_text_file(file, where, std::uintmax_t(1) << 24), where);
+  return parse_bh_csv(read_text_file(file, where, std::uintmax_t(1) << 24), where, iron_max_mu_r);
 }
 
 }  // namespace magenc::fem

@@ -13,7 +13,10 @@
 
 namespace magenc::fem {
 
-std::vector<KeySpec> fem_keys() {
+namespace {
+
+// The [mesh] keys (fem_keys() begins with them).
+std::vector<KeySpec> mesh_keys() {
   return {
       int_key("mesh.segments", mesh_defaults::kSegments, 8, 4096, "polygon segments around the magnet's (and shaft's) curved face"),
       bool_key("mesh.equal_area", mesh_defaults::kEqualArea, "scale the polygon radius so its area equals pi R^2 (dipole moment exact)"),
@@ -44,6 +47,18 @@ std::vector<KeySpec> fem_keys() {
                "mesh.zone_half_height_mm, clamped above the magnet) takes core and zone down to the magnet's top face"),
       real_key("mesh.quality_ratio", mesh_defaults::kQualityRatio, 1.05, 10, "", "TetGen radius-edge quality bound (-q)"),
       real_key("mesh.min_dihedral_deg", mesh_defaults::kMinDihedral_deg, 0, 30, "deg", "TetGen minimum dihedral angle (-q)"),
+      real_key("mesh.max_mesher_seconds", 900, 0, 1e6, "s",
+               "time budget of each TetGen run (in a child process, stopped and refused past it; with the point "
+               "budget of 4 per 5 estimated tetrahedra it bounds a mesh that would not end; 0: no budget, TetGen in "
+               "this process)"),
+  };
+}
+
+}  // namespace
+
+std::vector<KeySpec> fem_keys() {
+  std::vector<KeySpec> keys = mesh_keys();
+  const std::vector<KeySpec> rest = {
       int_key("fem.order", 2, 1, 2, "Lagrange order of the elements (1 or 2)"),
       string_key("fem.boundary", "robin", {"robin", "dirichlet"}, "far boundary: dipole Robin or psi = 0"),
       string_key("fem.solver", to_string(LinearSolverKind::Auto), linear_solver_names(),
@@ -61,6 +76,11 @@ std::vector<KeySpec> fem_keys() {
                "tolerance (total potential, meshes/coarse.toml: c4 7.5e-8 deg at 1e-8, 4.9e-10 deg at 1e-10), so "
                "checks of that symmetry set 1e-10)", true),
       int_key("fem.max_iterations", 20000, 1, 100000000, "CG iteration cap (failure when reached)"),
+      real_key("fem.bh_iron_max_mu_r", kBhIronMaxMuR, 1, 1e6, "",
+               "B-H curves whose polarization B - mu0 H reaches 1.7 T (iron, steels, Fe-Si, Fe-Co): the largest "
+               "secant relative permeability allowed; above it the curve is refused as H in Oe, A/cm, kA/m or mT "
+               "of mu0 H under the H_A_per_m header (isotropic steels and irons stay below 5e4; raise it for "
+               "grain-oriented Fe-Si or hydrogen-annealed iron)"),
       int_key("fem.threads", 0, 0, 1024, "OpenMP threads (0 = all)"),
       bool_key("fem.quadrant_solve", true,
                "with mesh.symmetric: solve on the quadrant x, y >= 0 with symmetry conditions and mirror the "
@@ -110,6 +130,8 @@ std::vector<KeySpec> fem_keys() {
           "permeable parts around the magnet (holders, shafts, shields), any number; coaxial or off the axis; "
           "may touch the magnet or each other, never overlap"),
   };
+  keys.insert(keys.end(), rest.begin(), rest.end());
+  return keys;
 }
 
 namespace {
@@ -180,13 +202,13 @@ std::filesystem::path part_material_bh_file(const std::string& material) {
   return std::filesystem::path(MAGENC_SOURCE_DIR) / f;
 }
 
-double part_material_mu_r(const std::string& material, const std::string& what) {
+double part_material_mu_r(const std::string& material, const std::string& what, double iron_max_mu_r) {
   auto bad = [&]() -> double {
     throw InputError(what + ": material = '" + material + "' is out of range: allowed mu_r:VALUE (VALUE in [1, 1e6]) or one of " +
                      part_material_names());
   };
   if (const std::filesystem::path f = part_material_bh_file(material); !f.empty()) {
-    const BhCurve c = read_bh_csv(f);
+    const BhCurve c = read_bh_csv(f, iron_max_mu_r);
     return c.mu_r(0.0);
   }
   if (material.rfind("mu_r:", 0) == 0) {
@@ -236,13 +258,13 @@ std::vector<PartSpec> parts_from_config(const Config& cfg) {
     p.material = t.text("material");
     if (const std::filesystem::path f = part_material_bh_file(p.material); !f.empty()) {
       try {
-        p.bh = std::make_shared<const BhCurve>(read_bh_csv(f));
+        p.bh = std::make_shared<const BhCurve>(read_bh_csv(f, cfg.real("fem.bh_iron_max_mu_r")));
       } catch (const InputError& e) {
         throw InputError(what + ": " + e.what());
       }
       p.mu_r = std::min(1e6, std::max(1.0, p.bh->mu_r(0.0)));
     } else {
-      p.mu_r = part_material_mu_r(p.material, what);
+      p.mu_r = part_material_mu_r(p.material, what, cfg.real("fem.bh_iron_max_mu_r"));
     }
     out.push_back(std::move(p));
   }
@@ -401,6 +423,7 @@ FemSettings fem_settings_from_config(const Config& cfg) {
   m.symmetry_order = static_cast<int>(cfg.integer("mesh.symmetry_order"));
   m.mesher.radius_edge_ratio = cfg.real("mesh.quality_ratio");
   m.mesher.min_dihedral_deg = cfg.real("mesh.min_dihedral_deg");
+  m.mesher.max_seconds = cfg.real("mesh.max_mesher_seconds");
   // Refinement zone: z_s +- half height, but never closer to the magnet than h/2.
   d.zone.half_width_mm = cfg.real("mesh.zone_half_width_mm");
   d.zone.z_min_mm = std::max(s.plane_z_mm - cfg.real("mesh.zone_half_height_mm"), top + 0.5 * h);

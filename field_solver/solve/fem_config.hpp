@@ -21,8 +21,8 @@ std::vector<KeySpec> solve_field_schema();
 // [[parts]] of the configuration (material resolved to mu_r; geometry checked by DomainSpec::validate).
 std::vector<PartSpec> parts_from_config(const Config& cfg);
 // A part's material text (mu_r:VALUE, bh:FILE or a named material) as mu_r (a B-H curve: its initial
-// slope); InputError naming `what` and the allowed forms.
-double part_material_mu_r(const std::string& material, const std::string& what);
+// slope, the curve held to iron_max_mu_r as read_bh_csv); InputError naming `what` and the allowed forms.
+double part_material_mu_r(const std::string& material, const std::string& what, double iron_max_mu_r = kBhIronMaxMuR);
 // The named materials ("a, b, ...") and the source of one ("" when unknown).
 std::string part_material_names();
 std::string part_material_source(const std::string& name);

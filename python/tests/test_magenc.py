@@ -188,6 +188,17 @@ def test_diagnose_equals_the_executable_and_recovers_the_truth(tmp_path, run_exe
         magenc.diagnose(curve, free="nosuch")
     with pytest.raises(ValueError):
         magenc.diagnose(tmp_path / "missing.csv")
+    assert fit["converged"] is True and fit["converged"] == exe["converged"]
+    assert fit["explained_fraction"] == pytest.approx(exe["explained_fraction"], abs=1e-9)
+
+
+def test_diagnose_raises_on_a_fit_that_explains_nothing(tmp_path):
+    # A 0.5 deg 7th harmonic: no offset of `two` makes one; the executable exits 3, the module raises.
+    curve = tmp_path / "h7.csv"
+    curve.write_text("theta_deg,error_deg\n" + "".join(
+        f"{2.0 * i:.17g},{0.5 * math.sin(7 * math.radians(2.0 * i)):.17g}\n" for i in range(180)))
+    with pytest.raises(magenc.ComputeError, match="in harmonics 1..8"):
+        magenc.diagnose(curve, free=["sx", "sy", "dx", "dy"], starts=2)
 
 
 # ---- inspect ----

@@ -82,6 +82,29 @@ double ChannelEllipse::angle_deg(double u_c, double u_s) const {
   return rad_to_deg(std::atan2((y - x * std::sin(d)) / std::cos(d), x));
 }
 
+namespace {
+
+// The channels must follow the fitted ellipse: corrected to a circle (offsets, gain ratio, phase), their
+// radius may spread by at most kOgpMaxRadiusSpread of its mean (RMS). Channels with harmonics (a real
+// sensor's few %) pass; noise, or channels of another turn count, give a conic that is no description.
+constexpr double kOgpMaxRadiusSpread = 0.25;
+
+void check_ellipse_fit(const ChannelEllipse& el, const Eigen::VectorXd& u_cos, const Eigen::VectorXd& u_sin) {
+  const double d = deg_to_rad(el.phase_deg);
+  Eigen::ArrayXd r(u_cos.size());
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const double x = u_cos[i] - el.offset_cos, y = (u_sin[i] - el.offset_sin) / el.gain_ratio;
+    r[i] = std::hypot(x, (y - x * std::sin(d)) / std::cos(d));
+  }
+  const double mean = r.mean(), spread = std::sqrt((r - mean).square().mean()) / mean;
+  if (!(std::isfinite(spread) && spread <= kOgpMaxRadiusSpread))
+    throw InputError("ogp calibration: the channels leave the fitted ellipse by " + fmt_sig(100 * spread, 3) +
+                     " % RMS of its radius: allowed at most " + fmt_sig(100 * kOgpMaxRadiusSpread, 3) +
+                     " % (channels that turn once per electrical turn on an ellipse)");
+}
+
+}  // namespace
+
 ChannelEllipse fit_channel_ellipse(const Eigen::VectorXd& u_cos, const Eigen::VectorXd& u_sin) {
   const auto n = u_cos.size();
   if (n < 6 || u_sin.size() != n)
@@ -118,6 +141,7 @@ ChannelEllipse fit_channel_ellipse(const Eigen::VectorXd& u_cos, const Eigen::Ve
   el.offset_sin = ms + s * y0;
   el.gain_ratio = std::sqrt(a / c);
   el.phase_deg = rad_to_deg(std::asin(std::clamp(-b / (2 * std::sqrt(a * c)), -1.0, 1.0)));
+  check_ellipse_fit(el, u_cos, u_sin);
   return el;
 }
 

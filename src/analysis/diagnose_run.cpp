@@ -46,6 +46,7 @@ DiagnoseRun run_diagnose(const DiagnoseRequest& req, const Config& cfg) {
   }
   run.result = diagnose_curves(*field, run.curves, opts);
   opts.identifiability_field = nullptr;
+  if (!run.result.unexplained.empty()) throw ComputeError(run.result.unexplained);
   return run;
 }
 

@@ -38,6 +38,9 @@ struct DiagnoseRun {
 
 // Everything is read and checked before the fit: InputError (one line naming the option) for a bad curve,
 // a bad --curve-set, an unknown free name, a gap limit out of range or a field that cannot be opened.
+// ComputeError (one line) when no start converged or the fit does not explain the curves
+// (DiagnosisResult::unexplained). A best start stopped at its iteration cap is a result with
+// converged = false (fit.json "converged": false; the executable says so on stderr).
 DiagnoseRun run_diagnose(const DiagnoseRequest& req, const Config& cfg);
 
 }  // namespace magenc

@@ -696,6 +696,8 @@ class MultiStart {
       best_u = u;
       res_.best_start = s;
       res_.iterations = static_cast<int>(sum.iterations.size()) - 1;
+      res_.converged = sum.termination_type == ceres::CONVERGENCE;
+      res_.termination = sum.message;
     }
   }
 
@@ -907,6 +909,30 @@ void set_values(const Problem& p, const DiagnosisOptions& opts, const std::vecto
 }
 
 // 4.6 Curves: fitted, residual, spectra.
+// 4.7 Whether the fit explains the curves (DiagnosisResult::unexplained).
+void judge_fit(const Problem& p, bool free_zero, DiagnosisResult& res) {
+  double rss_curves = 0, rss = 0, harmonic = 0;
+  for (std::size_t c = 0; c < p.curves.size(); ++c) {
+    const Eigen::VectorXd& e = p.curves[c].curve.error_deg;
+    const double mean = free_zero ? e.mean() : 0.0;
+    rss_curves += (e.array() - mean).square().sum();
+    const CurveFit& cf = res.curves[c];
+    rss += cf.residual_deg.squaredNorm();
+    // harmonics_ls: a0, a1, b1, ..., a8, b8; harmonic k of amplitude A carries A^2 / 2 per sample.
+    double hk = 0;
+    for (Eigen::Index k = 1; k < cf.residual_h.size(); ++k) hk += 0.5 * cf.residual_h[k] * cf.residual_h[k];
+    harmonic += hk * static_cast<double>(e.size());
+  }
+  res.explained_fraction = rss_curves > 0 ? 1 - rss / rss_curves : 1.0;
+  res.residual_harmonic_share = rss > 0 ? std::min(1.0, harmonic / rss) : 0.0;
+  if (res.explained_fraction < 0.75 && res.residual_harmonic_share > 0.5)
+    res.unexplained = "diagnose: the fit leaves a residual RMS of " + num(res.residual_rms_deg) + " deg, " +
+                      num(std::round(100 * std::sqrt(1 - res.explained_fraction))) +
+                      " % of the curves' RMS, " + num(std::round(100 * res.residual_harmonic_share)) +
+                      " % of it in harmonics 1..8 (an error the model cannot make, not noise): allowed at most 50 % "
+                      "(check --array, --r0, --field, --error-sign and the curve's units)";
+}
+
 void set_curve_fits(const Problem& p, const std::vector<double>& best_u, DiagnosisResult& res) {
   const auto& curves = p.curves;
   for (int c = 0; c < static_cast<int>(curves.size()); ++c) {
@@ -967,6 +993,7 @@ DiagnosisResult diagnose_curves(const FieldSource& field, const std::vector<Curv
   set_values(p, opts, ms.best_u, sigma, var_names, unidentifiable, res);
   // 4.6 Curves.
   set_curve_fits(p, ms.best_u, res);
+  judge_fit(p, opts.free_zero, res);
   res.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

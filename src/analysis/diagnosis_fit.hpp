@@ -138,6 +138,17 @@ struct DiagnosisResult {
   int best_start = 0;
   int iterations = 0;                 // of the best start
   std::string default_free_note;      // how the default free set was chosen (empty when --free was given)
+  // Whether the fit is an answer (fit_judgement). converged: the best start's optimizer met its tolerances
+  // (false: it stopped at DiagnosisOptions::max_iterations; termination: the optimizer's words).
+  bool converged = true;
+  std::string termination;
+  // The share of the curves' variation (about each curve's mean with a free zero offset) the fit explains,
+  // 1 - RSS / RSS of the curves, and the share of the residual's power in harmonics 1..8 of theta.
+  double explained_fraction = 1, residual_harmonic_share = 0;
+  // Non-empty when the fit explains less than half of the curves' RMS (explained_fraction < 0.75) and its
+  // residual is mostly harmonics 1..8 (share > 0.5): a structured error the model cannot make (wrong array,
+  // r0, field or error sign), not noise; then the values are no diagnosis.
+  std::string unexplained;
   double fit_seconds = 0;
 };
 

@@ -16,7 +16,7 @@ InspectRun run_inspect(const InspectRequest& req, const Config& cfg) {
   InspectOptions opts;
   opts.groups = parse_inspect_groups(req.free, req.free_name);
   opts.cond_limit = req.cond_limit;
-  const ScanTable table = read_scan_csv(req.scan_file);
+  const ScanTable table = read_scan_csv(req.scan_file, field_table_limits(cfg));
   InspectRun run{FieldScan{table.p_mm, table.B_T}, table.unit, {}};
   run.result = inspect_scan(magnet, run.scan, opts);
   return run;

@@ -412,18 +412,22 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Distinct levels of the coordinates v (merged when they differ by <= 1e-9 of the axis scale: printing
-// noise) and each row's level.
+// Distinct levels of the coordinates v (merged when they differ by <= 1e-9 of their size or of the median
+// |v|, whichever is larger: printing noise) and each row's level. The median, not the range: one far point
+// (1e12 mm beside a grid of 0..3 mm) must not merge the grid's own levels into one.
 void axis_levels(Axis& a, const std::vector<double>& v) {
   std::vector<double> sorted(v);
   std::sort(sorted.begin(), sorted.end());
-  const double scale_mm = std::max({std::abs(sorted.front()), std::abs(sorted.back()), sorted.back() - sorted.front()});
-  const double merge_tol = 1e-9 * scale_mm;
+  std::vector<double> mag(v.size());
+  for (std::size_t r = 0; r < v.size(); ++r) mag[r] = std::abs(v[r]);
+  const double bulk_mm = median(mag);
+  auto merge_tol = [bulk_mm](double x, double y) { return 1e-9 * std::max({std::abs(x), std::abs(y), bulk_mm}); };
   for (double x : sorted)
-    if (a.level.empty() || x - a.level.back() > merge_tol) a.level.push_back(x);
+    if (a.level.empty() || x - a.level.back() > merge_tol(x, a.level.back())) a.level.push_back(x);
   a.row_level.resize(v.size());
   for (std::size_t r = 0; r < v.size(); ++r)
-    a.row_level[r] = std::size_t(std::upper_bound(a.level.begin(), a.level.end(), v[r] + merge_tol) - a.level.begin()) - 1;
+    a.row_level[r] =
+        std::size_t(std::upper_bound(a.level.begin(), a.level.end(), v[r] + merge_tol(v[r], v[r])) - a.level.begin()) - 1;
   a.index.assign(a.level.size(), 0);
   a.extra.assign(a.level.size(), 0);
   a.origin = a.level[0];
@@ -614,7 +618,7 @@ void check_declared_grid(const TableRows& t, const GridData& g, const std::strin
 // says would otherwise give a field 1000 times off, or a grid 1000 times too large): the largest |B| of
 // the table between kMinFieldMax_T and kMaxField_T, the grid within kMaxExtent_mm, its spacing at least
 // kMinSpacing_mm.
-void check_plausible(const TableRows& t, const GridData& g, const std::string& where) {
+void check_plausible(const TableRows& t, const GridData& g, const std::string& where, const FieldTableLimits& limits) {
   int col_max = -1;
   double bmax = 0;
   for (std::size_t c = 0; c < t.cols.size(); ++c) {
@@ -624,15 +628,16 @@ void check_plausible(const TableRows& t, const GridData& g, const std::string& w
   }
   const ColumnSpec& fc = t.cols[std::size_t(col_max)];
   const std::string field_col = "column '" + fc.name + "'";
-  const std::string field_range = "allowed a largest |B| between " + num(kFieldTableMinFieldMax_T * 1e3) + " mT and " +
-                                  num(kFieldTableMaxField_T) + " T";
-  if (bmax == 0.0) throw InputError(where + ": every field value is zero: " + field_range);
-  if (bmax > kFieldTableMaxField_T)
+  const std::string field_range = largest_field_range_text(limits);
+  if (bmax == 0.0) throw InputError(where + ": every field value is zero: allowed a largest |B| above 0");
+  if (bmax > limits.largest_field_max_T)
     throw InputError(where + ": " + field_col + " holds |B| = " + num(bmax / fc.scale) + " " + fc.unit + " (" + num(bmax) +
-                     " T): " + field_range + (fc.unit == "T" ? " (values in mT under a T header?)" : ""));
-  if (bmax < kFieldTableMinFieldMax_T)
+                     " T): " + field_range + (fc.unit == "T" ? " (values in mT under a T header?" : " (") +
+                     " a table reaching into a magnet or steel: raise checks.largest_field_max_T)");
+  if (bmax < limits.largest_field_min_T)
     throw InputError(where + ": the largest |B| of the table is " + num(bmax / fc.scale) + " " + fc.unit + " (" +
-                     field_col + "): " + field_range + (fc.unit == "mT" ? " (values in T under a mT header?)" : ""));
+                     field_col + "): " + field_range + (fc.unit == "mT" ? " (values in T under a mT header?" : " (") +
+                     " a weak field: lower checks.largest_field_min_mT)");
   const ColumnSpec* xc = nullptr;
   for (const auto& c : t.cols)
     if (c.role == X) xc = &c;
@@ -666,7 +671,7 @@ GridData parse_field_table(const std::string& text, const std::string& source, d
     throw InputError(where + " has a header but no data rows: allowed a regular grid of at least 2 x 2 points");
   GridData g = rows_to_grid(t, source, plane_z_mm, limits);
   if (t.declared) check_declared_grid(t, g, where);
-  check_plausible(t, g, where);
+  check_plausible(t, g, where, limits);
   return g;
 }
 
@@ -681,12 +686,41 @@ GridData read_field_table(const std::filesystem::path& file, double plane_z_mm, 
 
 std::shared_ptr<GridField> table_field_from_file(const std::filesystem::path& file, const Config& cfg, Interp mode) {
   const double zs = sensing_plane_z_mm(cfg);
-  GridData g = read_field_table(file, zs);
+  GridData g = read_field_table(file, zs, field_table_limits(cfg));
   if (g.is_plane() && !(std::abs(g.origin_mm.z() - zs) <= GridField::kPlaneTolerance_mm))
     throw InputError("table " + file.string() + " is one plane at z = " + num(g.origin_mm.z()) +
                      " mm but the sensing plane is z_s = " + num(zs) +
                      " mm (magnet frame): allowed a plane at z_s (or no z column) or several z levels");
   return std::make_shared<GridField>(std::move(g), mode, "table");
+}
+
+std::vector<KeySpec> field_check_keys() {
+  return {
+      real_key("checks.largest_field_min_mT", kFieldTableMinFieldMax_T * 1e3, 0, 1e6, "mT",
+               "field tables (table:FILE, table_to_vti) and inspect scans: the least largest |B| a file may hold "
+               "(1 mT: a magnet's field at a sensor is 1-500 mT; tesla under a mT header reads 1000 times smaller); "
+               "lower it for a weak field",
+               true),
+      real_key("checks.largest_field_max_T", kFieldTableMaxField_T, 0, 1e3, "T",
+               "field tables and inspect scans: the most largest |B| a file may hold (1 T; mT under a T header reads "
+               "1000 times larger); raise it for points at a magnet's face or in steel",
+               true),
+  };
+}
+
+FieldTableLimits field_table_limits(const Config& cfg) {
+  FieldTableLimits l;
+  if (cfg.find("checks.largest_field_min_mT")) l.largest_field_min_T = cfg.real("checks.largest_field_min_mT") * 1e-3;
+  if (cfg.find("checks.largest_field_max_T")) l.largest_field_max_T = cfg.real("checks.largest_field_max_T");
+  if (!(l.largest_field_min_T < l.largest_field_max_T))
+    throw InputError("checks.largest_field_min_mT = " + num(l.largest_field_min_T * 1e3) +
+                     " mT is out of range: allowed below checks.largest_field_max_T = " + num(l.largest_field_max_T) + " T");
+  return l;
+}
+
+std::string largest_field_range_text(const FieldTableLimits& l) {
+  return "allowed a largest |B| between " + num(l.largest_field_min_T * 1e3) + " mT and " + num(l.largest_field_max_T) +
+         " T";
 }
 
 std::string field_table_text(const GridData& g, const FieldTableFormat& f) {

@@ -28,7 +28,8 @@
 //   - Rows in any order; the points must fill a regular grid exactly once.
 //
 // Regular grid (per axis): the distinct coordinate values, merged when they
-// differ by <= 1e-9 of the axis scale (printing noise), are the levels; the
+// differ by <= 1e-9 of their size or of the axis's median |coordinate| (printing
+// noise; a far extra point does not widen it), are the levels; the
 // spacing h is the median gap between neighbouring levels; every level must
 // lie within kLatticeTol (1e-3) of a cell of level_0 + i*h. The lattice
 // indices of the rows then must cover the box of indices exactly once.
@@ -53,25 +54,38 @@
 
 namespace magenc {
 
-// Limits on what a table may declare (file size, nodes).
+// Plausibility of a table's numbers against the units its header claims (InputError naming the column or
+// axis and the range otherwise). The largest |B| of the table between 1 mT and 1 T by default: a magnet's
+// field at an encoder's sensor is 1 to 500 mT, so tesla under a mT header (read 1 uT to 0.5 mT) falls below,
+// mT under a T header (1 to 500 T) above, and so do all zeros and a 1e300 node. A legitimate table outside
+// it (a weak stray field; points at a magnet's face or in steel, above 1 T) sets the keys
+// checks.largest_field_min_mT and checks.largest_field_max_T (field_check_keys). The grid at most 1000 mm
+// across on every axis (mm numbers under an m header or a COMSOL '% Length unit: m' make it 1000 times
+// larger) and its spacing at least 1e-3 mm (m numbers under an mm header).
+constexpr double kFieldTableMinFieldMax_T = 1e-3;
+constexpr double kFieldTableMaxField_T = 1.0;
+constexpr double kFieldTableMaxExtent_mm = 1000.0;
+constexpr double kFieldTableMinSpacing_mm = 1e-3;
+
+// Limits on what a table may declare (file size, nodes) and the window of its largest |B|.
 struct FieldTableLimits {
   std::uintmax_t max_bytes = std::uintmax_t(1) << 30;  // 1 GiB of text
   std::size_t max_nodes = std::size_t(1) << 24;        // 16.8 M grid nodes (~0.8 GB as doubles)
+  double largest_field_min_T = kFieldTableMinFieldMax_T;
+  double largest_field_max_T = kFieldTableMaxField_T;
 };
+
+// The keys checks.largest_field_min_mT and checks.largest_field_max_T (field tables and scans).
+std::vector<KeySpec> field_check_keys();
+// The limits with the window of cfg's checks.* keys (the defaults where cfg does not declare them);
+// InputError when the window is empty.
+FieldTableLimits field_table_limits(const Config& cfg);
+// "allowed a largest |B| between 1 mT and 1 T" for messages.
+std::string largest_field_range_text(const FieldTableLimits& limits);
 
 // Tolerance, in cells, for coordinates off the regular lattice.
 constexpr double kLatticeTol = 1e-3;
 
-// Plausibility of a table's numbers against the units its header claims (InputError naming the column or
-// axis and the range otherwise): the largest |B| of the table between 0.1 mT and 10 T (a magnet's field
-// at an encoder's sensor is mT to about 1 T; all zeros, a 1e300 node, tesla under a mT header or mT under
-// a T header fall outside), the grid at most 1000 mm across on every axis (mm numbers under an m header or
-// a COMSOL '% Length unit: m' make it 1000 times larger) and its spacing at least 1e-3 mm (m numbers under
-// an mm header).
-constexpr double kFieldTableMinFieldMax_T = 1e-4;
-constexpr double kFieldTableMaxField_T = 10.0;
-constexpr double kFieldTableMaxExtent_mm = 1000.0;
-constexpr double kFieldTableMinSpacing_mm = 1e-3;
 
 // Parses a table's text; `source` names it in messages ("table FILE").
 // plane_z_mm: height of a table without a z column (magnet frame, mm).

@@ -35,20 +35,21 @@ void require_column(const std::vector<std::vector<double>>& cols, std::size_t k,
 
 // The readings against the unit the header claims: the largest |B| between 0.1 mT and 10 T, as a field
 // table's (fields/field_table.hpp): all zeros, tesla under mT columns or mT under T columns fall outside.
-void check_scan_magnitude(const ScanTable& s, const std::string& where) {
+void check_scan_magnitude(const ScanTable& s, const std::string& where, const FieldTableLimits& limits) {
   Eigen::Index row = 0, comp = 0;
   const double bmax = s.B_T.cols() > 0 ? s.B_T.cwiseAbs().maxCoeff(&comp, &row) : 0.0;
-  const std::string range = "allowed a largest |B| between " + num(kFieldTableMinFieldMax_T * 1e3) + " mT and " +
-                            num(kFieldTableMaxField_T) + " T";
+  const std::string range = largest_field_range_text(limits);
   const double in_unit = bmax * (s.unit == "T" ? 1.0 : 1e3);
-  if (bmax == 0.0) throw InputError(where + ": every reading is zero: " + range);
-  if (bmax > kFieldTableMaxField_T)
+  if (bmax == 0.0) throw InputError(where + ": every reading is zero: allowed a largest |B| above 0");
+  if (bmax > limits.largest_field_max_T)
     throw InputError(where + ": column B" + std::string(1, char('x' + comp)) + "_" + s.unit + " holds " + num(in_unit) +
                      " " + s.unit + " (row " + std::to_string(row + 1) + "): " + range +
-                     (s.unit == "T" ? " (readings in mT under a T header?)" : ""));
-  if (bmax < kFieldTableMinFieldMax_T)
+                     (s.unit == "T" ? " (readings in mT under a T header?" : " (") +
+                     " readings at a magnet's face: raise checks.largest_field_max_T)");
+  if (bmax < limits.largest_field_min_T)
     throw InputError(where + ": the largest reading is " + num(in_unit) + " " + s.unit + ": " + range +
-                     (s.unit == "mT" ? " (readings in T under a mT header?)" : ""));
+                     (s.unit == "mT" ? " (readings in T under a mT header?" : " (") +
+                     " a weak field: lower checks.largest_field_min_mT)");
 }
 
 }  // namespace
@@ -64,7 +65,7 @@ Eigen::Matrix3Xd parse_points_csv(const std::string& text, const std::string& wh
   return pts;
 }
 
-ScanTable parse_scan_csv(const std::string& text, const std::string& where) {
+ScanTable parse_scan_csv(const std::string& text, const std::string& where, const FieldTableLimits& limits) {
   const std::vector<std::string> known{"x_mm", "y_mm", "z_mm", "Bx_mT", "By_mT", "Bz_mT", "Bx_T", "By_T", "Bz_T"};
   const std::string allowed = "x_mm, y_mm, z_mm and Bx_mT, By_mT, Bz_mT or Bx_T, By_T, Bz_T";
   const auto cols = parse_columns(text, where, known);
@@ -84,14 +85,14 @@ ScanTable parse_scan_csv(const std::string& text, const std::string& where) {
       s.B_T(k, j) = cols[b0 + k][j] * (T ? 1.0 : 1e-3);
     }
   s.unit = T ? "T" : "mT";
-  check_scan_magnitude(s, where);
+  check_scan_magnitude(s, where, limits);
   return s;
 }
 
 
-ScanTable read_scan_csv(const std::filesystem::path& path) {
+ScanTable read_scan_csv(const std::filesystem::path& path, const FieldTableLimits& limits) {
   const std::string where = "--scan " + path.string();
-  return parse_scan_csv(read_text_file(path, where), where);
+  return parse_scan_csv(read_text_file(path, where), where, limits);
 }
 
 Eigen::Matrix3Xd read_points_csv(const std::filesystem::path& path) {

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include "fields/field_table.hpp"
+
 namespace magenc {
 
 // Reads the points file: 3 x N (mm), N >= 1. InputError (one line naming the
@@ -19,12 +21,13 @@ Eigen::Matrix3Xd parse_points_csv(const std::string& text, const std::string& wh
 // A field scan (inspect --scan): header x_mm,y_mm,z_mm and Bx_mT,By_mT,Bz_mT or Bx_T,By_T,Bz_T (any
 // order; the same rules and errors as the points file). p_mm: nominal positions (3 x N, mm, magnet
 // frame); B_T: the readings in the sensor's axes (3 x N, converted to T); unit: "mT" or "T" as read.
+// The largest reading must lie in the window of `limits` (a field table's, fields/field_table.hpp).
 struct ScanTable {
   Eigen::Matrix3Xd p_mm, B_T;
   std::string unit;
 };
-ScanTable read_scan_csv(const std::filesystem::path& path);
-ScanTable parse_scan_csv(const std::string& text, const std::string& where);
+ScanTable read_scan_csv(const std::filesystem::path& path, const FieldTableLimits& limits = {});
+ScanTable parse_scan_csv(const std::string& text, const std::string& where, const FieldTableLimits& limits = {});
 
 // The answer table: header x_mm,y_mm,z_mm,Bx_T,By_T,Bz_T and one row per point,
 // every number with 17 significant digits (reads back to the same double).

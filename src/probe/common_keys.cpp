@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "fields/field_table.hpp"
 #include "fields/magnet.hpp"
 #include "probe/environment.hpp"
 #include "probe/mounting.hpp"
@@ -12,7 +13,7 @@ namespace magenc {
 
 std::vector<KeySpec> common_keys() {
   std::vector<KeySpec> keys = Magnet::keys();
-  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys(), speed_keys()})
+  for (const auto& group : {sensor_keys(), StrayField::keys(), Environment::keys(), Mount::keys(), speed_keys(), field_check_keys()})
     keys = merge_schemas(std::move(keys), group);  // throws if a group redeclares a key
   return keys;
 }

@@ -68,6 +68,10 @@ std::string diagnosis_json(const std::vector<CurveInput>& curves, const Diagnosi
                     {"magnet_tilt_azimuth_deg", g > 0 ? std::atan2(my, mx) * 180.0 / 3.14159265358979323846 : 0.0}};
   }
   j["residual_rms_deg"] = res.residual_rms_deg;
+  j["converged"] = res.converged;
+  j["termination"] = res.termination;
+  j["explained_fraction"] = res.explained_fraction;
+  j["residual_harmonic_share"] = res.residual_harmonic_share;
   j["not_identifiable"] = res.not_identifiable;
   nlohmann::json conf = nlohmann::json::array();
   for (const auto& c : res.confounded)

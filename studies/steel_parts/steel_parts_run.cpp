@@ -236,7 +236,7 @@ SteelPartsResult run_steel_parts(const Config& cfg, const std::vector<std::files
   std::shared_ptr<const BhCurve> bh;
   if (cfg.flag("steel_parts.nonlinear")) {
     const std::filesystem::path f = find_file(cfg.str("steel_parts.bh_file"), search_dirs);
-    bh = std::make_shared<const BhCurve>(read_bh_csv(f));
+    bh = std::make_shared<const BhCurve>(read_bh_csv(f, cfg.real("fem.bh_iron_max_mu_r")));
     r.bh_file = cfg.str("steel_parts.bh_file");
   }
   std::vector<ProbeSetup> setups;

@@ -3,7 +3,9 @@
 // ellipse against a synthetic signal chain, residuals after a change against closed forms, bad methods.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include <omp.h>
 
@@ -372,4 +374,37 @@ TEST_CASE("calibrated_pp_deg (angles or unit vectors) equals correct_pairs + res
       }
     }
   }
+}
+
+TEST_CASE("ogp: channels that do not follow the fitted ellipse are refused, one line", "[analysis][bad-input]") {
+  const int n = 360;
+  Eigen::VectorXd c(n), s(n);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  // Channels about a circle whose radius scatters by 50 % (a loose connector, a probe in noise): the
+  // algebraic fit still finds an ellipse (pure noise gives a hyperbola, refused before), but the samples
+  // do not follow it.
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n, r = std::max(0.05, 1 + 0.5 * g(rng));
+    c[i] = r * std::cos(t), s[i] = r * std::sin(t);
+  }
+  try {
+    fit_channel_ellipse(c, s);
+    FAIL("noise taken for an ellipse");
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    CAPTURE(m);
+    CHECK(m.find("ogp calibration: the channels leave the fitted ellipse by ") == 0);
+    CHECK(m.find("allowed at most 25 %") != std::string::npos);
+    CHECK(m.find('\n') == std::string::npos);
+  }
+  // A real chain: offsets, gain ratio, phase and a 3 % third harmonic in each channel is read.
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n;
+    c[i] = 0.1 + std::cos(t) + 0.03 * std::cos(3 * t);
+    s[i] = -0.05 + 1.1 * std::sin(t + 0.05) + 0.03 * std::sin(3 * t);
+  }
+  ChannelEllipse el;
+  REQUIRE_NOTHROW(el = fit_channel_ellipse(c, s));
+  CHECK(el.gain_ratio == Approx(1.1).epsilon(0.1));  // the harmonics bias the algebraic fit by a few %
 }

@@ -230,3 +230,42 @@ TEST_CASE("diagnose fits the one-spot principles: AMR relative offsets round tri
   CHECK(std::find(set.begin(), set.end(), "offset_cos_rel") == set.end());
   CHECK(std::find(set.begin(), set.end(), "offset_cos") != set.end());
 }
+
+TEST_CASE("diagnose: a fit says whether it converged and whether it explains the curve", "[analysis][bad-input]") {
+  const AnalyticField field{Magnet{}};
+  const ModelState base = default_state("two");
+  DiagnosisOptions o;
+  o.free = {"sx", "sy", "dx", "dy"};
+  o.starts = 2;
+  // A curve the model makes (plus noise): converged, explained, nothing to report.
+  const auto truth = values_with(base, {{"sx", 0.03}, {"dx", -0.04}});
+  const DiagnosisResult good = diagnose_curves(field, {synthetic(field, base, truth, 0.1, 200, 0.005)}, o);
+  CHECK(good.converged);
+  CHECK(good.explained_fraction > 0.99);
+  CHECK(good.unexplained.empty());
+  // Noise alone (a well-mounted encoder): nothing to explain, and still no failure: the residual is noise,
+  // 8 harmonics of 200 samples hold about 16 / 200 of its power.
+  const DiagnosisResult noise = diagnose_curves(field, {synthetic(field, base, values_with(base, {}), 0.0, 200, 0.01)}, o);
+  CAPTURE(noise.explained_fraction, noise.residual_harmonic_share);
+  CHECK(noise.residual_harmonic_share < 0.25);
+  CHECK(noise.unexplained.empty());
+  // A 0.5 deg 7th harmonic (no mounting offset of `two` makes one): explained less than half, the residual
+  // all harmonics: the fit is no diagnosis.
+  CurveInput seventh = synthetic(field, base, values_with(base, {}), 0.0, 200, 0.001);
+  for (Eigen::Index i = 0; i < seventh.curve.error_deg.size(); ++i)
+    seventh.curve.error_deg[i] += 0.5 * std::sin(7 * seventh.curve.theta_deg[i] * M_PI / 180);
+  const DiagnosisResult bad = diagnose_curves(field, {seventh}, o);
+  CAPTURE(bad.explained_fraction, bad.residual_harmonic_share, bad.unexplained);
+  CHECK(bad.explained_fraction < 0.1);
+  CHECK(bad.residual_harmonic_share > 0.9);
+  CHECK(bad.unexplained.find("diagnose: the fit leaves a residual RMS of ") == 0);
+  CHECK(bad.unexplained.find("in harmonics 1..8") != std::string::npos);
+  CHECK(bad.unexplained.find('\n') == std::string::npos);
+  // An optimizer stopped at its iteration cap says so.
+  DiagnosisOptions capped = o;
+  capped.max_iterations = 1;
+  capped.starts = 1;
+  const DiagnosisResult stopped = diagnose_curves(field, {synthetic(field, base, truth, 0.1, 200, 0.005)}, capped);
+  CHECK_FALSE(stopped.converged);
+  CHECK(stopped.termination.find("iterations") != std::string::npos);
+}

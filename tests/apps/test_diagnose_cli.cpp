@@ -2,6 +2,7 @@
 // a good run writes fit.json (contract keys), fit.csv, summary.md and the PNGs.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -37,6 +38,8 @@ TEST_CASE("diagnose CLI: a fit writes the contract outputs", "[apps][contract][c
   CHECK(j["parameters"]["dz_mm"]["free"] == false);
   CHECK(j["parameters"]["zero_offset_deg"]["value"].get<double>() == Approx(0.1).margin(0.05));
   CHECK(j["residual_rms_deg"].get<double>() < 0.03);
+  CHECK(j["converged"] == true);
+  CHECK(j["explained_fraction"].get<double>() > 0.9);
   CHECK(j["not_identifiable"].is_array());
   CHECK(j["run"]["seed"].is_null() == false);
   const auto rows = read_csv(out / "fit.csv");
@@ -104,4 +107,23 @@ TEST_CASE("diagnose CLI: curves saved as Excel's CSV UTF-8 and in the European f
     CHECK(dx[k] == dx[0]);
   }
   fs::remove(plain);
+}
+
+TEST_CASE("diagnose CLI: a fit that does not explain the curve exits 3 with one line and no output",
+          "[apps][bad-input][cli]") {
+  // A 0.5 deg 7th harmonic: no parameter of `two` makes one.
+  const fs::path curve = fs::temp_directory_path() / ("magenc_test_h7_" + std::to_string(::getpid()) + ".csv");
+  {
+    std::ofstream f(curve);
+    f << "theta_deg,error_deg\n";
+    for (int i = 0; i < 180; ++i) f << i * 2.0 << "," << 0.5 * std::sin(7 * i * 2.0 * M_PI / 180) << "\n";
+  }
+  const fs::path out = temp_out("diagnose_h7");
+  const StudyRun r = run_study_exe("diagnose", out, "--measured '" + curve.string() +
+                                                       "' --field analytic --array two --r0 2.4 --free sx,sy,dx,dy --starts 2");
+  CHECK(r.code == 3);
+  CHECK_THAT(r.err, Catch::Contains("the fit leaves a residual RMS of") && Catch::Contains("in harmonics 1..8"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out));
+  fs::remove(curve);
 }

@@ -125,3 +125,57 @@ TEST_CASE("B-H curve: a steep start keeps the curve's own initial permeability",
                         "structural_steel_bh.csv"})
     CHECK_NOTHROW(read_bh_csv(std::filesystem::path(MAGENC_SOURCE_DIR) / "materials" / f));
 }
+
+TEST_CASE("B-H curve: a steel curve in Oe, A/cm, kA/m or mT of mu0 H is refused naming the likely unit",
+          "[field_solver][bad-input]") {
+  // Every curve of materials/ with its H column divided by the unit's size in A/m, as a file holding H in
+  // that unit under the H_A_per_m header would be read. Their true secant permeabilities are 1,000-6,100
+  // and they reach 1.7 T at 4.4-6.8 kA/m: read in Oe 80 times, in kA/m 1000 times that permeability.
+  struct Unit {
+    const char* name;
+    double A_per_m;
+    const char* named;  // what the message must name
+  };
+  const std::vector<Unit> units = {{"Oe", 1e3 / (4 * M_PI), "H likely in Oe"},
+                                   {"A/cm", 100.0, "H likely in Oe (or A/cm"},
+                                   {"kA/m", 1000.0, "H likely in kA/m"},
+                                   {"mT of mu0 H", 0.0, "or mT of mu0 H"}};
+  for (const char* f : {"electrical_steel_bh.csv", "free_cutting_steel_bh.csv", "low_carbon_steel_hot_rolled_bh.csv",
+                        "structural_steel_bh.csv"}) {
+    const BhCurve c = read_bh_csv(std::filesystem::path(MAGENC_SOURCE_DIR) / "materials" / f);
+    for (const auto& u : units) {
+      // mT of mu0 H: the number is 1e3 mu0 H, i.e. H divided by 1 / (1e3 mu0) = 795.8 A/m.
+      const double per = std::string(u.name) == "mT of mu0 H" ? 1.0 / (1e3 * kMu0_T_m_per_A) : u.A_per_m;
+      std::ostringstream t;
+      t << std::setprecision(17) << "H_A_per_m,B_T\n";
+      for (std::size_t i = 0; i < c.H().size(); ++i) t << c.H()[i] / per << "," << c.B()[i] << "\n";
+      const std::string e = error_of(t.str());
+      CAPTURE(f, u.name, e);
+      CHECK(e.find("B-H curve t.csv: row ") == 0);
+      CHECK(e.find("relative permeability") != std::string::npos);
+      CHECK(e.find(u.named) != std::string::npos);
+      CHECK(e.find('\n') == std::string::npos);
+    }
+  }
+  // B in kG, mT or G: the polarization check names the unit.
+  CHECK(error_of("H_A_per_m,B_T\n0,0\n100,2\n300,9\n600,12\n10000,17\n").find("B in kG") != std::string::npos);
+  CHECK(error_of("H_A_per_m,B_T\n0,0\n100,200\n300,900\n600,1200\n10000,1700\n").find("B in mT") != std::string::npos);
+  CHECK(error_of("H_A_per_m,B_T\n0,0\n100,2000\n300,9000\n600,12000\n10000,17000\n").find("B in G") != std::string::npos);
+}
+
+TEST_CASE("B-H curve: a high-permeability iron curve passes with fem.bh_iron_max_mu_r raised", "[field_solver][bad-input]") {
+  // Grain-oriented Fe-Si along its rolling direction (order of magnitude of a Hi-B grade: 1.5 T at 15 A/m,
+  // secant mu_r 8e4, saturation 2.03 T): refused by the default bound, read with the bound raised.
+  const std::string go = "H_A_per_m,B_T\n0,0\n5,0.4\n15,1.5\n30,1.8\n100,1.9\n1000,1.96\n10000,2.03\n";
+  const std::string e = error_of(go);
+  CAPTURE(e);
+  CHECK(e.find("B-H curve t.csv: row 3 (H 15 A/m, B 1.5 T) gives a relative permeability of ") == 0);
+  CHECK(e.find("on a curve reaching a polarization of 1.7 T (iron or steel): allowed at most") != std::string::npos);
+  CHECK(e.find("(fem.bh_iron_max_mu_r; H likely in ") != std::string::npos);
+  const BhCurve c = parse_bh_csv(go, "t", 1e5);
+  CHECK(c.mu_r(15.0) == Approx(1.5 / (15 * kMu0_T_m_per_A)).epsilon(1e-12));
+  // A nickel alloy (mu-metal: saturation 0.8 T, mu_r up to 1e5) never reaches 1.7 T: only the 1e6 bound applies.
+  CHECK(error_of("H_A_per_m,B_T\n0,0\n1,0.1\n4,0.5\n10,0.7\n100,0.8\n").empty());
+  // The bound of every curve stays: 1e6 is refused whatever fem.bh_iron_max_mu_r says.
+  CHECK_THROWS_AS(parse_bh_csv("H_A_per_m,B_T\n0,0\n0.1,0.2\n0.3,0.9\n0.6,1.2\n10,1.9\n", "t", 1e6), magenc::InputError);
+}

@@ -21,6 +21,7 @@
 #include "field_solver/field_io/fem_field.hpp"
 #include "field_solver/mesh/tetgen_mesher.hpp"
 #include "field_solver/solve/fem_config.hpp"
+#include "fem_test_util.hpp"
 
 namespace fs = std::filesystem;
 
@@ -229,6 +230,41 @@ TEST_CASE("TetGen adapter rejects an empty PLC with a ComputeError", "[field_sol
   // inside libtet (double free in its error path), so overlaps are rejected
   // before meshing by DomainSpec::validate (see the bad-input cases above).
   CHECK_THROWS_AS(magenc::fem::tetrahedralize_plc(magenc::fem::Plc{}, {}), magenc::ComputeError);
+}
+
+TEST_CASE("the mesher in a child process gives this process's mesh, and is refused past its time budget",
+          "[field_solver][bad-input]") {
+  magenc::fem::DomainSpec d = magenc::fem::test::coarse_domain(1.0);
+  const magenc::fem::TetMesh here = magenc::fem::mesh_domain(d);  // max_seconds 0: TetGen in this process
+  d.mesh.mesher.max_seconds = 600;
+  const magenc::fem::TetMesh child = magenc::fem::mesh_domain(d);
+  REQUIRE(child.num_tets() == here.num_tets());
+  CHECK(child.nodes == here.nodes);  // byte for byte: the same TetGen on the same input
+  CHECK(child.tets == here.tets);
+  CHECK(child.region == here.region);
+  d.mesh.mesher.max_seconds = 1e-6;
+  CHECK_THROWS_WITH(magenc::fem::mesh_domain(d),
+                    Catch::Contains("the mesher ran past its time budget of 1e-06 s (mesh.max_mesher_seconds)"));
+}
+
+TEST_CASE("solve_field past the mesher's time budget: one line, exit 2, no output, lock or temporary, and a re-run succeeds",
+          "[field_solver][bad-input][cli]") {
+  const fs::path out = scratch("mesher_budget");
+  const Result r = solve_field("--set mesh.max_mesher_seconds=0.000001", out);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  CHECK_THAT(r.err, Catch::Contains("the mesher ran past its time budget of 1e-06 s"));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(fs::exists(out.string() + ".lock"));
+  CHECK_FALSE(leftovers(out));
+  const Result again = solve_field("", out);
+  INFO(again.err);
+  CHECK(again.code == 0);
+  CHECK(fs::exists(out / "solve.json"));
+  CHECK_FALSE(fs::exists(out.string() + ".lock"));
+  CHECK_FALSE(leftovers(out));
+  fs::remove_all(out);
 }
 
 TEST_CASE("solve_field processes started together each get their own MPI session", "[field_solver][regression][cli]") {

@@ -291,6 +291,9 @@ TEST_CASE("bad tables: one line naming the problem and the first offending line"
       {"missing point (1, 1)", replace_line(t, 11, ""), "(1, 1, 4.55) mm is missing", "19 rows for a grid of 4 x 5 x 1"},
       {"duplicate point", t + "2,1.5,99\n", "line 22:", "repeats line 16"},
       {"extra point far away", replace_line(t, 9, "10,0,1\n3,0.5,8"), "line 9:", "extra point"},
+      // So far that it would have widened the printing-noise merge of x to all of 0..3 ("line 3 repeats line 2").
+      {"extra point very far away", t + "1e12,0,1\n", "line 22:", "is an extra point, apart from the grid"},
+      {"extra point very far away in y", t + "0,-1e15,1\n", "line 22:", "is an extra point, apart from the grid"},
       {"extra point off the lattice", t + "1.5,0.25,1\n", "line 22:", "off the regular grid"},
       {"NaN", replace_line(t, 7, "1,0.5,nan"), "line 7:", "not finite"},
       {"inf", replace_line(t, 7, "1,0.5,-inf"), "line 7:", "not finite"},
@@ -447,8 +450,9 @@ TEST_CASE("tables in other units than their header claims are refused, naming th
     std::string what, text, expect1, expect2;
   };
   const std::vector<Bad> bad = {
-      {"all zero", scaled("x_mm,y_mm,Bz_T", 1, 0), "every field value is zero", "between 0.1 mT and 10 T"},
-      {"one 1e300 node", scaled("x_mm,y_mm,Bz_mT", 1, 1, 1e300), "column 'Bz_mT' holds |B| = 1e+300 mT", "10 T"},
+      {"all zero", scaled("x_mm,y_mm,Bz_T", 1, 0), "every field value is zero", "above 0"},
+      {"one 1e300 node", scaled("x_mm,y_mm,Bz_mT", 1, 1, 1e300), "column 'Bz_mT' holds |B| = 1e+300 mT",
+       "between 1 mT and 1 T"},
       {"tesla under Bz_mT", scaled("x_mm,y_mm,Bz_mT", 1, 1e-3), "largest |B| of the table is 0.023 mT",
        "values in T under a mT header?"},
       {"mT under Bz_T", scaled("x_mm,y_mm,Bz_T", 1, 1), "column 'Bz_T' holds |B| = 23 T", "values in mT under a T header?"},
@@ -467,9 +471,37 @@ TEST_CASE("tables in other units than their header claims are refused, naming th
     CHECK(contains(msg, "allowed"));
     CHECK(msg.find('\n') == std::string::npos);
   }
-  // Near the edges is allowed: |B| of 0.1 mT and 10 T, a 990 mm grid, a 0.002 mm spacing; trailing separators.
-  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1e-4 / 23)).empty());
-  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 10.0 / 23)).empty());
+  // Realistic encoder fields, largest |B| 1.5 to 500 mT: tesla under Bz_mT and mT under Bz_T are refused
+  // over the whole range, each in its right unit is read.
+  for (const double largest_mT : {1.5, 5.0, 20.0, 50.0, 100.0, 200.0, 500.0}) {
+    CAPTURE(largest_mT);
+    const double per = largest_mT / 23;  // small_table's largest x + 5 y is 23
+    const std::string t_under_mT = parse_error(scaled("x_mm,y_mm,Bz_mT", 1, per * 1e-3));
+    CHECK(contains(t_under_mT, "values in T under a mT header?"));
+    const std::string mT_under_T = parse_error(scaled("x_mm,y_mm,Bz_T", 1, per));
+    CHECK(contains(mT_under_T, "values in mT under a T header?"));
+    CHECK(parse_error(scaled("x_mm,y_mm,Bz_mT", 1, per)).empty());
+    CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, per * 1e-3)).empty());
+  }
+  // Near the edges is allowed: |B| of 1 mT and 1 T, a 990 mm grid, a 0.002 mm spacing; trailing separators.
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1e-3 / 23)).empty());
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1.0 / 23)).empty());
+  // A legitimate table outside the window (points at a magnet's face, 1.3 T; a weak field, 0.4 mT) is read
+  // with the window of checks.largest_field_max_T / checks.largest_field_min_mT, and refused without it.
+  CHECK(contains(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1.3 / 23)), "raise checks.largest_field_max_T"));
+  CHECK(contains(parse_error(scaled("x_mm,y_mm,Bz_mT", 1, 0.4 / 23)), "lower checks.largest_field_min_mT"));
+  FieldTableLimits wide;
+  wide.largest_field_max_T = 2;
+  wide.largest_field_min_T = 1e-4;
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_T", 1, 1.3 / 23), wide).empty());
+  CHECK(parse_error(scaled("x_mm,y_mm,Bz_mT", 1, 0.4 / 23), wide).empty());
+  Config cfg(common_keys());
+  cfg.set("checks.largest_field_max_T=2");
+  cfg.set("checks.largest_field_min_mT=0.1");
+  CHECK(field_table_limits(cfg).largest_field_max_T == 2);
+  CHECK(field_table_limits(cfg).largest_field_min_T == Approx(1e-4).epsilon(1e-15));
+  cfg.set("checks.largest_field_min_mT=3000");
+  CHECK_THROWS_WITH(field_table_limits(cfg), Catch::Contains("checks.largest_field_min_mT = 3000 mT is out of range"));
   CHECK(parse_error(scaled("x_m,y_m,Bz_mT", 0.33, 1)).empty());
   CHECK(parse_error(scaled("x_mm,y_mm,Bz_mT", 4e-3, 1)).empty());
   CHECK(parse_error(test::trailing_separators(test::european(small_table()), ';', 2)).empty());

@@ -92,11 +92,24 @@ TEST_CASE("scan CSV: readings in other units than the header claims are refused"
   using Catch::Contains;
   const std::string head_mT = "x_mm,y_mm,z_mm,Bx_mT,By_mT,Bz_mT\n", head_T = "x_mm,y_mm,z_mm,Bx_T,By_T,Bz_T\n";
   CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0,0,0\n1,0,4,0,0,0\n", "s"),
-                    Contains("s: every reading is zero: allowed a largest |B| between 0.1 mT and 10 T"));
+                    Contains("s: every reading is zero: allowed a largest |B| above 0"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0.02,0.001,0.05\n", "s"),
                     Contains("the largest reading is 0.05 mT") && Contains("readings in T under a mT header?"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv(head_T + "0,0,4,-20,1,50\n1,0,4,1,1,1\n", "s"),
                     Contains("column Bz_T holds 50 T (row 1)") && Contains("readings in mT under a T header?"));
   CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,1,1e300,1\n", "s"), Contains("column By_mT holds 1e+300 mT"));
-  CHECK(magenc::parse_scan_csv(head_mT + "0,0,4,0.2,0,0\n", "s").B_T(0, 0) == Approx(2e-4));
+  // Realistic readings (largest 1.5-500 mT) in tesla under mT columns, and in mT under T columns, are refused.
+  for (const double largest_mT : {1.5, 30.0, 500.0}) {
+    CAPTURE(largest_mT);
+    const std::string mT = std::to_string(largest_mT), T = std::to_string(largest_mT * 1e-3);
+    CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0,0," + T + "\n", "s"),
+                      Contains("readings in T under a mT header?") && Contains("between 1 mT and 1 T"));
+    CHECK_THROWS_WITH(magenc::parse_scan_csv(head_T + "0,0,4,0,0," + mT + "\n", "s"), Contains("readings in mT under a T header?"));
+    CHECK(magenc::parse_scan_csv(head_mT + "0,0,4,0,0," + mT + "\n", "s").B_T(2, 0) == Approx(largest_mT * 1e-3));
+  }
+  // A weak field (0.2 mT) is read only with checks.largest_field_min_mT lowered.
+  CHECK_THROWS_WITH(magenc::parse_scan_csv(head_mT + "0,0,4,0.2,0,0\n", "s"), Contains("lower checks.largest_field_min_mT"));
+  magenc::FieldTableLimits weak;
+  weak.largest_field_min_T = 1e-4;
+  CHECK(magenc::parse_scan_csv(head_mT + "0,0,4,0.2,0,0\n", "s", weak).B_T(0, 0) == Approx(2e-4));
 }
