@@ -77,6 +77,14 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
                  {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg},
                  {"magnetization_elevation_deg", d.magnet.magnetization_elevation_deg}};
   if (d.magnet.is_ring()) j["magnet"]["inner_radius_mm"] = d.magnet.inner_radius_mm;  // solid cylinders: no key, as before
+  if (!d.magnet.is_uniform()) {  // the uniform magnet: no keys, as before
+    j["magnet"]["pattern"] = pattern_name(d.magnet.pattern);
+    if (d.magnet.is_multipole()) j["magnet"]["pole_pairs"] = d.magnet.pole_pairs;
+    if (d.magnet.pole_amplitude_sigma != 0.0) {
+      j["magnet"]["pole_amplitude_sigma"] = d.magnet.pole_amplitude_sigma;
+      j["magnet"]["pole_seed"] = d.magnet.pole_seed;
+    }
+  }
   j["domain"] = {{"outer_radius_mm", d.mesh.outer_radius_mm},
                  {"boundary", solver.options().robin ? "robin" : "dirichlet"},
                  {"segments", d.mesh.segments},

@@ -88,6 +88,15 @@ std::string SolvedFieldDir::mismatch(const Config& cfg) const {
       return "was solved with magnet.magnetization_elevation_deg = " + fmt(solved, 4) + ", the study uses " +
              fmt(want, 4) + ": solve again with the study's [magnet] keys";
   }
+  {  // uniform magnets are recorded without the pattern keys
+    const std::string solved = j["magnet"].value("pattern", std::string("uniform"));
+    const std::string want = cfg.has("magnet.pattern") ? cfg.str("magnet.pattern") : "uniform";
+    const long solved_p = j["magnet"].value("pole_pairs", 1L);
+    const long want_p = cfg.has("magnet.pole_pairs") ? cfg.integer("magnet.pole_pairs") : 1L;
+    if (solved != want || (want != "uniform" && want != "radial" && solved_p != want_p))
+      return "was solved with magnet.pattern = " + solved + " (pole_pairs " + std::to_string(solved_p) +
+             "), the study uses " + want + " (pole_pairs " + std::to_string(want_p) + "): solve again with the study's [magnet] keys";
+  }
   if (j.contains("plane_z_mm")) {
     const double solved = json_number(j, "plane_z_mm", file);
     const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");

@@ -456,7 +456,7 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
                            num(res.theta_deg[m]) + " deg");
   }
   // 5. Spectrum of the uniform samples.
-  res.spectrum = spectrum_of(res.eps_deg);
+  res.spectrum = spectrum_of(res.eps_deg, setup.multipole ? setup.pole_pairs : 0);
   return res;
 }
 
