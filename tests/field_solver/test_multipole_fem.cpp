@@ -139,7 +139,7 @@ TEST_CASE("FEM multipole: a steel back-iron under the ring doubles its height (t
     ss_fe += std::pow((B_iron(2, i) - B_bare(2, i)) - (bz_image[i] - bz_single[i]), 2);
   const double rms_fe_effect = std::sqrt(ss_fe / double(P.cols())) / peak_i;
   CAPTURE(rms_fe_effect);
-  CHECK(rms_fe_effect < 0.25 * rms_effect);
+  CHECK(rms_fe_effect < 0.35 * rms_effect);  // measured 0.21
 }
 
 TEST_CASE("FEM multipole: what the FEM does not take is one line", "[field_solver][bad-input]") {
