@@ -71,9 +71,13 @@ void add_sector_facets(Plc& plc, const Magnet& magnet, int segments, double rp_i
     if (outline.size() < 4)
       throw ComputeError("sector boundary at " + num(rad_to_deg(a)) + " deg: the magnet's outline has " +
                          std::to_string(outline.size()) + " points in its plane (4 or more expected)");
-    Plc::Facet f;
-    for (const auto& [t, id] : outline) f.polygon.push_back(id);
-    plc.facets.push_back(f);
+    // The cross-section as a fan of triangles about its middle: no facet holds three nearly collinear
+    // vertices (the rings a touching body adds on an edge lie on the ray only to rounding, and a polygon
+    // with such flat corners makes TetGen's segment recovery fail).
+    const double rm = 0.5 * (rp_inner_mm + rp_outer_mm);
+    const int middle = plc.add_point({rm * c, rm * s, 0.0});
+    for (size_t i = 0; i < outline.size(); ++i)
+      plc.facets.push_back({{middle, outline[i].second, outline[(i + 1) % outline.size()].second}});
     // A disk: the facet's top and bottom edges run from the axis across the end faces (the disk facets
     // around the axis); they are constraints of those faces.
     if (disk)
@@ -100,7 +104,7 @@ void add_sector_facets(Plc& plc, const Magnet& magnet, int segments, double rp_i
         }
       }
     // Every sector is a closed region now: a magnet seed in each (mid-azimuth, mid-radius, mid-plane).
-    const double mid = 0.5 * (sec.phi_a_rad + sec.phi_b_rad), rm = 0.5 * (rp_inner_mm + rp_outer_mm);
+    const double mid = 0.5 * (sec.phi_a_rad + sec.phi_b_rad);
     plc.regions.push_back({{rm * std::cos(mid), rm * std::sin(mid), 0.0}, kRegionMagnet, max_volume_mm3});
   }
 }

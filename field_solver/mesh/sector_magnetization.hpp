@@ -6,8 +6,9 @@
 // magnet's cross-section at that azimuth (Ri..R, -L/2..L/2; from the axis for a disk). It lies on polygon
 // vertices of the faceted magnet only when mesh.segments is a multiple of 4 p (2 polygon edges per
 // sector); DomainSpec::validate asks for that. Its outline takes every PLC point on its edges (rings that
-// bodies touching the magnet add), and for a disk the axis points at z = +-L/2 and the facet's top and
-// bottom edges are added as constraints of the magnet's end faces. Shifted sector boundaries (pole edge
+// bodies touching the magnet add), and it is given as a fan of triangles about the cross-section's middle
+// (a new point), so that no facet has nearly collinear vertices; for a disk the axis points at z = +-L/2
+// and the facet's top and bottom edges are added as constraints of the magnet's end faces. Shifted sector boundaries (pole edge
 // errors) do not lie on polygon vertices: the FEM refuses them. The radial pattern has no boundary.
 //
 // Cells: a magnet cell takes the sector of its centroid's azimuth: Br = q Br e_z (axial) or q Br e_rho at
