@@ -173,11 +173,18 @@ TEST_CASE("an in-plane point sensor beside a radial multipole ring: the ellipse 
   for (const std::string kv : {"magnet.pattern=radial_multipole", "magnet.pole_pairs=8", "magnet.inner_radius_mm=7",
                                "magnet.radius_mm=10", "magnet.height_mm=3", "magnet.br_T=0.3",
                                "sensor.principle=inplane", "sensor.center_mm=[12, 0]", "sensor.plane_height_mm=-1.5",
+                               "sensor.direction=-1",
                                "sensor.steps=512"})
     cfg.set(kv);
   const auto field = magenc::make_field_source("analytic", cfg);
   const magenc::ProbeSetup setup = magenc::sensor_setup_from_config(cfg, "point");
   REQUIRE(setup.pole_pairs == 8);
+  // Seen from outside, the field at the spot turns backwards p times per turn: the chip counts with
+  // sensor.direction = -1 (set above); the default direction is refused naming both counts.
+  magenc::Config forward = cfg;
+  forward.set("sensor.direction=1");
+  CHECK_THROWS_WITH(magenc::angle_error(*field, magenc::sensor_setup_from_config(forward, "point"), magenc::Mount{}),
+                    Catch::Contains("turns -8 times per turn, not 8 times as sensor.direction = 1"));
   const magenc::AngleErrorResult r = magenc::angle_error(*field, setup, magenc::Mount{});
   // The channels at the spot, from the field alone: the rotor turned by theta is the field at R(-theta) c
   // turned by R(theta).
