@@ -160,7 +160,8 @@ double order_amplitude(const Eigen::VectorXd& b, int n) {
 TEST_CASE("an in-plane point sensor beside a radial multipole ring: the ellipse law of its two channels",
           "[probe][physics][closed-form]") {
   // A radially magnetized multipole ring (p 8, Ri 7, R 10, L 3 mm) read from the side: an `inplane` point in
-  // the mid-plane 2 mm outside the outer face, its die axes along e_rho and e_phi there. Over the turn the
+  // the mid-plane 3.5 mm outside the outer face, its die axes along e_rho and e_phi there (the north pole at
+  // phi = 0 points its field out, against the principle's minus signs: half a pole pitch of zero, 180/p deg). Over the turn the
   // two channels are (b1, b2) = (B_rho, B_phi), each periodic with 360/p and odd under a shift of half a
   // pole pair, so the electrical angle has only the orders 2p, 4p, ... of the mechanical angle (ce1, ce3
   // and every order 1..8 vanish). If each channel were its order-p harmonic alone, A cos x and B sin x,
@@ -169,11 +170,11 @@ TEST_CASE("an in-plane point sensor beside a radial multipole ring: the ellipse 
   // are taken here from the exact field at the spot, apart from the reading; the 3rd harmonics perturb the
   // order 2p error by at most about A3 / A + B3 / B rad electrical, the tolerance held.
   magenc::Config cfg(magenc::common_keys());
-  const double xs = 12.0;
+  const double xs = 13.5;
   for (const std::string kv : {"magnet.pattern=radial_multipole", "magnet.pole_pairs=8", "magnet.inner_radius_mm=7",
                                "magnet.radius_mm=10", "magnet.height_mm=3", "magnet.br_T=0.3",
-                               "sensor.principle=inplane", "sensor.center_mm=[12, 0]", "sensor.plane_height_mm=-1.5",
-                               "sensor.direction=-1",
+                               "sensor.principle=inplane", "sensor.center_mm=[13.5, 0]", "sensor.plane_height_mm=-1.5",
+                               "sensor.direction=-1", "sensor.zero_deg=22.5",
                                "sensor.steps=512"})
     cfg.set(kv);
   const auto field = magenc::make_field_source("analytic", cfg);
@@ -203,11 +204,11 @@ TEST_CASE("an in-plane point sensor beside a radial multipole ring: the ellipse 
   const auto& ce = r.spectrum.ce_deg;
   CAPTURE(A, B, A3, B3, law_deg, tol_deg, ce[0], ce[1], ce[2], ce[3], r.spectrum.pp_deg);
   REQUIRE(r.spectrum.pole_pairs == p);
-  CHECK(A > 0.01);  // tens of mT at the spot
-  CHECK(B > 0.01);
+  CHECK(A > 0.003);  // measured 6.3 and 5.2 mT at the spot
+  CHECK(B > 0.003);
   for (int n = 1; n <= magenc::kHarmonics; ++n) CHECK(r.spectrum.c_deg[n] < 1e-9);
   CHECK(ce[0] < 1e-9);
   CHECK(ce[2] < 1e-9);
   CHECK(law_deg > 10 * tol_deg);  // the ellipse dominates: the check can tell
-  CHECK(std::abs(ce[1] - law_deg) <= tol_deg);
+  CHECK(std::abs(ce[1] - law_deg) <= tol_deg);  // measured 0.7419 against 0.7105 +- 0.064 deg
 }
