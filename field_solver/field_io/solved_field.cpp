@@ -89,9 +89,17 @@ std::string SolvedFieldDir::mismatch(const Config& cfg) const {
              fmt(want, 4) + ": solve again with the study's [magnet] keys";
   }
   {  // uniform magnets are recorded without the pattern keys
-    const std::string solved = j["magnet"].value("pattern", std::string("uniform"));
+    const nlohmann::json& m = j["magnet"];
+    if (m.contains("pattern") && !m["pattern"].is_string())
+      throw InputError(file.string() + ": 'pattern' is not a string (expected solve_field's record)");
+    const std::string solved = m.contains("pattern") ? m["pattern"].get<std::string>() : std::string("uniform");
     const std::string want = cfg.has("magnet.pattern") ? cfg.str("magnet.pattern") : "uniform";
-    const long solved_p = j["magnet"].value("pole_pairs", 1L);
+    long solved_p = 1;
+    try {
+      solved_p = json_integer(m, "pole_pairs", 1, false, 1, 100000);
+    } catch (const std::out_of_range& e) {
+      throw InputError(file.string() + ": " + e.what() + " (expected solve_field's record)");
+    }
     const long want_p = cfg.has("magnet.pole_pairs") ? cfg.integer("magnet.pole_pairs") : 1L;
     if (solved != want || (want != "uniform" && want != "radial" && solved_p != want_p))
       return "was solved with magnet.pattern = " + solved + " (pole_pairs " + std::to_string(solved_p) +

@@ -11,12 +11,16 @@
 //  - the limits: pole edge errors, mesh.segments not a multiple of 4 p, the reduced potential: one line.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
 #include "core/errors.hpp"
 #include "core/units.hpp"
+#include "field_solver/field_io/solved_field.hpp"
 #include "field_solver/field_io/validation.hpp"
 #include "field_solver/mesh/sector_magnetization.hpp"
 #include "fields/multipole_field.hpp"
@@ -89,9 +93,11 @@ TEST_CASE("FEM multipole: Bz over the ring against the exact sector field", "[fi
   };
   // Measured: axial ring 7.4e-3 / 4.1e-2, axial disk 8.5e-3 / 3.7e-2, radial ring 1.16e-2 / 6.8e-2, radial
   // disk 9.1e-3 / 4.3e-2 (the largest differences right above the sector boundaries' top edges, where Bz
-  // turns over within a cell). A magnetization assigned to the wrong sector or direction gives O(1).
+  // turns over within a cell), the radial ring (one sector, no boundary) 6.0e-3 / 2.9e-2. A magnetization
+  // assigned to the wrong sector or direction gives O(1).
   for (const Case& c : {Case{"axial_multipole", 2.5, 0.011, 0.062}, Case{"axial_multipole", 0.0, 0.013, 0.056},
-                        Case{"radial_multipole", 2.5, 0.018, 0.10}, Case{"radial_multipole", 0.0, 0.014, 0.065}}) {
+                        Case{"radial_multipole", 2.5, 0.018, 0.10}, Case{"radial_multipole", 0.0, 0.014, 0.065},
+                        Case{"radial", 2.5, 0.009, 0.043}}) {
     const auto fe = solved(ring4(c.pattern, c.ri_mm));
     REQUIRE(fe->options().potential == Potential::Total);
     CHECK(fe->mesh_layout().find("whole domain") == 0);
@@ -178,4 +184,30 @@ TEST_CASE("FEM multipole: what the FEM does not take is one line", "[field_solve
   CHECK_FALSE(solver.domain().mesh.symmetric);
   // Pole amplitude errors keep the boundaries: accepted.
   CHECK_NOTHROW(coarse_settings(with(ring4("axial_multipole"), {"magnet.pole_amplitude_sigma=0.05"})));
+}
+
+TEST_CASE("FEM multipole: a solved pattern is checked against the study's (fem:DIR)", "[field_solver][bad-input]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("magenc_multipole_record_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto record = [&](const std::string& extra) {
+    std::ofstream(dir / "solve.json") << "{\"magnet\": {\"radius_mm\": 4, \"height_mm\": 1.5, \"br_T\": 0.3, "
+                                         "\"inner_radius_mm\": 2.5" << extra << "}}";
+  };
+  magenc::CommonOptions o;
+  o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
+  o.sets = ring4("axial_multipole");
+  magenc::Config cfg = magenc::load_config(solve_field_schema(), o);
+  const SolvedFieldDir solved(dir);
+  record(", \"pattern\": \"axial_multipole\", \"pole_pairs\": 4");
+  CHECK(solved.mismatch(cfg).empty());
+  cfg.set("magnet.pole_pairs=8");
+  CHECK_THAT(solved.mismatch(cfg), Catch::Contains("magnet.pattern = axial_multipole (pole_pairs 4)"));
+  record("");  // a uniform magnet's record has no pattern keys
+  CHECK_THAT(solved.mismatch(cfg), Catch::Contains("was solved with magnet.pattern = uniform"));
+  record(", \"pattern\": 3");
+  CHECK_THROWS_AS(solved.mismatch(cfg), magenc::InputError);
+  record(", \"pattern\": \"axial_multipole\", \"pole_pairs\": 1e300");
+  CHECK_THROWS_AS(solved.mismatch(cfg), magenc::InputError);
+  fs::remove_all(dir);
 }
