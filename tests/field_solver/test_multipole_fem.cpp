@@ -198,16 +198,16 @@ TEST_CASE("FEM multipole: a solved pattern is checked against the study's (fem:D
   o.config_file = std::string(MAGENC_SOURCE_DIR) + "/meshes/coarse.toml";
   o.sets = ring4("axial_multipole");
   magenc::Config cfg = magenc::load_config(solve_field_schema(), o);
-  const SolvedFieldDir solved(dir);
+  const magenc::SolvedFieldDir on_disk(dir);
   record(", \"pattern\": \"axial_multipole\", \"pole_pairs\": 4");
-  CHECK(solved.mismatch(cfg).empty());
+  CHECK(on_disk.mismatch(cfg).empty());
   cfg.set("magnet.pole_pairs=8");
-  CHECK_THAT(solved.mismatch(cfg), Catch::Contains("magnet.pattern = axial_multipole (pole_pairs 4)"));
+  CHECK_THAT(on_disk.mismatch(cfg), Catch::Contains("magnet.pattern = axial_multipole (pole_pairs 4)"));
   record("");  // a uniform magnet's record has no pattern keys
-  CHECK_THAT(solved.mismatch(cfg), Catch::Contains("was solved with magnet.pattern = uniform"));
+  CHECK_THAT(on_disk.mismatch(cfg), Catch::Contains("was solved with magnet.pattern = uniform"));
   record(", \"pattern\": 3");
-  CHECK_THROWS_AS(solved.mismatch(cfg), magenc::InputError);
+  CHECK_THROWS_AS(on_disk.mismatch(cfg), magenc::InputError);
   record(", \"pattern\": \"axial_multipole\", \"pole_pairs\": 1e300");
-  CHECK_THROWS_AS(solved.mismatch(cfg), magenc::InputError);
+  CHECK_THROWS_AS(on_disk.mismatch(cfg), magenc::InputError);
   fs::remove_all(dir);
 }
