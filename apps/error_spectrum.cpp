@@ -75,19 +75,16 @@ void apply_flag(Config& cfg, const std::string& flag, const std::string& key,
   }
 }
 
-// A multipole track: the amplitudes of the orders p..4p of the pole period (ce1_deg..ce4_deg).
-void add_ce_columns(const Eigen::VectorXd& eps_deg, int pole_pairs, magenc::SpectrumRow& row) {
-  const auto ce = magenc::electrical_harmonics_deg(eps_deg, pole_pairs);
-  for (std::size_t k = 0; k < ce.size(); ++k)
-    row.extra.push_back({"ce" + std::to_string(k + 1) + "_deg", magenc::fmt_sig(ce[k], 10)});
-}
-
 // A [nonius] track (docs/physics.md "Multipole rings and nonius"): the absolute reading on both rings' fields
-// replaces the row's spectrum (a slip shows in it) and adds nonius_margin_deg.
+// replaces the row's spectrum (a slip shows in it; ce1..ce4 stay the master track's incremental reading's)
+// and adds nonius_margin_deg.
 void add_nonius(const magenc::FieldSource& both, const magenc::ProbeSetup& setup, const magenc::NoniusTrack& track,
                 const magenc::Mount& mount, magenc::SpectrumRow& row) {
   const magenc::NoniusResult n = magenc::nonius_reading(both, setup, magenc::nonius_setup(setup, track), mount);
+  const magenc::Spectrum master = row.spectrum;
   row.spectrum = n.spectrum;
+  row.spectrum.pole_pairs = master.pole_pairs;
+  row.spectrum.ce_deg = master.ce_deg;
   row.extra.push_back({"nonius_margin_deg", magenc::fmt_sig(n.margin_deg, 10)});
 }
 
@@ -193,7 +190,6 @@ int run(int argc, char** argv) {
     row.extra.push_back({"field_max_mT", g10(res.field_max_mT)});
     row.extra.push_back({"in_window", res.in_window ? "1" : "0"});
     if (setup.speed.moving()) row.extra.push_back({"rpm", g10(setup.speed.rpm)});  // a run at speed
-    if (setup.multipole) add_ce_columns(res.eps_deg, setup.pole_pairs, row);
     if (track) add_nonius(*field, setup, *track, mount, row);
     if (!f.paths.empty()) single = std::move(res);
     rows.push_back(std::move(row));

@@ -95,7 +95,8 @@ int main(int argc, char** argv) {
     magenc::fem::write_field_outputs(out->path(), s, solver, cfg.to_json());
     out->commit();
   }
-  magenc::AnalyticField exact(s.domain.magnet);
+  const auto exact_field = magenc::fem::exact_field_of(s.domain.magnet);  // analytic or the sector pattern's
+  const magenc::FieldSource& exact = *exact_field;
   auto g = magenc::GridData::from_range({-half_mm, -half_mm, s.plane_z_mm}, {half_mm, half_mm, s.plane_z_mm},
                                         {step_mm, step_mm, 1});
   auto e = magenc::fem::bz_error_on_grid(solver.evaluator(), exact, g);

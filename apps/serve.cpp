@@ -128,6 +128,8 @@ std::string whatif_json(const Config& base, const std::string& body) {
     spectrum += (first ? "" : ",") + str(c) + ":" + num(res.spectrum.column(c));
     first = false;
   }
+  if (res.spectrum.pole_pairs > 0)  // a multipole read: ce1..ce4, as error_spectrum's table
+    for (const auto& c : magenc::electrical_columns()) spectrum += "," + str(c) + ":" + num(res.spectrum.column(c));
   spectrum += "}";
   const std::string map = field_map_json(*field, setup, cfg);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

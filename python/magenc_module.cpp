@@ -279,10 +279,14 @@ py::tuple py_angle_error(const py::object& field_arg, const py::object& array, c
 py::dict spectrum_dict(const magenc::Spectrum& s) {
   py::dict d;
   for (const auto& c : magenc::spectrum_columns()) d[py::str(c)] = s.column(c);
+  if (s.pole_pairs > 0)  // a multipole read: ce1..ce4 (orders p..4p), as error_spectrum's table
+    for (const auto& c : magenc::electrical_columns()) d[py::str(c)] = s.column(c);
   return d;
 }
 
-py::dict py_spectrum(const py::object& eps_deg) {
+py::dict py_spectrum(const py::object& eps_deg, int pole_pairs) {
+  if (pole_pairs < 0)
+    throw InputError("pole_pairs = " + std::to_string(pole_pairs) + " is out of range: allowed 0 (none) or >= 1");
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(eps_deg);
   if (!a || a.ndim() != 1 || a.shape(0) < 2 * magenc::kHarmonics + 1)
     throw InputError("eps_deg must be a 1-D array of at least " + std::to_string(2 * magenc::kHarmonics + 1) +
@@ -293,7 +297,7 @@ py::dict py_spectrum(const py::object& eps_deg) {
     if (!std::isfinite(e[i]))
       throw InputError("eps_deg[" + std::to_string(i) + "] is not finite: allowed finite angle errors (deg)");
   }
-  return spectrum_dict(magenc::spectrum_of(e));
+  return spectrum_dict(magenc::spectrum_of(e, pole_pairs));
 }
 
 py::dict py_diagnose(const py::object& measured, const py::object& field_arg, const py::object& array,
@@ -454,11 +458,13 @@ PYBIND11_MODULE(_magenc, m) {
         "default 'two'). config / **keys: every key of error_spectrum (mount.*, sensor.*, magnet.*, ...).\n"
         "Returns (theta_deg, eps_deg): two (M,) float64 arrays, M = sensor.steps, theta_m = 360 m / M deg,\n"
         "eps = wrap(phi - theta) in deg (docs/physics.md).");
-  m.def("spectrum", &py_spectrum, py::arg("eps_deg"),
+  m.def("spectrum", &py_spectrum, py::arg("eps_deg"), py::arg("pole_pairs") = 0,
         "Fourier coefficients of an angle-error curve, the spectra table's columns.\n\n"
         "eps_deg: (M,) array of errors in deg at theta_m = 360 m / M (uniform, one turn), M >= 17.\n"
+        "pole_pairs: p of a multipole read (magnet.pole_pairs); 0 (default): none.\n"
         "Returns a dict {'a0_deg', 'a1_deg'..'a8_deg', 'b1_deg'..'b8_deg', 'c1_deg'..'c8_deg', 'pp_deg'}\n"
-        "of floats in deg (c_n = hypot(a_n, b_n), pp = peak-to-peak).");
+        "of floats in deg (c_n = hypot(a_n, b_n), pp = peak-to-peak); with pole_pairs p >= 1 also\n"
+        "'ce1_deg'..'ce4_deg', the amplitudes of the orders p..4p (error_spectrum's columns).");
   m.def("diagnose", &py_diagnose, py::arg("measured"), py::arg("field") = "analytic", py::arg("array") = py::none(),
         py::arg("r0_mm") = py::none(), py::arg("free") = py::none(), py::arg("config") = py::none(),
         py::arg("fixed_zero") = false, py::arg("error_sign") = 1, py::arg("max_gap_deg") = 30.0,

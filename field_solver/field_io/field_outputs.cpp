@@ -22,6 +22,24 @@ double peak_rss_mib() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // ru_maxrss in KiB on Linux
 }
 
+namespace {
+// solve.json's "magnet": the keys a reader checks against a study's (SolvedFieldDir::mismatch).
+nlohmann::json magnet_record(const Magnet& m) {
+  nlohmann::json j = {{"radius_mm", m.radius_mm}, {"height_mm", m.height_mm}, {"br_T", m.br_T}, {"mu_r", m.mu_r},
+                      {"magnetization_deg", m.magnetization_deg}, {"magnetization_elevation_deg", m.magnetization_elevation_deg}};
+  if (m.is_ring()) j["inner_radius_mm"] = m.inner_radius_mm;  // solid cylinders: no key, as before
+  if (!m.is_uniform()) {  // the uniform magnet: no keys, as before
+    j["pattern"] = pattern_name(m.pattern);
+    if (m.is_multipole()) j["pole_pairs"] = m.pole_pairs;
+    if (m.pole_amplitude_sigma != 0.0) {
+      j["pole_amplitude_sigma"] = m.pole_amplitude_sigma;
+      j["pole_seed"] = m.pole_seed;
+    }
+  }
+  return j;
+}
+}  // namespace
+
 void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s, const MagnetostaticSolver& solver,
                          const std::string& config_json) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -73,10 +91,7 @@ void write_field_outputs(const std::filesystem::path& dir, const FemSettings& s,
   j["threads"] = st.threads;
   j["peak_rss_mib"] = peak_rss_mib();
   j["git_revision"] = kGitRevision;
-  j["magnet"] = {{"radius_mm", d.magnet.radius_mm}, {"height_mm", d.magnet.height_mm}, {"br_T", d.magnet.br_T},
-                 {"mu_r", d.magnet.mu_r}, {"magnetization_deg", d.magnet.magnetization_deg},
-                 {"magnetization_elevation_deg", d.magnet.magnetization_elevation_deg}};
-  if (d.magnet.is_ring()) j["magnet"]["inner_radius_mm"] = d.magnet.inner_radius_mm;  // solid cylinders: no key, as before
+  j["magnet"] = magnet_record(d.magnet);
   j["domain"] = {{"outer_radius_mm", d.mesh.outer_radius_mm},
                  {"boundary", solver.options().robin ? "robin" : "dirichlet"},
                  {"segments", d.mesh.segments},

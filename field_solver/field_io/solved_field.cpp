@@ -88,6 +88,23 @@ std::string SolvedFieldDir::mismatch(const Config& cfg) const {
       return "was solved with magnet.magnetization_elevation_deg = " + fmt(solved, 4) + ", the study uses " +
              fmt(want, 4) + ": solve again with the study's [magnet] keys";
   }
+  {  // uniform magnets are recorded without the pattern keys
+    const nlohmann::json& m = j["magnet"];
+    if (m.contains("pattern") && !m["pattern"].is_string())
+      throw InputError(file.string() + ": 'pattern' is not a string (expected solve_field's record)");
+    const std::string solved = m.contains("pattern") ? m["pattern"].get<std::string>() : std::string("uniform");
+    const std::string want = cfg.has("magnet.pattern") ? cfg.str("magnet.pattern") : "uniform";
+    long solved_p = 1;
+    try {
+      solved_p = json_integer(m, "pole_pairs", 1, false, 1, 100000);
+    } catch (const std::out_of_range& e) {
+      throw InputError(file.string() + ": " + e.what() + " (expected solve_field's record)");
+    }
+    const long want_p = cfg.has("magnet.pole_pairs") ? cfg.integer("magnet.pole_pairs") : 1L;
+    if (solved != want || (want != "uniform" && want != "radial" && solved_p != want_p))
+      return "was solved with magnet.pattern = " + solved + " (pole_pairs " + std::to_string(solved_p) +
+             "), the study uses " + want + " (pole_pairs " + std::to_string(want_p) + "): solve again with the study's [magnet] keys";
+  }
   if (j.contains("plane_z_mm")) {
     const double solved = json_number(j, "plane_z_mm", file);
     const double want = 0.5 * cfg.real("magnet.height_mm") + cfg.real("sensor.plane_height_mm");

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fields/analytic_field.hpp"
+#include "fields/multipole_field.hpp"
 #include "field_solver/field_io/field_outputs.hpp"
 
 namespace magenc::fem {
@@ -28,13 +29,18 @@ BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref,
   return s;
 }
 
+std::shared_ptr<const FieldSource> exact_field_of(const Magnet& magnet) {
+  if (!magnet.is_uniform()) return std::make_shared<MultipoleField>(magnet);
+  return std::make_shared<AnalyticField>(magnet);
+}
+
 ExactComparison solve_and_compare_with_exact(const DomainSpec& domain, const SolverOptions& options, const GridData& grid) {
   MagnetostaticSolver solver(domain, options);
   solver.run();
-  const AnalyticField exact(domain.magnet);
+  const std::shared_ptr<const FieldSource> exact = exact_field_of(domain.magnet);
   ExactComparison c;
   c.stats = solver.stats();
-  c.error = bz_error_on_grid(solver.evaluator(), exact, grid);
+  c.error = bz_error_on_grid(solver.evaluator(), *exact, grid);
   c.peak_rss_mib = peak_rss_mib();
   return c;
 }

@@ -1,6 +1,8 @@
 // Comparison of an FE solution with a reference field (e.g. the exact
 // AnalyticField) on a grid: errors of Bz relative to the peak |Bz|.
 #pragma once
+#include <memory>
+
 #include "field_solver/fe/fe_solution.hpp"
 #include "fields/field_source.hpp"
 #include "fields/grid.hpp"
@@ -22,6 +24,9 @@ struct BzErrorStats {
 
 // Bz error of the FE solution against ref on every grid point (parallel).
 BzErrorStats bz_error_on_grid(const FieldEvaluator& fem, const FieldSource& ref, const GridData& grid);
+
+// The exact field of a magnet: AnalyticField (uniform) or MultipoleField (a sector pattern).
+std::shared_ptr<const FieldSource> exact_field_of(const Magnet& magnet);
 
 // One FEM solve compared with the exact AnalyticField of the same magnet
 // (meaningful for mu_r = 1 everywhere: the exact field has no permeability).

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "field_solver/mesh/sector_magnetization.hpp"
 #include "field_solver/mesh/symmetric_mesh.hpp"
 #include "core/units.hpp"
 
@@ -481,7 +482,7 @@ void DomainSpec::validate() const {
   const MeshSpec& m = mesh;
   if (m.segments < 8 || m.segments > 4096)
     throw InputError("mesh.segments = " + std::to_string(m.segments) + " is out of range: allowed [8, 4096]");
-  if (m.symmetric) {
+  if (m.symmetric && magnet.is_uniform()) {  // a sector pattern is meshed whole (refuse_off_axis)
     const int N = m.symmetry_order;
     if (N < 2 || N > 64 || (N & (N - 1)) != 0)
       throw InputError("mesh.symmetry_order = " + std::to_string(N) + " is out of range: allowed 2, 4, 8, 16, 32 or 64");
@@ -490,6 +491,7 @@ void DomainSpec::validate() const {
                        "must be a multiple of mesh.symmetry_order = " + std::to_string(N) +
                        " (polygons with the mesh's mirror symmetry)");
   }
+  if (!magnet.is_uniform()) validate_pattern_mesh();
   if (m.sphere_subdivisions < 1 || m.sphere_subdivisions > 6)
     throw InputError("mesh.sphere_subdivisions = " + std::to_string(m.sphere_subdivisions) +
                      " is out of range: allowed [1, 6]");
@@ -553,6 +555,20 @@ void DomainSpec::validate() const {
       throw InputError("shaft reaches the truncation sphere (" + num(ext) + " mm from the origin): mesh.outer_radius_mm = " +
                        num(m.outer_radius_mm) + " must be > " + num(ext / 0.9) + " mm");
   }
+}
+
+void DomainSpec::validate_pattern_mesh() const {
+  const std::string what = "magnet.pattern = " + pattern_name(magnet.pattern);
+  if (shape != MagnetShape::Cylinder) throw InputError(what + " needs a cylinder magnet (the sphere is a validation case)");
+  if (!magnet.is_multipole()) return;
+  if (magnet.pole_edge_sigma_deg != 0.0)
+    throw InputError(what + " with magnet.pole_edge_sigma_deg = " + num(magnet.pole_edge_sigma_deg) +
+                     " is out of range for the FEM: allowed 0 (the mesh's sector facets lie on the ideal boundaries)");
+  const long need = 4L * magnet.pole_pairs;
+  if (mesh.segments % need != 0)
+    throw InputError("mesh.segments = " + std::to_string(mesh.segments) + " is out of range with " + what +
+                     ", magnet.pole_pairs = " + std::to_string(magnet.pole_pairs) + ": allowed a multiple of 4 pole_pairs = " +
+                     std::to_string(need) + " (every sector boundary on a polygon vertex)");
 }
 
 void DomainSpec::validate_zone_annulus() const {
@@ -619,6 +635,10 @@ Plc build_plc_with_parts(const DomainSpec& spec) {
   const bool core = spec.zone.core_to_magnet();
   add_bodies_of_revolution(plc, axial, Eigen::Vector2d::Zero(), m.segments, m.equal_area, top,
                            spec.zone.core_radius_mm, core ? &core_ring : nullptr);
+  if (spec.magnet.is_multipole())
+    add_sector_facets(plc, spec.magnet, m.segments,
+                      spec.magnet.is_ring() ? polygon_radius(spec.magnet.inner_radius_mm, m.segments, m.equal_area) : 0.0,
+                      polygon_radius(R, m.segments, m.equal_area), v_body);
   if (core) {
     add_zone_with_core(plc, spec, -1, top, &core_ring);
   } else if (spec.zone.enabled && !spec.zone.annulus()) {
@@ -719,6 +739,9 @@ Plc build_plc(const DomainSpec& spec) {
     top = R;
   }
   plc.regions.push_back({seed_at(0.5 * R, 0), kRegionMagnet, tet_volume_for_edge(m.h_magnet_mm)});
+  if (spec.magnet.is_multipole())
+    add_sector_facets(plc, spec.magnet, m.segments, 0.0, polygon_radius(R, m.segments, m.equal_area),
+                      tet_volume_for_edge(m.h_magnet_mm));
   // 3. Refinement zone around the sensing plane.
   if (spec.zone.core_to_magnet()) {
     add_zone_with_core(plc, spec, magnet_base + m.segments, top);
@@ -740,6 +763,10 @@ Plc build_plc(const DomainSpec& spec) {
 
 namespace {
 void refuse_off_axis(const DomainSpec& spec) {
+  if (!spec.magnet.is_uniform())
+    throw InputError("magnet.pattern = " + pattern_name(spec.magnet.pattern) +
+                     ": a symmetric mesh (mesh.symmetric = true) is refused for a sector pattern (its facets inside the "
+                     "magnet and its parities are not the mirrored wedge's); use mesh.symmetric = false");
   for (const auto& p : spec.parts)
     if (!p.coaxial())
       throw InputError("part '" + p.name + "' is off the axis (offset_mm = [" + num(p.offset_x_mm) + ", " + num(p.offset_y_mm) +

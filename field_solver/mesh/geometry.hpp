@@ -157,6 +157,9 @@ struct DomainSpec {
   // The [[parts]] checks of validate(): sizes, overlaps (touching allowed for
   // coaxial bodies), the domain, the refinement zone. InputError naming the part.
   void validate_parts() const;
+  // The FEM's limits of a sector pattern (sector_magnetization.hpp): a cylinder magnet; multipoles without
+  // pole edge errors and with mesh.segments a multiple of 4 pole_pairs. InputError naming the keys.
+  void validate_pattern_mesh() const;
   // The checks of an annulus zone (ZoneSpec::annulus): not empty, clear of the magnet's material.
   void validate_zone_annulus() const;
   // Relative permeability of a region id.

@@ -15,6 +15,7 @@
 #include "field_solver/solve/linear_solver.hpp"
 #include "field_solver/solve/nonlinear.hpp"
 #include "field_solver/solve/reduced_potential.hpp"
+#include "field_solver/mesh/sector_magnetization.hpp"
 #include "field_solver/mesh/symmetric_mesh.hpp"
 
 namespace magenc::fem {
@@ -96,15 +97,27 @@ MagnetostaticSolver::MagnetostaticSolver(DomainSpec domain, SolverOptions option
     throw InputError("fem.order = " + std::to_string(options_.order) + " is out of range: allowed 1 or 2");
   if (options_.threads <= 0) options_.threads = omp_get_max_threads();
   options_.solver = resolve_linear_solver(options_.solver);
+  // A sector pattern (multipole or radial ring): its magnetization per cell (sector_magnetization.hpp) in the
+  // total potential; the reduced and split potentials would need the exact field inside the material.
+  if (!domain_.magnet.is_uniform() && options_.potential != Potential::Auto && options_.potential != Potential::Total)
+    throw InputError("fem.potential = " + to_string(options_.potential) + " with magnet.pattern = " +
+                     pattern_name(domain_.magnet.pattern) + " is not supported: allowed total or auto (the total potential "
+                     "with the sectors' magnetization in the magnet's cells)");
   if (options_.potential == Potential::Auto)
-    options_.potential = domain_.has_permeable_part_touching_magnet() ? Potential::Total
+    options_.potential = !domain_.magnet.is_uniform() || domain_.has_permeable_part_touching_magnet() ? Potential::Total
                          : domain_.shaft.enabled || domain_.has_permeable_part() ? Potential::Split
                                                                                  : Potential::Reduced;
   if (options_.potential == Potential::Split && domain_.has_permeable_part_touching_magnet())
     throw InputError("fem.potential = split with a permeable part touching the magnet is not supported (the magnet's "
                      "exact source field and its faceted mesh disagree on the contact face): use fem.potential = total "
                      "(or auto), or leave a gap between part and magnet");
-  if (domain_.mesh.symmetric && domain_.has_off_axis_part()) {
+  if (domain_.mesh.symmetric && !domain_.magnet.is_uniform()) {
+    // The mirrored wedge meshes and the quadrant solve assume the uniform magnet's symmetries (a potential odd
+    // or even across x = 0 and y = 0 per magnetization component, no facets inside the magnet).
+    domain_.mesh.symmetric = false;
+    mesh_layout_ = "whole domain: magnet.pattern = " + pattern_name(domain_.magnet.pattern) +
+                   " is meshed and solved whole (mesh.symmetric = true not applied)";
+  } else if (domain_.mesh.symmetric && domain_.has_off_axis_part()) {
     // Never symmetrize a domain without the symmetry: mesh and solve it whole, and say so.
     domain_.mesh.symmetric = false;
     mesh_layout_ = "whole domain: a part off the axis breaks the mirror symmetry (mesh.symmetric = true not applied)";
@@ -170,7 +183,7 @@ void MagnetostaticSolver::setup_system() {
   stats_.order = options_.order;
   stats_.threads = options_.threads;
   mu_r_cell_ = cell_mu_r(domain_, mesh_);
-  br_cell_ = cell_br(mesh_, domain_.magnet.remanence_T());
+  br_cell_ = magnet_cell_remanence(mesh_, domain_.magnet);
   cell_total_.clear();
   if (options_.potential == Potential::Split) {
     cell_total_ = total_potential_cells(mesh_, domain_);
@@ -218,7 +231,7 @@ PotentialLoad MagnetostaticSolver::potential_load(const TetMesh& mesh, const FeS
                                                   const Eigen::Vector3d& br_T, const Magnet& source, int odd_axis) const {
   PotentialLoad l;
   if (options_.potential == Potential::Total) {
-    l.f = assemble_rhs(mesh, space, cell_br(mesh, br_T));
+    l.f = assemble_rhs(mesh, space, source.is_uniform() ? cell_br(mesh, br_T) : magnet_cell_remanence(mesh, source));
   } else if (options_.potential == Potential::Reduced || cell_total_.empty()) {
     l.f = assemble_reaction_rhs(mesh, space, mu_r, AnalyticField(source));
   } else {

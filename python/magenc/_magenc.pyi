@@ -28,8 +28,9 @@ def angle_error(field: str = "analytic", array: Optional[str] = None, config: Op
                 interp: str = "cubic", **keys: _ConfigValue) -> Tuple[_FloatArray, _FloatArray]:
     """(theta_deg, eps_deg): one turn of the configured mount, two (M,) arrays in deg."""
 
-def spectrum(eps_deg: npt.ArrayLike) -> Dict[str, float]:
-    """The spectra table's coefficients in deg: a0_deg, a1_deg..a8_deg, b1..b8, c1..c8, pp_deg."""
+def spectrum(eps_deg: npt.ArrayLike, pole_pairs: int = 0) -> Dict[str, float]:
+    """The spectra table's coefficients in deg: a0_deg, a1_deg..a8_deg, b1..b8, c1..c8, pp_deg; with
+    pole_pairs p >= 1 (a multipole read) also ce1_deg..ce4_deg, the amplitudes of the orders p..4p."""
 
 def diagnose(measured: Union[_PathLike, Sequence[_PathLike]], field: str = "analytic", array: Optional[str] = None,
              r0_mm: Optional[float] = None, free: Union[None, str, Sequence[str]] = None,

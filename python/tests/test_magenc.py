@@ -165,6 +165,25 @@ def test_spectrum_of_a_known_series():
         magenc.spectrum(np.r_[np.zeros(20), np.inf])
 
 
+def test_spectrum_of_a_multipole_read_has_the_ce_columns_of_error_spectrum(run_exe):
+    ring = {"magnet.pattern": "axial_multipole", "magnet.pole_pairs": 8, "magnet.inner_radius_mm": 3.0,
+            "magnet.radius_mm": 6.0, "magnet.height_mm": 1.5, "magnet.br_T": 0.3, "sensor.r0_mm": 4.5,
+            "sensor.plane_height_mm": 0.4, "sensor.steps": 360, "mount.dx_mm": 0.05}
+    sets = [a for k, v in ring.items() for a in ("--set", f"{k}={v!r}")]
+    r = run_exe("error_spectrum", "--field", "analytic", "--array", "two", *sets)
+    assert r.returncode == 0, r.stderr
+    row = read_csv(r.stdout)[0]
+    _, eps = magenc.angle_error(array="two", config=ring)
+    s = magenc.spectrum(eps, pole_pairs=8)
+    assert [k for k in s if k.startswith("ce")] == ["ce1_deg", "ce2_deg", "ce3_deg", "ce4_deg"]
+    for name, value in s.items():
+        assert value == pytest.approx(float(row[name]), rel=1e-9, abs=1e-15), name
+    assert s["ce4_deg"] > 1e-3  # the square wave's 3rd harmonic at order 4p
+    assert "ce1_deg" not in magenc.spectrum(eps)
+    with pytest.raises(ValueError, match="pole_pairs = -1"):
+        magenc.spectrum(eps, pole_pairs=-1)
+
+
 # ---- diagnose ----
 
 def test_diagnose_equals_the_executable_and_recovers_the_truth(tmp_path, run_exe):

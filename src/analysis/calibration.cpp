@@ -397,7 +397,7 @@ AngleErrorResult corrected(const Correction& c, AngleErrorResult run) {
   bool uniform = M >= 16;
   for (Eigen::Index m = 0; uniform && m < M; ++m)
     uniform = std::abs(run.theta_deg[m] - 360.0 * static_cast<double>(m) / static_cast<double>(M)) < 1e-9;
-  if (uniform) run.spectrum = spectrum_of(run.eps_deg);
+  if (uniform) run.spectrum = spectrum_of(run.eps_deg, run.spectrum.pole_pairs);
   return run;
 }
 

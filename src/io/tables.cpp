@@ -40,9 +40,16 @@ void check_same_extras(const std::vector<Row>& rows, const char* table) {
 
 std::string spectra_csv(const std::vector<SpectrumRow>& rows) {
   check_same_extras(rows, "spectra table");
+  // A multipole read adds ce1..ce4 after pp (docs/interfaces.md): every row or none.
+  const bool electrical = !rows.empty() && rows.front().spectrum.pole_pairs > 0;
+  for (const auto& r : rows)
+    if ((r.spectrum.pole_pairs > 0) != electrical)
+      throw std::invalid_argument("spectra table: rows of multipole and other reads mixed (ce1..ce4 in some only)");
   std::ostringstream os;
   os << "field,array,r0_mm,sx_mm,sy_mm,dx_mm,dy_mm,dz_mm";
   for (const auto& c : spectrum_columns()) os << ',' << c;
+  if (electrical)
+    for (const auto& c : electrical_columns()) os << ',' << c;
   if (!rows.empty())
     for (const auto& [name, text] : rows.front().extra) os << ',' << cell(name);
   os << '\n';
@@ -51,6 +58,8 @@ std::string spectra_csv(const std::vector<SpectrumRow>& rows) {
        << table_num(r.mount.sy_mm) << ',' << table_num(r.mount.dx_mm) << ',' << table_num(r.mount.dy_mm) << ','
        << table_num(r.mount.dz_mm);
     for (const auto& c : spectrum_columns()) os << ',' << table_num(r.spectrum.column(c));
+    if (electrical)
+      for (const double v : r.spectrum.ce_deg) os << ',' << table_num(v);
     for (const auto& [name, text] : r.extra) os << ',' << cell(text);
     os << '\n';
   }

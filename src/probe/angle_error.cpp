@@ -396,7 +396,9 @@ AngleErrorResult angle_error_at_rad(const FieldSource& field, const ProbeSetup& 
       winding_deg += wrap_deg(field_first - field_prev);
       if (std::abs(winding_deg - 360.0 * setup.pole_pairs * setup.orientation.direction) > 180.0)
         throw InputError("the field direction at the sensing spot turns " + num(winding_deg / 360.0) +
-                         " times per turn, not " + (setup.orientation.direction == 1 ? "once" : "once backwards") +
+                         " times per turn, not " +
+                         (setup.pole_pairs == 1 ? std::string("once") : std::to_string(setup.pole_pairs) + " times") +
+                         (setup.orientation.direction == 1 ? "" : " backwards") +
                          " as sensor.direction = " + std::to_string(setup.orientation.direction) +
                          " expects (mount |s| + |d| = " +
                          num(std::hypot(mount.sx_mm, mount.sy_mm) + std::hypot(mount.dx_mm, mount.dy_mm)) +
@@ -456,7 +458,7 @@ AngleErrorResult angle_error(const FieldSource& field, const ProbeSetup& setup, 
                            num(res.theta_deg[m]) + " deg");
   }
   // 5. Spectrum of the uniform samples.
-  res.spectrum = spectrum_of(res.eps_deg);
+  res.spectrum = spectrum_of(res.eps_deg, setup.multipole ? setup.pole_pairs : 0);
   return res;
 }
 

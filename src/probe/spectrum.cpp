@@ -77,8 +77,25 @@ std::array<double, 4> electrical_harmonics_deg(const Eigen::VectorXd& eps_deg, i
   return out;
 }
 
+Spectrum spectrum_of(const Eigen::VectorXd& eps_deg, int pole_pairs) {
+  Spectrum s = spectrum_of(eps_deg);
+  if (pole_pairs > 0) {
+    s.pole_pairs = pole_pairs;
+    s.ce_deg = electrical_harmonics_deg(eps_deg, pole_pairs);
+  }
+  return s;
+}
+
+const std::vector<std::string>& electrical_columns() {
+  static const std::vector<std::string> cols{"ce1_deg", "ce2_deg", "ce3_deg", "ce4_deg"};
+  return cols;
+}
+
 double Spectrum::column(const std::string& name) const {
   if (name == "pp_deg") return pp_deg;
+  if (pole_pairs > 0)
+    for (std::size_t k = 0; k < ce_deg.size(); ++k)
+      if (name == electrical_columns()[k]) return ce_deg[k];
   if (name == "a0_deg") return a0_deg;
   if (name.size() == 6 && name.substr(2) == "_deg" && name[1] >= '1' && name[1] <= '0' + kHarmonics) {
     const int n = name[1] - '0';

@@ -20,9 +20,14 @@ struct Spectrum {
   std::array<double, kHarmonics + 1> b_deg{};  // b_deg[n], n = 1..8
   std::array<double, kHarmonics + 1> c_deg{};  // c_deg[n] = hypot(a_n, b_n); c_deg[0] = a0
   double pp_deg = 0;                           // peak-to-peak of eps
+  // A multipole read (pole_pairs p > 0, spectrum_of(eps, p)): ce_deg[k - 1] is the amplitude of order k p,
+  // k = 1..4 (electrical_harmonics_deg); spectra tables then add ce1_deg..ce4_deg. 0: not a multipole read.
+  int pole_pairs = 0;
+  std::array<double, 4> ce_deg{};
 
   // Value of a spectra-table column by name: "a0_deg", "a3_deg", "b2_deg",
-  // "c1_deg", "pp_deg". Throws std::invalid_argument for an unknown name.
+  // "c1_deg", "pp_deg"; "ce1_deg".."ce4_deg" of a multipole read. Throws std::invalid_argument for an
+  // unknown name.
   double column(const std::string& name) const;
 };
 
@@ -31,6 +36,11 @@ double wrap_deg(double a_deg);
 
 // Spectrum of eps sampled at theta_m = 2*pi*m/M, m = 0..M-1 (eps in degrees).
 Spectrum spectrum_of(const Eigen::VectorXd& eps_deg);
+// The same with ce1..ce4 of a multipole read of pole_pairs p (p = 0: as above).
+Spectrum spectrum_of(const Eigen::VectorXd& eps_deg, int pole_pairs);
+
+// The columns a multipole read adds to a spectra table: ce1_deg..ce4_deg.
+const std::vector<std::string>& electrical_columns();
 
 // The spectra-table coefficient columns in order: a0..a8, b1..b8, c1..c8, pp.
 const std::vector<std::string>& spectrum_columns();

@@ -170,6 +170,16 @@ TEST_CASE("solve_field rejects bad input with a one-line reason and no output", 
       {"--set mesh.core_radius_mm=2.5 --set mesh.core_top_above_plane_mm=2", "zone core top", 2},
       {"--set mesh.core_radius_mm=2.5 --set mesh.core_top_above_plane_mm=0 --set mesh.core_below_plane_mm=0",
        "zone core is empty", 2},
+      // Multipole rings: pole pairs 0; sector boundaries off the polygon (32 segments, 4 p = 64); pole edge
+      // errors; the reduced potential.
+      {"--set magnet.pattern=axial_multipole --set magnet.pole_pairs=0 --set magnet.inner_radius_mm=1",
+       "magnet.pole_pairs", 2},
+      {"--set magnet.pattern=axial_multipole --set magnet.pole_pairs=16 --set magnet.inner_radius_mm=1",
+       "mesh.segments = 32", 2},
+      {"--set magnet.pattern=axial_multipole --set magnet.pole_pairs=2 --set magnet.pole_edge_sigma_deg=0.5",
+       "magnet.pole_edge_sigma_deg", 2},
+      {"--set magnet.pattern=radial_multipole --set magnet.pole_pairs=2 --set fem.potential=reduced",
+       "fem.potential = reduced", 2},
   }));
   CAPTURE(c.args);
   const fs::path out = scratch("bad");

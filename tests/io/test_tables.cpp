@@ -43,6 +43,24 @@ TEST_CASE("spectra table header and numbers", "[io][contract]") {
   CHECK(spectra_csv({r}).find(",\"a,b\"\n") != std::string::npos);
 }
 
+TEST_CASE("spectra table of a multipole read: ce1..ce4 after pp, every row or none", "[io][contract]") {
+  SpectrumRow r;
+  r.field = "analytic";
+  r.array = "two";
+  r.spectrum.pole_pairs = 32;
+  r.spectrum.ce_deg = {0.5, 0.25, 0.125, 0.09266};
+  r.extra = {{"principle", "bz"}};
+  const std::string csv = spectra_csv({r, r});
+  CHECK(first_line(csv).find(",pp_deg,ce1_deg,ce2_deg,ce3_deg,ce4_deg,principle") != std::string::npos);
+  CHECK(csv.find(",0.5,0.25,0.125,0.09266,bz\n") != std::string::npos);
+  CHECK(r.spectrum.column("ce4_deg") == 0.09266);
+  SpectrumRow plain = r;
+  plain.spectrum.pole_pairs = 0;
+  CHECK_THROWS_AS(spectra_csv({r, plain}), std::invalid_argument);
+  CHECK(first_line(spectra_csv({plain})).find("ce1_deg") == std::string::npos);
+  CHECK_THROWS_AS(plain.spectrum.column("ce1_deg"), std::invalid_argument);
+}
+
 TEST_CASE("fits table header", "[io][contract]") {
   FitRow f{"static", "sx_mm", "c2_deg", {1, 2, 3, 4}, {}};
   CHECK(fits_csv({f}) == "study,swept,coef,p3,p2,p1,p0\nstatic,sx_mm,c2_deg,1,2,3,4\n");
