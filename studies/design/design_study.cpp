@@ -318,6 +318,17 @@ std::uint64_t design_seed(const DesignOptions& o, std::size_t index) {
 
 namespace {
 
+// The magnet of one design point.
+Magnet design_magnet(const Design& d) {
+  Magnet m;
+  m.radius_mm = d.magnet_radius_mm;
+  m.height_mm = d.magnet_height_mm;
+  m.inner_radius_mm = d.magnet_inner_radius_mm;
+  m.br_T = d.br_T;
+  m.validate();
+  return m;
+}
+
 // The local field models of one geometry (material, magnet, gap, r0) and the pipeline of one sensor.
 struct DesignModel {
   std::unique_ptr<AnalyticField> field;
@@ -328,13 +339,7 @@ struct DesignModel {
   // wrapped error of 360 deg. Never for a solid magnet above its top face (f > 0).
   bool reversed = false;
   DesignModel(const DesignOptions& o, const Design& d, const ToleranceBox& box, bool drift) {
-    Magnet m;
-    m.radius_mm = d.magnet_radius_mm;
-    m.height_mm = d.magnet_height_mm;
-    m.inner_radius_mm = d.magnet_inner_radius_mm;
-    m.br_T = d.br_T;
-    m.validate();
-    field = std::make_unique<AnalyticField>(m);
+    field = std::make_unique<AnalyticField>(design_magnet(d));
     // The displacements the models must serve: the mounting box plus the drift (the radius study's reach
     // function on the sum; its spectra cases' floor keeps the models those of the radius study).
     RadiusScanOptions ro;
@@ -497,13 +502,7 @@ ProbeSetup side_setup(const DesignOptions& o, const Design& d, const AnalyticFie
 // A side-shaft design: the direct pipeline (angle_error) on the same samples, drift, environment, speed and
 // calibration as a Bz array's fast path; the field window is the in-plane magnitude's over the turn.
 DesignResult evaluate_side(const DesignOptions& o, const Design& d, const ToleranceBox& box, bool drift) {
-  Magnet m;
-  m.radius_mm = d.magnet_radius_mm;
-  m.height_mm = d.magnet_height_mm;
-  m.inner_radius_mm = d.magnet_inner_radius_mm;
-  m.br_T = d.br_T;
-  m.validate();
-  const AnalyticField field(m);
+  const AnalyticField field(design_magnet(d));
   const ProbeSetup nominal = side_setup(o, d, field);
   ProbeSetup turning = nominal;
   turning.speed = o.speed;
