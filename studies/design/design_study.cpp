@@ -329,6 +329,34 @@ Magnet design_magnet(const Design& d) {
   return m;
 }
 
+// The random streams of one design: the factory samples of the mounting box, and per sample the drift to its
+// run state (a re-mount and the run environment) when the design is judged with drift.
+struct DesignSamples {
+  std::vector<ToleranceCase> factory;
+  ToleranceBox run_box;
+  bool has_run = false;
+  std::uint64_t drift_seed = 0;
+  DesignSamples(const DesignOptions& o, const Design& d, const ToleranceBox& box, bool drift) {
+    const std::uint64_t seed = design_seed(o, d.index);
+    factory = monte_carlo_cases(box, o.samples, seed);
+    run_box = o.run_box(d.br_tc_per_K);
+    has_run = drift && !run_box.empty();
+    drift_seed = splitmix64(seed + kDriftStream);
+  }
+  // Sample i at its run state: the drift's offsets added to the factory mount, the run environment (has_run).
+  ToleranceCase at_run(const ToleranceCase& fc, std::size_t i) const {
+    ToleranceCase rc = fc;
+    const ToleranceCase dc = run_box.case_sample(drift_seed, i);
+    rc.mount.sx_mm += dc.mount.sx_mm;
+    rc.mount.sy_mm += dc.mount.sy_mm;
+    rc.mount.dx_mm += dc.mount.dx_mm;
+    rc.mount.dy_mm += dc.mount.dy_mm;
+    rc.mount.dz_mm += dc.mount.dz_mm;
+    rc.env = dc.env;
+    return rc;
+  }
+};
+
 // The local field models of one geometry (material, magnet, gap, r0) and the pipeline of one sensor.
 struct DesignModel {
   std::unique_ptr<AnalyticField> field;
@@ -411,14 +439,9 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
   FastPipeline fast_run = fast;  // the run state: at speed.rpm when the encoder turns
   fast_run.set_speed(o.speed);
   const bool moving = o.speed.acts();
-  const std::uint64_t seed = design_seed(o, d.index);
-  const std::vector<ToleranceCase> factory = monte_carlo_cases(box, o.samples, seed);
-  const ToleranceBox run_box = o.run_box(d.br_tc_per_K);
-  const bool has_run = drift && !run_box.empty();
-  const std::uint64_t drift_seed = splitmix64(seed + kDriftStream);
-  const int N = o.fast_steps;
-  Eigen::VectorXd theta(N);
-  for (int m = 0; m < N; ++m) theta[m] = 360.0 * m / N;
+  const DesignSamples samples(o, d, box, drift);
+  const bool has_run = samples.has_run;
+  const Eigen::VectorXd theta = uniform_theta_deg(o.fast_steps);
   const bool cal = !o.req.calibration.none();
   // Per sample: uncalibrated pp, calibrated pp, field min, field max (factory state, 20 C; the field
   // window recorded so that its extremes over the samples are exact: WindowExtremes).
@@ -432,15 +455,7 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
     fast.eps_field_bounds(fc, ef, &bounds[0], &bounds[1], &bounds[2], &bounds[3], cal ? &pf : nullptr);
     window.record(fast, fc, bounds, &out[2], &out[3]);
     if (has_run) {
-      ToleranceCase rc = fc;
-      const ToleranceCase dc = run_box.case_sample(drift_seed, i);
-      rc.mount.sx_mm += dc.mount.sx_mm;
-      rc.mount.sy_mm += dc.mount.sy_mm;
-      rc.mount.dx_mm += dc.mount.dx_mm;
-      rc.mount.dy_mm += dc.mount.dy_mm;
-      rc.mount.dz_mm += dc.mount.dz_mm;
-      rc.env = dc.env;
-      fast_run.eps(rc, er, cal ? &pr : nullptr);
+      fast_run.eps(samples.at_run(fc, i), er, cal ? &pr : nullptr);
     } else if (moving) {
       fast_run.eps(fc, er, cal ? &pr : nullptr);
     }
@@ -454,7 +469,7 @@ DesignResult evaluate_with(const DesignOptions& o, const Design& d, const Circle
       out[1] = out[0];
     }
   };
-  DesignResult r = result_of(o, d, evaluate_cases(factory, 4, f));
+  DesignResult r = result_of(o, d, evaluate_cases(samples.factory, 4, f));
   r.bz_amplitude_mT = 1e3 * model.amplitude_T();
   return r;
 }
@@ -507,11 +522,8 @@ DesignResult evaluate_side(const DesignOptions& o, const Design& d, const Tolera
   ProbeSetup turning = nominal;
   turning.speed = o.speed;
   const bool moving = o.speed.acts();
-  const std::uint64_t seed = design_seed(o, d.index);
-  const std::vector<ToleranceCase> factory = monte_carlo_cases(box, o.samples, seed);
-  const ToleranceBox run_box = o.run_box(d.br_tc_per_K);
-  const bool has_run = drift && !run_box.empty();
-  const std::uint64_t drift_seed = splitmix64(seed + kDriftStream);
+  const DesignSamples samples(o, d, box, drift);
+  const bool has_run = samples.has_run;
   const Eigen::VectorXd theta = uniform_theta_deg(o.fast_steps);
   auto f = [&](std::size_t i, const ToleranceCase& fc, double* out) {
     ProbeSetup at_factory = nominal;
@@ -521,25 +533,16 @@ DesignResult evaluate_side(const DesignOptions& o, const Design& d, const Tolera
     out[3] = at.field_max_mT;
     AngleErrorResult later;
     if (has_run || moving) {
+      const ToleranceCase rc = has_run ? samples.at_run(fc, i) : fc;
       ProbeSetup s = turning;
-      Mount mount = fc.mount;
-      s.env = fc.env;
-      if (has_run) {
-        const ToleranceCase dc = run_box.case_sample(drift_seed, i);
-        mount.sx_mm += dc.mount.sx_mm;
-        mount.sy_mm += dc.mount.sy_mm;
-        mount.dx_mm += dc.mount.dx_mm;
-        mount.dy_mm += dc.mount.dy_mm;
-        mount.dz_mm += dc.mount.dz_mm;
-        s.env = dc.env;
-      }
-      later = angle_error(field, s, mount);
+      s.env = rc.env;
+      later = angle_error(field, s, rc.mount);
     }
     const Eigen::VectorXd& run = has_run || moving ? later.eps_deg : at.eps_deg;
     out[0] = run.maxCoeff() - run.minCoeff();
     out[1] = o.req.calibration.none() ? out[0] : calibrated_pp_deg(o.req.calibration, theta, at.eps_deg, run);
   };
-  DesignResult r = result_of(o, d, evaluate_cases(factory, 4, f));
+  DesignResult r = result_of(o, d, evaluate_cases(samples.factory, 4, f));
   r.bz_amplitude_mT = std::numeric_limits<double>::quiet_NaN();
   return r;
 }
