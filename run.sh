@@ -23,39 +23,69 @@
 #  10. diagnosis          diagnose round trip + anomalies    -> output/diagnosis
 #      (exact field, 100 cases per array; FE field 5 cases per array from output/field)
 # fem_convergence (several solves, a few minutes) runs with MAGENC_CONVERGENCE=1.
+# Two lanes run side by side, so that both cores stay busy while one step runs serially (TetGen, the
+# single-threaded studies): the FE lane (1, then the steps that read output/field: 4-7, 9, 10) and the
+# exact lane (2, 3, 8). Each step's console output goes to output/logs/<step>.log; a failed step prints
+# its log's tail, and run.sh exits non-zero once both lanes have stopped.
 set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install_deps.sh
 scripts/build.sh
 BIN=build/bin
-mkdir -p output
-step() { echo; echo "== $*"; local t0=$SECONDS; "$@"; echo "   ($((SECONDS - t0)) s)"; }
-step "$BIN/solve_field" --set output.mesh_vtu=true --out output/field   # mesh.vtu: fem sources, ParaView
-step "$BIN/linear_model" --out output/linear_model
-step "$BIN/exact_field" --out output/exact_field
-step "$BIN/real_field" --out output/real_field
-step "$BIN/airgap" --out output/airgap
-# FE artefacts against mesh size and order: harmonic_provenance solves its variants (coarse P1, coarse P2,
-# medium P2, mu_r = 1; seconds each) itself and adds the default solve.
-step "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field --out output/harmonic_provenance
-step "$BIN/radius" --out output/radius
-step "$BIN/error_sources" --config studies/error_sources/error_sources.toml --out output/error_sources
-step "$BIN/sensor_principles" --config studies/sensor_principles/sensor_principles.toml --out output/sensor_principles
-step "$BIN/calibration" --config studies/calibration/calibration.toml --out output/calibration
-step "$BIN/stray_field" --config studies/stray_field/stray_field.toml --out output/stray_field
-step "$BIN/temperature" --config studies/temperature/temperature.toml --out output/temperature
-step "$BIN/steel_parts" --config studies/steel_parts/steel_parts.toml --out output/steel_parts
-step "$BIN/design" --config studies/design/design.toml --out output/design
-step "$BIN/speed" --config studies/speed/speed.toml --out output/speed
-step "$BIN/off_axis" --config studies/off_axis/off_axis.toml --out output/off_axis
-step "$BIN/multipole" --config studies/multipole/multipole.toml --out output/multipole
-# Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
-step "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 --dx 0.2 \
-  --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv
-step "$BIN/diagnosis" --set fem_field.dir=output/field --set roundtrip.fem_cases=5 --out output/diagnosis
-if [ "${MAGENC_CONVERGENCE:-0}" = 1 ]; then
-  step "$BIN/fem_convergence" --out output/fem_convergence
-fi
+mkdir -p output/logs
+t_start=$SECONDS
+# step NAME COMMAND...: runs COMMAND with its output in output/logs/NAME.log; prints its time or its log's tail.
+step() {
+  local name=$1; shift
+  local t0=$SECONDS
+  if "$@" >"output/logs/$name.log" 2>&1; then
+    echo "== $name ($((SECONDS - t0)) s)"
+  else
+    echo "== $name FAILED after $((SECONDS - t0)) s; the end of output/logs/$name.log:"
+    tail -n 20 "output/logs/$name.log" | sed 's/^/   /'
+    return 1
+  fi
+}
+study() { step "$1" "$BIN/$1" --config "studies/$1/$1.toml" --out "output/$1"; }
+
+fe_lane() {
+  step solve_field "$BIN/solve_field" --set output.mesh_vtu=true --out output/field || return 1  # mesh.vtu: fem sources, ParaView
+  step real_field "$BIN/real_field" --out output/real_field || return 1
+  step airgap "$BIN/airgap" --out output/airgap || return 1
+  # FE artefacts against mesh size and order: harmonic_provenance solves its variants (coarse P1, coarse P2,
+  # medium P2, mu_r = 1; seconds each) itself and adds the default solve.
+  step harmonic_provenance "$BIN/harmonic_provenance" --set provenance.fem_dirs=output/field \
+    --out output/harmonic_provenance || return 1
+  step radius "$BIN/radius" --out output/radius || return 1
+  # Probe paths for ParaView's probe_paths.pvsm (exaggerated case so the paths show): sx 0.3, dx 0.2 mm.
+  step error_spectrum "$BIN/error_spectrum" --field grid:output/field/plane.vti --array two --r0 2.4 --sx 0.3 \
+    --dx 0.2 --paths output/probe_paths/paths_example.vtp --out output/probe_paths/spectrum.csv || return 1
+  step diagnosis "$BIN/diagnosis" --set fem_field.dir=output/field --set roundtrip.fem_cases=5 \
+    --out output/diagnosis || return 1
+  if [ "${MAGENC_CONVERGENCE:-0}" = 1 ]; then
+    step fem_convergence "$BIN/fem_convergence" --out output/fem_convergence || return 1
+  fi
+}
+
+exact_lane() {
+  step linear_model "$BIN/linear_model" --out output/linear_model || return 1
+  step exact_field "$BIN/exact_field" --out output/exact_field || return 1
+  for s in error_sources sensor_principles calibration stray_field temperature steel_parts design speed off_axis \
+    multipole; do
+    study "$s" || return 1
+  done
+}
+
+exact_lane &
+exact_pid=$!
+status=0
+fe_lane || status=1
+wait "$exact_pid" || status=1
 echo
-echo "magenc: results in $(pwd)/output/ (each study: summary.md, CSV tables, PNG plots);"
+if [ "$status" != 0 ]; then
+  echo "magenc: a step failed (above); the other steps' results are in $(pwd)/output/." >&2
+  exit 1
+fi
+echo "magenc: every step done in $((SECONDS - t_start)) s; results in $(pwd)/output/ (each study: summary.md,"
+echo "        CSV tables, PNG plots; each step's console output in output/logs/);"
 echo "        ParaView states in paraview_states/ (see paraview_states/README.md)."
