@@ -40,7 +40,7 @@ class MultipoleRingModel {
   // must serve (> 0); tol_rel: the harmonics' and Q's truncation (relative to A_1). InputError for
   // values out of range.
   MultipoleRingModel(const FieldSource& field, int pole_pairs, double r0_mm, double plane_z_mm, double reach_rho_mm,
-                     double reach_z_mm, double tol_rel = 1e-10);
+                     double reach_z_mm, double tol_rel = 1e-9);
   // InputError unless `magnet` is an ideal multipole ring (axial_multipole or radial_multipole, no pole
   // errors), naming the keys.
   static void check_ideal(const Magnet& magnet);
@@ -76,7 +76,7 @@ class MultipoleRingModel {
 
   int p_ = 1;
   double r0_mm_ = 0, plane_z_mm_ = 0, reach_rho_mm_ = 0, reach_z_mm_ = 0;
-  int nr_ = 10, nz_ = 10, q_ = 16;
+  int nr_ = 10, nz_ = 8, q_ = 16;
   double sign_ = 1;                       // +1: the field decays with z
   std::vector<Eigen::MatrixXd> coef_;     // per harmonic l: C (rho nodes x z nodes) of T_i(rho~) T_j(z~)
   long field_evaluations_ = 0;
