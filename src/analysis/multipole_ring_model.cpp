@@ -43,8 +43,9 @@ void MultipoleRingModel::check_ideal(const Magnet& magnet) {
 }
 
 MultipoleRingModel::MultipoleRingModel(const FieldSource& field, int pole_pairs, double r0_mm, double plane_z_mm,
-                                       double reach_rho_mm, double reach_z_mm, double tol_rel)
-    : p_(pole_pairs), r0_mm_(r0_mm), plane_z_mm_(plane_z_mm), reach_rho_mm_(reach_rho_mm), reach_z_mm_(reach_z_mm) {
+                                       double reach_rho_mm, double reach_z_mm, double tol_rel, double field_z_offset_mm)
+    : p_(pole_pairs), r0_mm_(r0_mm), plane_z_mm_(plane_z_mm), reach_rho_mm_(reach_rho_mm), reach_z_mm_(reach_z_mm),
+      z_offset_mm_(field_z_offset_mm) {
   if (pole_pairs < 1) throw InputError("pole_pairs = " + std::to_string(pole_pairs) + " is out of range: allowed >= 1");
   if (!(reach_rho_mm > 0) || !(reach_z_mm > 0) || !(reach_rho_mm < r0_mm))
     throw InputError("multipole model reach rho " + num(reach_rho_mm) + " mm, z " + num(reach_z_mm) +
@@ -102,7 +103,7 @@ Eigen::MatrixXd MultipoleRingModel::node_amplitudes(const FieldSource& field, co
       for (int k = 0; k < q; ++k) {
         const double phi = kPi * (2.0 * k + 1.0) / (4.0 * q * p_);
         pts.col((i + nr * j) * q + k) << rho[std::size_t(i)] * std::cos(phi), rho[std::size_t(i)] * std::sin(phi),
-            z[std::size_t(j)];
+            z[std::size_t(j)] - z_offset_mm_;
       }
   const Eigen::VectorXd b = field.Bz_T(pts);
   field_evaluations_ += static_cast<long>(pts.cols());
@@ -128,14 +129,14 @@ void MultipoleRingModel::check_misfit(const FieldSource& field) {
     for (double v : xz)
       for (double f : az) {
         const double rho = r0_mm_ + reach_rho_mm_ * u, phi = 2.0 * kPi * (f + 0.05 * u * v) / p_ + 2.0 * kPi * double(c % 7) / 7;
-        pts.col(c++) << rho * std::cos(phi), rho * std::sin(phi), plane_z_mm_ + reach_z_mm_ * v;
+        pts.col(c++) << rho * std::cos(phi), rho * std::sin(phi), plane_z_mm_ + reach_z_mm_ * v - z_offset_mm_;
       }
   const Eigen::VectorXd b = field.Bz_T(pts);
   field_evaluations_ += static_cast<long>(pts.cols());
   misfit_T_ = 0;
   for (Eigen::Index k = 0; k < pts.cols(); ++k) {
     const double rho = std::hypot(pts(0, k), pts(1, k)), phi = std::atan2(pts(1, k), pts(0, k));
-    misfit_T_ = std::max(misfit_T_, std::abs(bz_T(rho, phi, pts(2, k)) - b[k]));
+    misfit_T_ = std::max(misfit_T_, std::abs(bz_T(rho, phi, pts(2, k) + z_offset_mm_) - b[k]));
   }
 }
 

@@ -34,13 +34,13 @@ namespace magenc {
 
 class MultipoleRingModel {
  public:
-  // field: the exact field of the ring in the read head's magnet frame (a second ring of a nonius: its
-  // field with its z offset), pole_pairs p >= 1; r0_mm: the read circle, plane_z_mm its height (magnet
-  // frame); reach_rho_mm, reach_z_mm: the largest radial and vertical displacement of a probe the model
-  // must serve (> 0); tol_rel: the harmonics' and Q's truncation (relative to A_1). InputError for
-  // values out of range.
+  // field: the exact field of the ring, pole_pairs p >= 1; r0_mm: the read circle, plane_z_mm its height
+  // (the read head's magnet frame); reach_rho_mm, reach_z_mm: the largest radial and vertical displacement
+  // of a probe the model must serve (> 0); tol_rel: the harmonics' and Q's truncation (relative to A_1);
+  // field_z_offset_mm: the ring's centre above the frame's origin (a nonius ring: nonius.z_offset_mm; the
+  // field is evaluated at z - offset). InputError for values out of range.
   MultipoleRingModel(const FieldSource& field, int pole_pairs, double r0_mm, double plane_z_mm, double reach_rho_mm,
-                     double reach_z_mm, double tol_rel = 1e-9);
+                     double reach_z_mm, double tol_rel = 1e-9, double field_z_offset_mm = 0.0);
   // InputError unless `magnet` is an ideal multipole ring (axial_multipole or radial_multipole, no pole
   // errors), naming the keys.
   static void check_ideal(const Magnet& magnet);
@@ -78,6 +78,7 @@ class MultipoleRingModel {
   double r0_mm_ = 0, plane_z_mm_ = 0, reach_rho_mm_ = 0, reach_z_mm_ = 0;
   int nr_ = 10, nz_ = 8, q_ = 16;
   double sign_ = 1;                       // +1: the field decays with z
+  double z_offset_mm_ = 0;                // the field's frame: the ring's centre at this z
   std::vector<Eigen::MatrixXd> coef_;     // per harmonic l: C (rho nodes x z nodes) of T_i(rho~) T_j(z~)
   long field_evaluations_ = 0;
   double misfit_T_ = 0, amplitude_T_ = 0;

@@ -12,6 +12,7 @@
 #include "core/errors.hpp"
 #include "fields/multipole_field.hpp"
 #include "probe/angle_error.hpp"
+#include "probe/nonius.hpp"
 #include "probe/spectrum.hpp"
 
 using namespace magenc;
@@ -175,4 +176,48 @@ TEST_CASE("multipole engine reproduces the 32-pole-pair reference values", "[ana
   CHECK(s.c_deg[1] == Approx(0.22030).margin(5e-6));
   CHECK(s.ce_deg[3] == Approx(0.08713).margin(5e-6));
   CHECK(s.pp_deg == Approx(0.62192).margin(5e-6));
+}
+
+TEST_CASE("multipole engine reads a nonius pair with cross-talk as the direct pipeline does", "[analysis][cross-check]") {
+  // A small (6, 5) pair: master ring R 5, Ri 3.5 read at r0 4.25; nonius ring R 3, Ri 1.5 at r0 2.25, 0.2 mm
+  // lower; both fields at every probe. Engine: per head the models of both rings on its circle.
+  Magnet master = small_ring(6);
+  master.inner_radius_mm = 3.5;
+  NoniusTrack track;
+  track.magnet = small_ring(5);
+  track.magnet.radius_mm = 3.0;
+  track.magnet.inner_radius_mm = 1.5;
+  track.z_offset_mm = -0.2;
+  track.r0_mm = 2.25;
+  const double z = master.height_mm / 2 + 0.4;
+  const ProbeSetup head = direct_setup(master, electrical("two", 6), 4.25, z, 360);
+  const ProbeSetup second = nonius_setup(head, track);
+  const FieldSourcePtr both = with_nonius(std::make_shared<MultipoleField>(master), track);
+  const MultipoleField fm(master), fn(track.magnet);
+  const MultipoleRingModel mm(fm, 6, 4.25, z, 0.2, 0.12), nm(fn, 5, 4.25, z, 0.2, 0.12, 1e-9, -0.2);
+  const MultipoleRingModel ns(fn, 5, 2.25, z, 0.2, 0.12, 1e-9, -0.2), ms(fm, 6, 2.25, z, 0.2, 0.12);
+  const MultipolePipeline e_master({&mm, &nm}, {head.array}, 6, 360), e_second({&ns, &ms}, {second.array}, 5, 360);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.07, 0.07);
+  for (int i = 0; i < 3; ++i) {
+    Mount mt;
+    mt.sx_mm = u(rng);
+    mt.sy_mm = u(rng);
+    mt.dx_mm = u(rng);
+    mt.dy_mm = u(rng);
+    mt.dz_mm = u(rng);
+    const NoniusResult direct = nonius_reading(*both, head, second, mt);
+    std::vector<Eigen::VectorXd> a, b;
+    e_master.eps(mt, a);
+    e_second.eps(mt, b);
+    const NoniusResult engine = nonius_decode(direct.master.theta_deg, a[0], b[0], 6, 5);
+    INFO("mount " << i << ": margin " << direct.margin_deg << " vs " << engine.margin_deg);
+    // Each head within the single-ring bound (5e-7 deg); the margin's deviation is p (p - 1) = 30 times the
+    // heads' mechanical errors, so 30 x 2 x 5e-7 deg.
+    CHECK((a[0] - direct.master.eps_deg).cwiseAbs().maxCoeff() < 5e-7);
+    CHECK((b[0] - direct.second.eps_deg).cwiseAbs().maxCoeff() < 5e-7);
+    CHECK(engine.margin_deg == Approx(direct.margin_deg).margin(3e-5));
+    CHECK(engine.slipped_samples == direct.slipped_samples);
+    CHECK((engine.eps_deg - direct.eps_deg).cwiseAbs().maxCoeff() < 5e-7);
+  }
 }
