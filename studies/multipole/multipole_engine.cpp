@@ -5,8 +5,8 @@
 #include <memory>
 #include <random>
 
-#include "analysis/multipole_pipeline.hpp"
-#include "analysis/multipole_ring_model.hpp"
+#include "probe/multipole_pipeline.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "fields/field_factory.hpp"
@@ -118,7 +118,7 @@ bool plain_head(const ProbeSetup& s) {
          s.env.neutral() && !s.speed.acts() && s.center_mm.isZero();
 }
 
-// The box's mounts through the Monte Carlo engine (analysis/multipole_pipeline.hpp): per read head, the
+// The box's mounts through the Monte Carlo engine (probe/multipole_pipeline.hpp): per read head, the
 // models of both rings on its circle (the other ring's field is the cross-talk), reach from the box.
 struct NoniusEngine {
   std::vector<std::unique_ptr<MultipoleRingModel>> models;

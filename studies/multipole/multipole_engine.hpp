@@ -8,7 +8,7 @@
 //  * nonius ([nonius] present): study.box_samples mounts uniform in the tolerance box (sensor offsets,
 //    eccentricity, air gap; seeded by study.seed), both tracks' fields at every probe: the synchronisation
 //    margin (p1/p50/p99), the mounts that slip (gross errors of 360/p) apart from the error percentiles of
-//    the others. The mounts run on the Monte Carlo engine (analysis/multipole_pipeline.hpp; ideal rings and
+//    the others. The mounts run on the Monte Carlo engine (probe/multipole_pipeline.hpp; ideal rings and
 //    plain read heads), else on the exact field.
 #pragma once
 #include <string>

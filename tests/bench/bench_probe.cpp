@@ -25,8 +25,8 @@
 
 #include "analysis/circle_field_model.hpp"
 #include "analysis/fast_pipeline.hpp"
-#include "analysis/multipole_pipeline.hpp"
-#include "analysis/multipole_ring_model.hpp"
+#include "probe/multipole_pipeline.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/multipole_field.hpp"
 #include "probe/angle_error.hpp"
@@ -128,7 +128,7 @@ BENCHMARK_CAPTURE(FastCase, speed_hold, 10416.67)->Unit(benchmark::kMicrosecond)
 // against the default magnet (ring:8 at r0 2.4 mm, z_s 4.55 mm), 360 theta nodes each: the surrogate's
 // build (once per design) and one sample. The uniform magnets: CircleFieldModel `automatic` (symmetry-built
 // on the exact field) and FastPipeline::eps. The multipole ring: MultipoleRingModel (reach 0.3 mm radial,
-// 0.15 mm vertical) and MultipolePipeline::eps, the incremental reading (analysis/multipole_pipeline.hpp).
+// 0.15 mm vertical) and MultipolePipeline::eps, the incremental reading (probe/multipole_pipeline.hpp).
 // Counter fit_residual_uT: the surrogate's largest stencil misfit (the multipole model's misfit_T off its
 // grid).
 enum class McRing { default_magnet, ring32, multipole32 };

@@ -29,7 +29,7 @@
 
 #include <Eigen/Core>
 
-#include "analysis/multipole_ring_model.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "probe/mounting.hpp"
 #include "probe/probe_array.hpp"
 #include "probe/signal_chain.hpp"

@@ -1,5 +1,5 @@
-// The Monte Carlo engine's multipole reading (src/analysis/multipole_ring_model.hpp,
-// src/analysis/multipole_pipeline.hpp) against the direct pipeline on the exact sector field
+// The Monte Carlo engine's multipole reading (src/probe/multipole_ring_model.hpp,
+// src/probe/multipole_pipeline.hpp) against the direct pipeline on the exact sector field
 // (probe/angle_error.hpp with the incremental reading), and docs/physics.md's multipole reference values
 // through the engine.
 #include <catch2/catch.hpp>
@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "analysis/multipole_pipeline.hpp"
-#include "analysis/multipole_ring_model.hpp"
+#include "probe/multipole_pipeline.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "core/errors.hpp"
 #include "fields/multipole_field.hpp"
 #include "probe/angle_error.hpp"
@@ -79,7 +79,7 @@ double engine_vs_direct(const Magnet& m, int steps, int mounts, double box, unsi
 }
 }  // namespace
 
-TEST_CASE("multipole engine against the direct pipeline on small rings, p = 4..8", "[analysis][cross-check]") {
+TEST_CASE("multipole engine against the direct pipeline on small rings, p = 4..8", "[probe][cross-check]") {
   // The engine's error is the model's misfit (Chebyshev interpolation of the amplitudes, truncation) and the
   // skipped harmonics and envelope orders seen through the angle: |d eps| <~ misfit / |channel amplitude|
   // rad / p. Misfits of ~1e-7 of A_1 give ~1e-7 deg (measured: 3e-8 .. 2.1e-7 deg); the bound 5e-7 deg is
@@ -99,7 +99,7 @@ TEST_CASE("multipole engine against the direct pipeline on small rings, p = 4..8
   CHECK(worst < 5e-7);
 }
 
-TEST_CASE("multipole engine: the envelopes' order is enough", "[analysis][convergence]") {
+TEST_CASE("multipole engine: the envelopes' order is enough", "[probe][convergence]") {
   const Magnet m = small_ring(8);
   const MultipoleField field(m);
   const MultipoleRingModel model(field, 8, 4.0, 0.9, 0.3, 0.15);
@@ -123,7 +123,7 @@ TEST_CASE("multipole engine: the envelopes' order is enough", "[analysis][conver
   CHECK((less_eps[0] - more_eps[0]).cwiseAbs().maxCoeff() > 1e-6);
 }
 
-TEST_CASE("multipole engine refuses tilts, probes off its reach and rings with pole errors", "[analysis][bad-input]") {
+TEST_CASE("multipole engine refuses tilts, probes off its reach and rings with pole errors", "[probe][bad-input]") {
   const Magnet m = small_ring(4);
   const MultipoleField field(m);
   const MultipoleRingModel model(field, 4, 4.0, 0.9, 0.3, 0.15);
@@ -146,7 +146,7 @@ TEST_CASE("multipole engine refuses tilts, probes off its reach and rings with p
   CHECK_THROWS_AS(MultipoleRingModel(field, 4, 4.0, 0.9, 0.0, 0.15), InputError);
 }
 
-TEST_CASE("multipole engine reproduces the 32-pole-pair reference values", "[analysis][physics][regression]") {
+TEST_CASE("multipole engine reproduces the 32-pole-pair reference values", "[probe][physics][regression]") {
   // docs/physics.md "Multipole rings and nonius": axial_multipole p = 32, Ri 11, R 15, L 1.5 mm, Br 0.3 T,
   // `two` at r0 13 mm, 0.4 mm above the top face, 360 steps.
   Magnet m;
@@ -178,7 +178,7 @@ TEST_CASE("multipole engine reproduces the 32-pole-pair reference values", "[ana
   CHECK(s.pp_deg == Approx(0.62192).margin(5e-6));
 }
 
-TEST_CASE("multipole engine reads a nonius pair with cross-talk as the direct pipeline does", "[analysis][cross-check]") {
+TEST_CASE("multipole engine reads a nonius pair with cross-talk as the direct pipeline does", "[probe][cross-check]") {
   // A small (6, 5) pair: master ring R 5, Ri 3.5 read at r0 4.25; nonius ring R 3, Ri 1.5 at r0 2.25, 0.2 mm
   // lower; both fields at every probe. Engine: per head the models of both rings on its circle.
   Magnet master = small_ring(6);

@@ -1,4 +1,4 @@
-#include "analysis/multipole_pipeline.hpp"
+#include "probe/multipole_pipeline.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // MultipoleRingModel: the field of an ideal multipole ring around a read circle in the terms of its
-// symmetry, the surrogate of the Monte Carlo engine's multipole reading (analysis/multipole_pipeline.hpp;
+// symmetry, the surrogate of the Monte Carlo engine's multipole reading (probe/multipole_pipeline.hpp;
 // docs/physics.md "Multipole rings and nonius", docs/multipole.md "The Monte Carlo engine").
 //
 // An ideal ring of p pole pairs (axial_multipole or radial_multipole, no pole errors; a north pole centred

@@ -1,4 +1,4 @@
-#include "analysis/multipole_ring_model.hpp"
+#include "probe/multipole_ring_model.hpp"
 
 #include <algorithm>
 #include <cmath>
