@@ -52,7 +52,8 @@ class MultipolePipeline {
   // InputError for a tilted mount (the engine reads the five offsets) and a probe off the model's reach.
   void eps(const Mount& m, std::vector<Eigen::VectorXd>& eps_deg, const SignalChain::Applied& chain = {},
            std::vector<Eigen::VectorXd>* phi_e_deg = nullptr) const;
-  // The envelopes' half-degree J the mount takes (M = 2J + 1 coarse angles); force_order >= 0 sets it (tests).
+  // The envelopes' half-degree J the mount takes (M = 2J + 1 coarse angles); force_envelope_order(j >= 0)
+  // sets it, -1 returns to the bound (tests).
   // (0 without eccentricity; M is 2J + 1 rounded up to a length of factors 2, 3, 5, 7: coarse_angles.)
   int envelope_order(const Mount& m) const;
   void force_envelope_order(int j) { force_j_ = j; }
