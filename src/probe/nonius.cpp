@@ -82,20 +82,17 @@ ProbeSetup nonius_setup(const ProbeSetup& master, const NoniusTrack& track) {
   return s;
 }
 
-NoniusResult nonius_reading(const FieldSource& both, const ProbeSetup& master, const ProbeSetup& second,
-                            const Mount& mount) {
+NoniusResult nonius_decode(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& eps_master_deg,
+                           const Eigen::VectorXd& eps_second_deg, int p, int p2) {
   NoniusResult r;
-  r.master = angle_error(both, master, mount);
-  r.second = angle_error(both, second, mount);
-  const int p = master.pole_pairs;
-  const Eigen::Index M = r.master.eps_deg.size();
+  const Eigen::Index M = eps_master_deg.size();
   r.eps_deg.resize(M);
   double worst = 0;
   for (Eigen::Index m = 0; m < M; ++m) {
-    const double theta = r.master.theta_deg[m];
+    const double theta = theta_deg[m];
     // The electrical angles as read: phi_e = p (theta + eps) modulo 360 (the chip's orientation applied).
-    const double pm = wrap_deg(p * (theta + r.master.eps_deg[m]));
-    const double pn = wrap_deg(second.pole_pairs * (theta + r.second.eps_deg[m]));
+    const double pm = wrap_deg(p * (theta + eps_master_deg[m]));
+    const double pn = wrap_deg(p2 * (theta + eps_second_deg[m]));
     const double D = wrap_deg(pm - pn);
     const double mm = std::round((p * D - pm) / 360.0);
     const double phi = (pm + 360.0 * mm) / p;
@@ -107,6 +104,16 @@ NoniusResult nonius_reading(const FieldSource& both, const ProbeSetup& master, c
   }
   r.margin_deg = 180.0 - worst;
   r.spectrum = spectrum_of(r.eps_deg);
+  return r;
+}
+
+NoniusResult nonius_reading(const FieldSource& both, const ProbeSetup& master, const ProbeSetup& second,
+                            const Mount& mount) {
+  AngleErrorResult a = angle_error(both, master, mount);
+  AngleErrorResult b = angle_error(both, second, mount);
+  NoniusResult r = nonius_decode(a.theta_deg, a.eps_deg, b.eps_deg, master.pole_pairs, second.pole_pairs);
+  r.master = std::move(a);
+  r.second = std::move(b);
   return r;
 }
 

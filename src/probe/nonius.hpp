@@ -56,6 +56,12 @@ struct NoniusResult {
   AngleErrorResult master, second;  // the two incremental readings
 };
 
+// The decoding above from the two incremental readings' errors (mechanical degrees) at theta_deg, the
+// master's pole pairs p and the nonius's p2: eps_deg, margin_deg, slipped_samples and spectrum (master and
+// second are left empty). The direct pipeline (nonius_reading) and the Monte Carlo engine share it.
+NoniusResult nonius_decode(const Eigen::VectorXd& theta_deg, const Eigen::VectorXd& eps_master_deg,
+                           const Eigen::VectorXd& eps_second_deg, int p, int p2);
+
 // Both readings on `both` (TrackSumField), then the decoding above.
 NoniusResult nonius_reading(const FieldSource& both, const ProbeSetup& master, const ProbeSetup& second,
                             const Mount& mount);

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
+#include "probe/multipole_pipeline.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "core/errors.hpp"
 #include "core/units.hpp"
 #include "fields/field_factory.hpp"
 #include "fields/magnet.hpp"
+#include "fields/multipole_field.hpp"
 #include "probe/nonius.hpp"
 
 namespace magenc {
@@ -107,6 +111,45 @@ void pole_part(const Config& cfg, const MultipoleStudyOptions& opt, MultipoleStu
   }
 }
 
+// A read head the Monte Carlo engine reads as the direct pipeline does: Bz points, no signal-chain error,
+// the default orientation, neutral environment, static, on the axis.
+bool plain_head(const ProbeSetup& s) {
+  return s.principle == SensorPrinciple::Bz && s.chain.applied().ideal && s.orientation.identity() && s.area.point() &&
+         s.env.neutral() && !s.speed.acts() && s.center_mm.isZero();
+}
+
+// The box's mounts through the Monte Carlo engine (probe/multipole_pipeline.hpp): per read head, the
+// models of both rings on its circle (the other ring's field is the cross-talk), reach from the box.
+struct NoniusEngine {
+  std::vector<std::unique_ptr<MultipoleRingModel>> models;
+  std::unique_ptr<MultipolePipeline> master, second;
+  double misfit_T = 0;
+};
+
+NoniusEngine nonius_engine(const Magnet& mag, const NoniusTrack& track, const ProbeSetup& master,
+                           const ProbeSetup& second, const MultipoleStudyOptions& opt) {
+  NoniusEngine e;
+  const MultipoleField fm(mag), fn(track.magnet);
+  const double reach_rho = std::sqrt(2.0) * (opt.box_offset_mm + opt.box_eccentricity_mm) + 0.02;
+  const double reach_z = opt.box_dz_mm + 0.02;
+  auto model = [&](const MultipoleField& f, int p, const ProbeSetup& head, double z_off) {
+    e.models.push_back(std::make_unique<MultipoleRingModel>(f, p, head.r0_mm, head.plane_z_mm, reach_rho, reach_z,
+                                                            1e-9, z_off));
+    e.misfit_T = std::max(e.misfit_T, e.models.back()->misfit_T());
+    return e.models.back().get();
+  };
+  const int p = mag.pole_pairs, p2 = track.magnet.pole_pairs;
+  const MultipoleRingModel* mm = model(fm, p, master, 0.0);
+  const MultipoleRingModel* nm = model(fn, p2, master, track.z_offset_mm);
+  e.master = std::make_unique<MultipolePipeline>(std::vector<const MultipoleRingModel*>{mm, nm},
+                                                 std::vector<ProbeArray>{master.array}, p, master.steps);
+  const MultipoleRingModel* ns = model(fn, p2, second, track.z_offset_mm);
+  const MultipoleRingModel* ms = model(fm, p, second, 0.0);
+  e.second = std::make_unique<MultipolePipeline>(std::vector<const MultipoleRingModel*>{ns, ms},
+                                                 std::vector<ProbeArray>{second.array}, p2, second.steps);
+  return e;
+}
+
 void nonius_part(const Config& cfg, const MultipoleStudyOptions& opt, MultipoleStudyResult& r) {
   const NoniusTrack track = NoniusTrack::from_config(cfg);
   const FieldSourcePtr both = with_nonius(make_field_source("analytic", cfg), track);
@@ -117,8 +160,19 @@ void nonius_part(const Config& cfg, const MultipoleStudyOptions& opt, MultipoleS
   const NoniusResult ideal = nonius_reading(*both, master, second, Mount{});
   r.ideal_margin_deg = ideal.margin_deg;
   r.ideal_pp_deg = ideal.spectrum.pp_deg;
+  // The box's mounts: the Monte Carlo engine where it reads the heads as the direct pipeline does (ideal
+  // rings, plain heads), else the exact field at every mount.
+  const Magnet mag = Magnet::from_config(cfg);
+  const bool engine = mag.is_multipole() && mag.pole_edge_sigma_deg == 0.0 && mag.pole_amplitude_sigma == 0.0 &&
+                      plain_head(master) && plain_head(second);
+  NoniusEngine e;
+  if (engine) e = nonius_engine(mag, track, master, second, opt);
+  r.box_engine = engine;
+  r.box_engine_misfit_T = e.misfit_T;
+  const Eigen::VectorXd theta = uniform_theta_deg(master.steps);
   std::mt19937_64 rng(static_cast<std::uint64_t>(opt.seed));
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> em, en;
   for (int i = 0; i < opt.box_samples; ++i) {
     Mount m;
     m.sx_mm = opt.box_offset_mm * u(rng);
@@ -126,7 +180,14 @@ void nonius_part(const Config& cfg, const MultipoleStudyOptions& opt, MultipoleS
     m.dx_mm = opt.box_eccentricity_mm * u(rng);
     m.dy_mm = opt.box_eccentricity_mm * u(rng);
     m.dz_mm = opt.box_dz_mm * u(rng);
-    const NoniusResult n = nonius_reading(*both, master, second, m);
+    NoniusResult n;
+    if (engine) {
+      e.master->eps(m, em);
+      e.second->eps(m, en);
+      n = nonius_decode(theta, em[0], en[0], master.pole_pairs, second.pole_pairs);
+    } else {
+      n = nonius_reading(*both, master, second, m);
+    }
     r.box.push_back({i + 1, m, n.margin_deg, n.spectrum.pp_deg, n.eps_deg.cwiseAbs().maxCoeff(), n.slipped_samples});
   }
 }

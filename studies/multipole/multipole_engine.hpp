@@ -8,7 +8,8 @@
 //  * nonius ([nonius] present): study.box_samples mounts uniform in the tolerance box (sensor offsets,
 //    eccentricity, air gap; seeded by study.seed), both tracks' fields at every probe: the synchronisation
 //    margin (p1/p50/p99), the mounts that slip (gross errors of 360/p) apart from the error percentiles of
-//    the others.
+//    the others. The mounts run on the Monte Carlo engine (probe/multipole_pipeline.hpp; ideal rings and
+//    plain read heads), else on the exact field.
 #pragma once
 #include <string>
 #include <vector>
@@ -67,6 +68,8 @@ struct MultipoleStudyResult {
   std::vector<EccentricityPoint> eccentricity;
   std::vector<PoleSample> poles;
   std::vector<BoxSample> box;  // empty without a nonius
+  bool box_engine = false;     // the box's mounts read by the Monte Carlo engine (else the exact field at each)
+  double box_engine_misfit_T = 0;  // the engine's largest model misfit (MultipoleRingModel::misfit_T)
   double ideal_margin_deg = 0, ideal_pp_deg = 0;
 };
 

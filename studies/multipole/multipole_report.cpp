@@ -180,7 +180,11 @@ void box_md(std::ostringstream& os, const MultipoleStudyResult& r) {
      << fmt(r.nonius_r0_mm, 2) << " mm\n\n"
      << "Ideal mount: margin " << fmt(r.ideal_margin_deg, 3) << " deg, pp " << fmt_deg(r.ideal_pp_deg) << " deg.\n\n"
      << "Tolerance box (" << r.box.size() << " mounts, uniform): sensor sx, sy +-" << fmt(o.box_offset_mm, 3)
-     << " mm, magnet dx, dy +-" << fmt(o.box_eccentricity_mm, 3) << " mm, dz +-" << fmt(o.box_dz_mm, 3) << " mm.\n\n";
+     << " mm, magnet dx, dy +-" << fmt(o.box_eccentricity_mm, 3) << " mm, dz +-" << fmt(o.box_dz_mm, 3) << " mm. "
+     << (r.box_engine ? "Read by the Monte Carlo engine (docs/multipole.md \"The Monte Carlo engine\"; largest model misfit " +
+                            fmt(r.box_engine_misfit_T * 1e9, 2) + " nT), which agrees with the exact field within ~1e-7 deg "
+                            "of error and ~1e-4 deg of margin.\n\n"
+                      : std::string("Read on the exact field at every mount.\n\n"));
   std::vector<double> margin, pp;
   std::vector<std::vector<std::string>> slips;
   for (const auto& b : r.box) {

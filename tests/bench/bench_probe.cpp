@@ -14,8 +14,8 @@
 //                  vectors, `two`, 360 nodes, the surrogate on the exact field): static, and at 6000 rpm
 //                  with the same timing (hold) and without the hold
 //   McModelBuild/McSample  the Monte Carlo engine on a 32 mm ring and on a 32-pole-pair code ring (ring:8
-//                  over each) against the default magnet: the surrogate's build per design and the cost
-//                  of one sample
+//                  over each; the multipole's incremental reading, MultipolePipeline) against the default
+//                  magnet: the surrogate's build per design and the cost of one sample
 //   MountingCaseTilted     the same plus sensor tilt (0.5, 0.3 deg) and magnet
 //                  tilt 0.5 deg: every term of "Beyond the five offsets", full-B path
 #include <benchmark/benchmark.h>
@@ -25,6 +25,8 @@
 
 #include "analysis/circle_field_model.hpp"
 #include "analysis/fast_pipeline.hpp"
+#include "probe/multipole_pipeline.hpp"
+#include "probe/multipole_ring_model.hpp"
 #include "fields/analytic_field.hpp"
 #include "fields/multipole_field.hpp"
 #include "probe/angle_error.hpp"
@@ -122,11 +124,13 @@ BENCHMARK_CAPTURE(FastCase, speed_hold, 10416.67)->Unit(benchmark::kMicrosecond)
 
 // The Monte Carlo engine on a 32 mm ring (R 16, Ri 11, L 4 mm; ring:8 at r0 13.5 mm, 1 mm above the
 // top face) and on the multipole study's 32-pole-pair axial code ring (R 15, Ri 11, L 1.5 mm, Br 0.3 T;
-// ring:8 at r0 13 mm, 0.4 mm above the top face; studies/multipole/multipole.toml) against the default
-// magnet (ring:8 at r0 2.4 mm, z_s 4.55 mm): the surrogate's build (once per design, `automatic`:
-// symmetry-built on the uniform magnets' exact field, axis-aligned fits on the multipole's, which has no
-// axisymmetric parts) and one sample (FastPipeline::eps). Counter fit_residual_uT: the surrogate's largest
-// stencil misfit.
+// ring:8 with electrical spacing at r0 13 mm, 0.4 mm above the top face; studies/multipole/multipole.toml)
+// against the default magnet (ring:8 at r0 2.4 mm, z_s 4.55 mm), 360 theta nodes each: the surrogate's
+// build (once per design) and one sample. The uniform magnets: CircleFieldModel `automatic` (symmetry-built
+// on the exact field) and FastPipeline::eps. The multipole ring: MultipoleRingModel (reach 0.3 mm radial,
+// 0.15 mm vertical) and MultipolePipeline::eps, the incremental reading (probe/multipole_pipeline.hpp).
+// Counter fit_residual_uT: the surrogate's largest stencil misfit (the multipole model's misfit_T off its
+// grid).
 enum class McRing { default_magnet, ring32, multipole32 };
 struct McLayout {
   magenc::Magnet magnet;
@@ -155,21 +159,26 @@ std::unique_ptr<magenc::FieldSource> mc_field(const McLayout& l) {
   if (l.magnet.is_uniform()) return std::make_unique<magenc::AnalyticField>(l.magnet);
   return std::make_unique<magenc::MultipoleField>(l.magnet);
 }
-// 360 theta nodes; the multipole's 512 (its electrically spaced ring:8 has probes every 45/32 deg, and the
-// nodes must fall on them: a multiple of 256).
-int mc_nodes(const McLayout& l) { return l.magnet.is_uniform() ? 360 : 512; }
 magenc::CircleFieldModel mc_model(const magenc::FieldSource& f, const McLayout& l) {
-  return {f, l.r0_mm, l.plane_z_mm, mc_nodes(l), 0.3, 0.3, 4, false,
-          magenc::CircleFieldModel::construction_named("automatic")};
+  return {f, l.r0_mm, l.plane_z_mm, 360, 0.3, 0.3, 4, false, magenc::CircleFieldModel::construction_named("automatic")};
+}
+magenc::MultipoleRingModel mc_multipole_model(const magenc::FieldSource& f, const McLayout& l) {
+  return {f, l.magnet.pole_pairs, l.r0_mm, l.plane_z_mm, 0.3, 0.15};
 }
 void McModelBuild(benchmark::State& state, McRing ring) {
   const McLayout l = mc_layout(ring);
   const auto f = mc_field(l);
   double residual_T = 0;
   for (auto _ : state) {
-    const magenc::CircleFieldModel model = mc_model(*f, l);
-    residual_T = model.fit_residual_T();
-    benchmark::DoNotOptimize(model.terms());
+    if (l.magnet.is_multipole()) {
+      const magenc::MultipoleRingModel model = mc_multipole_model(*f, l);
+      residual_T = model.misfit_T();
+      benchmark::DoNotOptimize(model.harmonics());
+    } else {
+      const magenc::CircleFieldModel model = mc_model(*f, l);
+      residual_T = model.fit_residual_T();
+      benchmark::DoNotOptimize(model.terms());
+    }
   }
   state.counters["fit_residual_uT"] = residual_T * 1e6;
   state.SetItemsProcessed(state.iterations());
@@ -180,20 +189,28 @@ BENCHMARK_CAPTURE(McModelBuild, multipole32, McRing::multipole32)->Unit(benchmar
 void McSample(benchmark::State& state, McRing ring) {
   const McLayout l = mc_layout(ring);
   const auto f = mc_field(l);
-  const magenc::CircleFieldModel model = mc_model(*f, l);
-  // The multipole's probes at electrical spacing (angles / p, as apply_multipole_reading sets them): the
-  // engine has no incremental reading (pole_pairs), so this times a sample on well-formed channels only.
-  magenc::ProbeArray array = magenc::ProbeArray::parse("ring:8");
-  for (double& b : array.angle_deg) b /= l.magnet.pole_pairs;
-  magenc::FastPipeline fast(model, {array}, l.magnet.height_mm);
   magenc::ToleranceCase c;
   c.mount.sx_mm = 0.03;
   c.mount.dx_mm = 0.05;
   std::vector<Eigen::VectorXd> eps;
-  std::vector<magenc::UnitAngles> psi;
-  for (auto _ : state) {
-    fast.eps(c, eps, &psi);
-    benchmark::DoNotOptimize(eps[0].data());
+  if (l.magnet.is_multipole()) {
+    // The probes at electrical spacing (angles / p, as sensor_setup_from_config sets them), read incrementally.
+    magenc::ProbeArray array = magenc::ProbeArray::parse("ring:8");
+    for (double& b : array.angle_deg) b /= l.magnet.pole_pairs;
+    const magenc::MultipoleRingModel model = mc_multipole_model(*f, l);
+    const magenc::MultipolePipeline engine({&model}, {array}, l.magnet.pole_pairs, 360);
+    for (auto _ : state) {
+      engine.eps(c.mount, eps);
+      benchmark::DoNotOptimize(eps[0].data());
+    }
+  } else {
+    const magenc::CircleFieldModel model = mc_model(*f, l);
+    magenc::FastPipeline fast(model, {magenc::ProbeArray::parse("ring:8")}, l.magnet.height_mm);
+    std::vector<magenc::UnitAngles> psi;
+    for (auto _ : state) {
+      fast.eps(c, eps, &psi);
+      benchmark::DoNotOptimize(eps[0].data());
+    }
   }
   state.SetItemsProcessed(state.iterations());
 }
