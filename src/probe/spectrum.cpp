@@ -27,22 +27,52 @@ void set_amplitudes(Spectrum& sp) {
 
 }  // namespace
 
+namespace {
+
+// exp(i n theta_m), theta_m = 2 pi m / M, n = 1..8, by repeated multiplication (n <= 8 keeps the error
+// ~1e-15): entry m * kHarmonics + n - 1. Built once per M and thread (a study's spectra share M), so the
+// sums below see the same numbers as when each call formed them itself.
+struct Twiddles {
+  Eigen::Index M = 0;
+  std::vector<double> re, im;
+};
+
+const Twiddles& twiddles(Eigen::Index M) {
+  thread_local Twiddles t;
+  if (t.M == M) return t;
+  t.re.resize(static_cast<std::size_t>(M * kHarmonics));
+  t.im.resize(t.re.size());
+  for (Eigen::Index m = 0; m < M; ++m) {
+    const double theta_rad = 2.0 * kPi * static_cast<double>(m) / static_cast<double>(M);
+    const std::complex<double> z1(std::cos(theta_rad), std::sin(theta_rad));
+    std::complex<double> zn = z1;
+    for (int n = 1; n <= kHarmonics; ++n) {
+      const auto k = static_cast<std::size_t>(m * kHarmonics + n - 1);
+      t.re[k] = zn.real();
+      t.im[k] = zn.imag();
+      zn *= z1;
+    }
+  }
+  t.M = M;
+  return t;
+}
+
+}  // namespace
+
 Spectrum spectrum_of(const Eigen::VectorXd& eps_deg) {
   const Eigen::Index M = eps_deg.size();
   if (M < 1) throw std::invalid_argument("spectrum_of: no samples");
   Spectrum sp;
   std::array<double, kHarmonics + 1> sum_c{}, sum_s{};
   double sum = 0, lo = eps_deg[0], hi = eps_deg[0];
+  const Twiddles& tw = twiddles(M);
   for (Eigen::Index m = 0; m < M; ++m) {
     const double e = eps_deg[m];
-    const double theta_rad = 2.0 * kPi * static_cast<double>(m) / static_cast<double>(M);
-    // exp(i n theta) by repeated multiplication: n <= 8 keeps the error ~1e-15.
-    const std::complex<double> z1(std::cos(theta_rad), std::sin(theta_rad));
-    std::complex<double> zn = z1;
+    const double* re = tw.re.data() + m * kHarmonics;
+    const double* im = tw.im.data() + m * kHarmonics;
     for (int n = 1; n <= kHarmonics; ++n) {
-      sum_c[n] += e * zn.real();
-      sum_s[n] += e * zn.imag();
-      zn *= z1;
+      sum_c[n] += e * re[n - 1];
+      sum_s[n] += e * im[n - 1];
     }
     sum += e;
     lo = std::min(lo, e);

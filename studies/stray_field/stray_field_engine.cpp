@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <mutex>
 
@@ -55,6 +56,28 @@ class LastBatchField final : public FieldSource {
 AngleErrorResult run_with(const FieldSource& field, ProbeSetup setup, const Mount& mount, const StrayField& stray) {
   setup.env.stray = stray;
   return angle_error(field, setup, mount);
+}
+
+// f(0), ..., f(n - 1) on the OpenMP threads (each writes its own result slot); the exception of the lowest
+// index that threw, if any, is rethrown, as a serial loop would have.
+template <class F>
+void for_each_index(long n, const F& f) {
+  std::exception_ptr err;
+  long err_i = n;
+  std::mutex mtx;
+#pragma omp parallel for schedule(dynamic, 4)
+  for (long i = 0; i < n; ++i) {
+    try {
+      f(static_cast<std::size_t>(i));
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(mtx);
+      if (i < err_i) {
+        err_i = i;
+        err = std::current_exception();
+      }
+    }
+  }
+  if (err) std::rethrow_exception(err);
 }
 
 StrayField uniform(const Eigen::Vector3d& b_mT) {
@@ -178,10 +201,15 @@ void StrayFieldOptions::directions(std::vector<Eigen::Vector3d>& dirs, std::vect
 
 StrayError worst_over_directions(const FieldSource& field, const ProbeSetup& setup, const Mount& mount, double b_mT,
                                  const std::vector<Eigen::Vector3d>& dirs) {
+  // The directions' runs in parallel, then the worst in the directions' order (the first of equals wins).
+  std::vector<Spectrum> spectra(dirs.size());
+  for_each_index(static_cast<long>(dirs.size()),
+                 [&](std::size_t k) { spectra[k] = run_with(field, setup, mount, uniform(b_mT * dirs[k])).spectrum; });
   StrayError w;
   w.pp_deg = -1;
-  for (const Eigen::Vector3d& u : dirs) {
-    const Spectrum sp = run_with(field, setup, mount, uniform(b_mT * u)).spectrum;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    const Eigen::Vector3d& u = dirs[k];
+    const Spectrum& sp = spectra[k];
     if (sp.pp_deg > w.pp_deg) {
       w.pp_deg = sp.pp_deg;
       w.c1_deg = sp.c_deg[1];
@@ -249,13 +277,14 @@ StrayFieldResult run_stray_field(const FieldSource& field, const ProbeSetup& bas
     }
     const double b_map = opt.map_kA_per_m * kmT_per_kA_per_m;
     s.map_pp_deg.resize(opt.polar_points, opt.azimuth_points);
-    for (int i = 0; i < opt.polar_points; ++i)
-      for (int j = 0; j < opt.azimuth_points; ++j) {
-        const double th = deg_to_rad(r.polar_deg[static_cast<std::size_t>(i)]);
-        const double ph = deg_to_rad(r.azimuth_deg[static_cast<std::size_t>(j)]);
-        const Eigen::Vector3d u(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-        s.map_pp_deg(i, j) = run_with(cached, sen.setup, mount, uniform(b_map * u)).spectrum.pp_deg;
-      }
+    for_each_index(static_cast<long>(opt.polar_points) * opt.azimuth_points, [&](std::size_t k) {
+      const auto i = static_cast<int>(k / static_cast<std::size_t>(opt.azimuth_points));
+      const auto j = static_cast<int>(k % static_cast<std::size_t>(opt.azimuth_points));
+      const double th = deg_to_rad(r.polar_deg[static_cast<std::size_t>(i)]);
+      const double ph = deg_to_rad(r.azimuth_deg[static_cast<std::size_t>(j)]);
+      const Eigen::Vector3d u(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      s.map_pp_deg(i, j) = run_with(cached, sen.setup, mount, uniform(b_map * u)).spectrum.pp_deg;
+    });
     r.sensors.push_back(std::move(s));
   }
   return r;

@@ -51,6 +51,45 @@ TEST_CASE("spectrum recovers a synthetic signal exactly", "[probe][closed-form]"
   CHECK(got.pp_deg == Approx(eps.maxCoeff() - eps.minCoeff()).margin(1e-15));
 }
 
+TEST_CASE("spectra of other sample counts and threads in between do not change a spectrum", "[probe][determinism]") {
+  // spectrum_of keeps exp(i n theta) per sample count and thread: a spectrum must not depend on what the
+  // thread computed before, nor on the thread.
+  auto signal = [](int M) {
+    Eigen::VectorXd eps(M);
+    for (int m = 0; m < M; ++m) eps[m] = 0.3 * std::sin(3.0 * m + 0.1) + 0.01 * m / M;
+    return eps;
+  };
+  const Eigen::VectorXd e360 = signal(360), e17 = signal(17);
+  const Spectrum ref = spectrum_of(e360);
+  const Spectrum ref17 = spectrum_of(e17);
+  const Spectrum again = spectrum_of(e360);
+  bool same = true;
+#pragma omp parallel for reduction(&& : same)
+  for (int i = 0; i < 64; ++i) {
+    const Spectrum s = spectrum_of(i % 3 == 0 ? e17 : e360);
+    const Spectrum& r = i % 3 == 0 ? ref17 : ref;
+    same = same && s.a_deg == r.a_deg && s.b_deg == r.b_deg && s.a0_deg == r.a0_deg && s.pp_deg == r.pp_deg;
+  }
+  CHECK(same);
+  CHECK(again.a_deg == ref.a_deg);
+  CHECK(again.b_deg == ref.b_deg);
+  // And the numbers are the DFT's (to round-off) for both counts.
+  for (const Eigen::VectorXd* e : {&e360, &e17}) {
+    const Spectrum s = spectrum_of(*e);
+    const auto M = static_cast<double>(e->size());
+    for (int n = 1; n <= kHarmonics; ++n) {
+      double a = 0, b = 0;
+      for (Eigen::Index m = 0; m < e->size(); ++m) {
+        a += (*e)[m] * std::cos(2.0 * kPi * n * static_cast<double>(m) / M);
+        b += (*e)[m] * std::sin(2.0 * kPi * n * static_cast<double>(m) / M);
+      }
+      CAPTURE(M, n);
+      CHECK(s.a_deg[n] == Approx(2.0 / M * a).margin(1e-13));
+      CHECK(s.b_deg[n] == Approx(2.0 / M * b).margin(1e-13));
+    }
+  }
+}
+
 TEST_CASE("wrapping a signal that crosses +-180 keeps its spectrum", "[probe][regression]") {
   // phi - theta for a true error eps = 0.4 sin(3 theta) - 0.2, computed from an
   // angle that runs over many turns: raw differences jump by multiples of 360,

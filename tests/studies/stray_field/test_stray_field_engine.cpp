@@ -7,10 +7,12 @@
 //    b = b0 (t/2) pi/180 (to first order in b/b0, checked to 1 %);
 //  * differential arrays do not see a homogeneous field at all, on a tilted die too (every probe of the
 //    die reads the same n.B_stray, and the weights of each channel sum to zero);
-//  * the conductor cases: along y the in-plane spot sees nothing, along z an untilted bz die sees nothing.
+//  * the conductor cases: along y the in-plane spot sees nothing, along z an untilted bz die sees nothing;
+//  * the parallel directions give the numbers of one thread, bit for bit.
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <omp.h>
 
 #include "studies/stray_field/stray_field_engine.hpp"
 #include "core/units.hpp"
@@ -109,4 +111,36 @@ TEST_CASE("stray_field analysis: diff4 ignores a homogeneous field on a tilted d
   REQUIRE(r.sensors.size() == 1);
   REQUIRE(r.sensors[0].base_pp_deg > 1e-3);
   CHECK(r.sensors[0].levels[0].pp_deg == Approx(r.sensors[0].base_pp_deg).margin(1e-9));
+}
+
+TEST_CASE("stray_field analysis: one thread and two give the same numbers", "[studies][determinism]") {
+  // The directions and the direction map run in parallel; the worst direction is picked in the directions'
+  // order afterwards, so the thread count cannot change a result, not even its last bit.
+  const ProbeSetup base = test::probe_setup("two", 180);
+  const StrayFieldOptions opt = coarse({"two", "xmr"});
+  Mount m;
+  m.sx_mm = 0.1;
+  m.dy_mm = -0.05;
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const StrayFieldResult one = run_stray_field(exact_field(), base, m, opt);
+  omp_set_num_threads(2);
+  const StrayFieldResult two = run_stray_field(exact_field(), base, m, opt);
+  omp_set_num_threads(threads);
+  REQUIRE(one.sensors.size() == two.sensors.size());
+  for (std::size_t k = 0; k < one.sensors.size(); ++k) {
+    const auto& a = one.sensors[k];
+    const auto& b = two.sensors[k];
+    CAPTURE(a.label);
+    REQUIRE(a.curve.size() == b.curve.size());
+    for (std::size_t i = 0; i < a.curve.size(); ++i) {
+      CHECK(a.curve[i].pp_deg == b.curve[i].pp_deg);
+      CHECK(a.curve[i].c1_deg == b.curve[i].c1_deg);
+      CHECK(a.curve[i].max_c1_deg == b.curve[i].max_c1_deg);
+      CHECK((a.curve[i].worst_dir.array() == b.curve[i].worst_dir.array()).all());
+    }
+    REQUIRE(a.tolerated.size() == b.tolerated.size());
+    for (std::size_t i = 0; i < a.tolerated.size(); ++i) CHECK(a.tolerated[i].field_mT == b.tolerated[i].field_mT);
+    CHECK((a.map_pp_deg.array() == b.map_pp_deg.array()).all());
+  }
 }
