@@ -22,6 +22,14 @@ thread_local long t_bounded_pp = 0;  // pp_bounded's successes on this thread (F
 
 long FastPipeline::bounded_pp_count() { return t_bounded_pp; }
 
+namespace {
+// n . (the node residual of a symmetrized model) at node j (0 without one; components Bz, Bx, By).
+double node_residual_n(const CircleFieldModel& model, int j, const Eigen::Vector3d& n) {
+  if (!model.has_node_residual()) return 0.0;
+  return n.x() * model.node_residual_T(1, j) + n.y() * model.node_residual_T(2, j) + n.z() * model.node_residual_T(0, j);
+}
+}  // namespace
+
 FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm,
                            const CircleFieldModel* axial, double elevation_deg)
     : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm), axial_(axial), elevation_deg_(elevation_deg) {
@@ -57,7 +65,11 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
     sin_theta_[m] = std::sin(2.0 * kPi * m / N);
   }
   using C = CircleFieldModel::Construction;
-  if (model.construction() == C::symmetry && (!axial_ || axial_->construction() == C::symmetry)) {
+  const auto banded = [](const CircleFieldModel* m) {
+    return !m || m->construction() == C::symmetry || m->construction() == C::symmetrized;
+  };
+  residual_ = model.has_node_residual() || (axial_ && axial_->has_node_residual());
+  if (banded(&model) && banded(axial_)) {
     for (int M = 24; M < N; ++M)
       if (N % M == 0) {
         coarse_ = M;
@@ -106,11 +118,12 @@ void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& f
 
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track,
-                          std::vector<UnitAngles>* psi, std::vector<double>* peak_hi_T) const {
+                          std::vector<UnitAngles>* psi, std::vector<double>* peak_hi_T,
+                          const Eigen::MatrixXd* resid) const {
   const int N = model_.nodes();
   const std::size_t A = arrays_.size();
   thread_local Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
-  if (R.rows() != N && (!peak_T || peak_hi_T)) {
+  if (R.rows() != N && (!peak_T || peak_hi_T) && !resid) {
     // No field window, or only its bounds: the channels are linear in the readings, so form them at the M
     // coarse nodes and interpolate 2 per array instead of every distinct probe.
     if (peak_T) peak_bounds(R, *peak_T, *peak_hi_T);
@@ -123,6 +136,11 @@ void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& 
     const Eigen::MatrixXd* Rn = &R;
     if (R.rows() != N) {
       interpolate(R, full);
+      Rn = &full;
+    }
+    if (resid) {  // the field's asymmetry at the nominal nodes (symmetrized models)
+      if (Rn != &full) full = R;
+      full += *resid;
       Rn = &full;
     }
     if (peak_T) {
@@ -388,7 +406,21 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       R(r, static_cast<Eigen::Index>(i)) = Bn;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  if (!residual_) return finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  // Symmetrized models: n . (the field's asymmetry) at each probe's nominal node, at every node.
+  thread_local Eigen::MatrixXd res;
+  res.resize(N, static_cast<Eigen::Index>(angle_index_.size()));
+  const double scale = env ? env->br_scale : 1.0;
+  for (int m = 0; m < N; ++m) {
+    const Eigen::Vector3d n = K.direction_to_magnet(K.n_fixed, cos_theta_[std::size_t(m)], sin_theta_[std::size_t(m)]);
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      res(m, static_cast<Eigen::Index>(i)) = scale * (ce * node_residual_n(model_, j, n) +
+                                                      (axial_ ? se * node_residual_n(*axial_, j, n) : 0.0));
+    }
+  }
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T, &res);
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
@@ -456,7 +488,20 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       R(r, static_cast<Eigen::Index>(i)) = b;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  if (!residual_) return finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  // Symmetrized models: the field's asymmetry (Bz) at each probe's nominal node, at every node.
+  thread_local Eigen::MatrixXd res;
+  res.resize(N, static_cast<Eigen::Index>(angle_index_.size()));
+  const double scale = env ? env->br_scale : 1.0;
+  for (int m = 0; m < N; ++m)
+    for (std::size_t i = 0; i < angle_index_.size(); ++i) {
+      int j = angle_index_[i] - m;
+      if (j < 0) j += N;
+      double d = model_.has_node_residual() ? model_.node_residual_T(0, j) : 0.0;
+      if (axial_) d = ce * d + se * (axial_->has_node_residual() ? axial_->node_residual_T(0, j) : 0.0);
+      res(m, static_cast<Eigen::Index>(i)) = scale * d;
+    }
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T, &res);
 }
 
 namespace {

@@ -37,13 +37,15 @@ class FastPipeline {
   // (exact: B is linear in M).
   FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
                const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
-  // Readings interpolated in theta: with symmetry-built models (model.construction() == symmetry, and
-  // the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
+  // Readings interpolated in theta: with symmetry-built models (model.construction() == symmetry or
+  // symmetrized, and the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
   // (degree 4 in the displacement, whose coordinates are degree 1 in theta; the node coefficients
   // degree <= 6 in the node angle; the normal degree 1; the environment adds constants). The readings
   // are then evaluated at M = coarse_steps() nodes (the smallest divisor of N that is >= 24, so every
   // degree <= 11 is resolved: 24 of 360) and interpolated exactly (up to round-off) to the N nodes; otherwise
   // (coarse_steps() == 0) every node is evaluated. The model's construction chooses, nothing else.
+  // symmetrized models: the interpolated readings of their symmetric part plus, at every node, the node
+  // residual at each probe's nominal node (n . residual for tilted mounts; CircleFieldModel::symmetrized).
   int coarse_steps() const { return coarse_; }
   // Evaluate every node even for symmetry-built models (the reference the interpolation is tested against).
   void evaluate_every_node() { coarse_ = 0; }
@@ -108,6 +110,7 @@ class FastPipeline {
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
+  bool residual_ = false;                       // symmetrized models: their node residuals are added
   int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
   SpeedChain speed_;                            // the turning encoder (static by default)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array
@@ -149,10 +152,11 @@ class FastPipeline {
                   const EnvReadings* env = nullptr, PpTrack* track = nullptr,
                   std::vector<UnitAngles>* psi = nullptr, std::vector<double>* peak_hi_T = nullptr) const;
   // From the readings R (rows: every node, or the M coarse nodes, then interpolated; columns: the
-  // distinct probes): peak_T, and eps or the PpTrack of every array.
+  // distinct probes): peak_T, and eps or the PpTrack of every array. resid (symmetrized models: N x
+  // distinct probes): added to the readings at every node (then every node is tracked: no pp_bounded).
   void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
               std::vector<double>* peak_T, PpTrack* track, std::vector<UnitAngles>* psi,
-              std::vector<double>* peak_hi_T = nullptr) const;
+              std::vector<double>* peak_hi_T = nullptr, const Eigen::MatrixXd* resid = nullptr) const;
   // Bounds on every distinct probe's peak |reading| over the N nodes from its M coarse readings R (columns):
   // lo = the largest coarse |reading|, hi = lo + D2 h^2 / 8, with 1e-12 relative margins (eps_field_bounds).
   void peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo_T, std::vector<double>& hi_T) const;

@@ -68,11 +68,13 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
       int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
       int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
-      string_key("radius.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry"},
+      string_key("radius.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry", "symmetrized"},
                  "how the surrogate's node models are built: symmetry (the exact field's rotational symmetry: 2-3 "
-                 "fits; readings at 24 theta, interpolated exactly; exact field only) or axis_aligned (a direct fit "
-                 "per node; p99 moves at the fit-residual level between the two); automatic: symmetry for a field "
-                 "that declares it (the exact field), axis_aligned for the others"),
+                 "fits; readings at 24 theta, interpolated exactly; exact field only), symmetrized (the symmetric "
+                 "part of any field from 12 azimuths, read as with symmetry, plus the field's own asymmetry at the "
+                 "nodes) or axis_aligned (a direct fit per node; p99 moves at the fit-residual level between them); "
+                 "automatic: symmetry for a field that declares it (the exact field), symmetrized for the others "
+                 "whose asymmetry at the nodes is within 1e-4 of the Bz amplitude (an FE solve), else axis_aligned"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
       real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
