@@ -78,6 +78,17 @@ CircleFieldModel::Construction CircleFieldModel::construction_named(const std::s
   throw InputError("surrogate build '" + name + "': allowed automatic, axis_aligned, rotated, symmetry, symmetrized");
 }
 
+std::string CircleFieldModel::construction_name(Construction how) {
+  switch (how) {
+    case Construction::automatic: return "automatic";
+    case Construction::axis_aligned: return "axis_aligned";
+    case Construction::rotated: return "rotated";
+    case Construction::symmetry: return "symmetry";
+    case Construction::symmetrized: return "symmetrized";
+  }
+  return "?";
+}
+
 CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
                                    double reach_xy_mm, double reach_z_mm, int order, bool full_vector,
                                    Construction how)

@@ -62,6 +62,7 @@ class CircleFieldModel {
   Construction construction() const { return construction_; }
   // "automatic", "axis_aligned", "rotated", "symmetry" or "symmetrized" (the keys' spelling).
   static Construction construction_named(const std::string& name);
+  static std::string construction_name(Construction how);  // the inverse
   // Field evaluations the construction took (points; a full-vector point counts once).
   long field_evaluations() const { return field_evaluations_; }
 

@@ -297,6 +297,7 @@ struct RadiusModels {
   std::unique_ptr<FastPipeline> fast;
   double amplitude_T = 0;  // Bz amplitude of the configured field on the circle
   double fit_residual_T = 0;
+  double node_residual_rel = 0;  // symmetrized models: the asymmetry at the nodes over the Bz amplitude
 
   RadiusModels(const FieldSource& field, const RadiusScanOptions& opt, double r0, const std::vector<ProbeArray>& arrays) {
     const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
@@ -311,6 +312,7 @@ struct RadiusModels {
       fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm);
       amplitude_T = model->amplitude_T();
       fit_residual_T = model->fit_residual_T();
+      node_residual_rel = model->node_residual_max_T() / model->amplitude_T();
       return;
     }
     // B(al) = cos(al) B_diametric + sin(al) B_axial (check_field_serves_box: the exact field).
@@ -548,6 +550,10 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     const RadiusModels models(field, opt, r0, opt.arrays);
     const FastPipeline& fast = *models.fast;
     info.max_fit_residual_T = std::max(info.max_fit_residual_T, models.fit_residual_T);
+    info.max_node_residual_rel = std::max(info.max_node_residual_rel, models.node_residual_rel);
+    const std::string build = CircleFieldModel::construction_name(models.model->construction());
+    if (info.builds.empty() || info.builds.back().first != build) info.builds.emplace_back(build, 0);
+    ++info.builds.back().second;
     info.t_models_s += seconds_since(t0);
 
     // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.
