@@ -200,22 +200,27 @@ void CircleFieldModel::build(const FieldSource& field, const std::optional<Field
   for (int c = 0; c < C; ++c) *out[std::size_t(c)] = G[std::size_t(c)];
   if (turned) to_frame_coefficients(stencil, G, cphi, sphi);
   center_T_ = coef_.row(0).transpose();
-  if (how == Construction::symmetrized) {
-    // The field at every node (the rest of the field, beyond its symmetric part, at the nodes).
-    Eigen::Matrix3Xd pts(3, nodes_);
-    for (int j = 0; j < nodes_; ++j) pts.col(j) = Eigen::Vector3d(r0_mm_ * cphi[std::size_t(j)], r0_mm_ * sphi[std::size_t(j)], plane_z_mm_);
-    const Eigen::MatrixXd S = sample(field, pts, full_vector, field.name());  // rows Bz (, Bx, By)
-    node_residual_.resize(C, nodes_);
-    for (int c = 0; c < C; ++c) node_residual_.row(c) = S.row(c) - out[std::size_t(c)]->row(0);
-    node_residual_max_T_ = node_residual_.cwiseAbs().maxCoeff();
-    center_T_ = S.row(0).transpose();
-  }
+  if (how == Construction::symmetrized) node_residuals(field, full_vector, cphi, sphi);
   double re = 0, im = 0;
   for (int j = 0; j < nodes_; ++j) {
     re += center_T_[j] * cphi[std::size_t(j)];
     im += center_T_[j] * sphi[std::size_t(j)];
   }
   amplitude_T_ = 2.0 / nodes_ * std::hypot(re, im);
+}
+
+// The field at every node minus the model's (symmetric part's) value there; center_T_ the field's own Bz.
+void CircleFieldModel::node_residuals(const FieldSource& field, bool full_vector, const std::vector<double>& cphi,
+                                      const std::vector<double>& sphi) {
+  const int C = full_vector ? 3 : 1;
+  Eigen::Matrix3Xd pts(3, nodes_);
+  for (int j = 0; j < nodes_; ++j) pts.col(j) = Eigen::Vector3d(r0_mm_ * cphi[std::size_t(j)], r0_mm_ * sphi[std::size_t(j)], plane_z_mm_);
+  const Eigen::MatrixXd S = sample(field, pts, full_vector, field.name());  // rows Bz (, Bx, By)
+  const Eigen::MatrixXd* coef[3] = {&coef_, &coef_x_, &coef_y_};
+  node_residual_.resize(C, nodes_);
+  for (int c = 0; c < C; ++c) node_residual_.row(c) = S.row(c) - coef[c]->row(0);
+  node_residual_max_T_ = node_residual_.cwiseAbs().maxCoeff();
+  center_T_ = S.row(0).transpose();
 }
 
 // The symmetric part of any field from its samples on node 0's turned stencil turned to K azimuths a_l:

@@ -114,6 +114,9 @@ class CircleFieldModel {
   // node 0's stencil at each of the kSymmetrizedAzimuths azimuths).
   std::vector<Eigen::MatrixXd> symmetrized_fits(const Eigen::MatrixXd& S, const StencilFit& fit, bool full_vector,
                                                 const std::vector<double>& cphi, const std::vector<double>& sphi);
+  // symmetrized: node_residual_ (the field at every node minus the model there) and center_T_.
+  void node_residuals(const FieldSource& field, bool full_vector, const std::vector<double>& cphi,
+                      const std::vector<double>& sphi);
   // Node j's fits G[c].col(j) = Rz(phi_j) sum_k w_k F[k] (weights(j, w)), fit_residual_T_ from R likewise.
   std::vector<Eigen::MatrixXd> combine_parts(const std::array<Eigen::MatrixXd, 3>& F,
                                              const std::array<Eigen::MatrixXd, 3>& R, bool full_vector,

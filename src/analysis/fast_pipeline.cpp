@@ -286,6 +286,30 @@ void FastPipeline::peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo
   }
 }
 
+std::complex<double> FastPipeline::w_at(int m, const std::vector<double>& Wr, const std::vector<double>& Wi,
+                                        int kmin) const {
+  const int N = model_.nodes(), nk = static_cast<int>(Wr.size());
+  const double qc = cos_theta_[std::size_t(m)], qs = sin_theta_[std::size_t(m)];
+  double ar = Wr[std::size_t(nk - 1)], ai = Wi[std::size_t(nk - 1)];
+  for (int j = nk - 2; j >= 0; --j) {
+    const double nr = ar * qc - ai * qs + Wr[std::size_t(j)];
+    ai = ar * qs + ai * qc + Wi[std::size_t(j)];
+    ar = nr;
+  }
+  const int i0 = static_cast<int>(((static_cast<long>(kmin) * m) % N + N) % N);  // e^{i kmin theta_m}
+  const double c0 = cos_theta_[std::size_t(i0)], s0 = sin_theta_[std::size_t(i0)];
+  return {ar * c0 - ai * s0, ar * s0 + ai * c0};
+}
+
+void FastPipeline::asym_on_grid(const Asymmetry& as, int K, std::vector<std::complex<double>>& out) const {
+  const int s = model_.nodes() / K;
+  out.resize(static_cast<std::size_t>(K) * arrays_.size());
+  for (int p = 0; p < K; ++p) {
+    const Eigen::Vector3d n = asym_normal(as, p * s);
+    for (std::size_t a = 0; a < arrays_.size(); ++a) out[std::size_t(p) * arrays_.size() + a] = asym_channel(as, n, p * s, a);
+  }
+}
+
 bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain,
                               PpTrack& track, const Asymmetry* asym) const {
   using cd = std::complex<double>;
@@ -303,11 +327,7 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
   Wr.resize(static_cast<std::size_t>(nk));
   Wi.resize(static_cast<std::size_t>(nk));
   thread_local std::vector<cd> asym_grid;  // the asymmetry's part of every array's channels on the K-node grid
-  asym_grid.resize(asym ? static_cast<std::size_t>(K) * arrays_.size() : 0);
-  for (int p = 0; asym && p < K; ++p) {
-    const Eigen::Vector3d n = asym_normal(*asym, p * s);
-    for (std::size_t a = 0; a < arrays_.size(); ++a) asym_grid[std::size_t(p) * arrays_.size() + a] = asym_channel(*asym, n, p * s, a);
-  }
+  if (asym) asym_on_grid(*asym, K, asym_grid);
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     for (int j = 0; j < M; ++j) {
       double C = cs_coarse(j, static_cast<Eigen::Index>(2 * a)), S = cs_coarse(j, static_cast<Eigen::Index>(2 * a + 1));
@@ -373,22 +393,9 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
       if (std::max(ta, tb) < T_hi && std::min(ta, tb) > T_lo) continue;
       for (int i = 1; i < s; ++i) {
         const int m = p * s + i;
-        const double qc = cos_theta_[std::size_t(m)], qs = sin_theta_[std::size_t(m)];
-        double ar = Wr[std::size_t(nk - 1)], ai = Wi[std::size_t(nk - 1)];
-        for (int j = nk - 2; j >= 0; --j) {
-          const double nr = ar * qc - ai * qs + Wr[std::size_t(j)];
-          ai = ar * qs + ai * qc + Wi[std::size_t(j)];
-          ar = nr;
-        }
-        const int i0 = static_cast<int>(((static_cast<long>(kmin) * m) % N + N) % N);  // e^{i kmin theta_m}
-        const double c0 = cos_theta_[std::size_t(i0)], s0 = sin_theta_[std::size_t(i0)];
-        double re = ar * c0 - ai * s0, im = ar * s0 + ai * c0;
-        if (asym) {
-          const cd r = r_at(m);
-          re += r.real();
-          im += r.imag();
-        }
-        const double tm = im / re;
+        cd wm = w_at(m, Wr, Wi, kmin);
+        if (asym) wm += r_at(m);
+        const double tm = wm.imag() / wm.real();
         t_lo = std::min(t_lo, tm);
         t_hi = std::max(t_hi, tm);
       }

@@ -200,6 +200,11 @@ class FastPipeline {
   // widening delta (an ideal chain only).
   bool pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain, PpTrack& track,
                   const Asymmetry* asym = nullptr) const;
+  // pp_bounded's w at node m from its coefficients Wr + i Wi of the frequencies kmin, kmin + 1, ...
+  // (Horner in e^{i theta}).
+  std::complex<double> w_at(int m, const std::vector<double>& Wr, const std::vector<double>& Wi, int kmin) const;
+  // The asymmetry's part of every array's channels on pp_bounded's K-node grid (row p, array a: p A + a).
+  void asym_on_grid(const Asymmetry& as, int K, std::vector<std::complex<double>>& out) const;
   // The PpTrack at node m from the channels C[a], S[a] of every array.
   void track_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
                       PpTrack& track) const;
