@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -73,7 +74,19 @@ CircleFieldModel::Construction CircleFieldModel::construction_named(const std::s
   if (name == "axis_aligned") return Construction::axis_aligned;
   if (name == "rotated") return Construction::rotated;
   if (name == "symmetry") return Construction::symmetry;
-  throw InputError("surrogate build '" + name + "': allowed automatic, axis_aligned, rotated, symmetry");
+  if (name == "symmetrized") return Construction::symmetrized;
+  throw InputError("surrogate build '" + name + "': allowed automatic, axis_aligned, rotated, symmetry, symmetrized");
+}
+
+std::string CircleFieldModel::construction_name(Construction how) {
+  switch (how) {
+    case Construction::automatic: return "automatic";
+    case Construction::axis_aligned: return "axis_aligned";
+    case Construction::rotated: return "rotated";
+    case Construction::symmetry: return "symmetry";
+    case Construction::symmetrized: return "symmetrized";
+  }
+  return "?";
 }
 
 CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, double plane_z_mm, int nodes,
@@ -89,12 +102,27 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
                      "(radius.tol_tilt_x_deg, tol_tilt_y_deg, tol_magnet_tilt_deg) need the full field vector: "
                      "allowed 0 for this field");
   const std::optional<FieldSource::AxisymmetricParts> parts = field.axisymmetric_parts();
-  if (how == Construction::automatic) how = parts ? Construction::symmetry : Construction::axis_aligned;
+  const bool automatic = how == Construction::automatic;
+  if (automatic) how = parts ? Construction::symmetry : Construction::symmetrized;
   if (how == Construction::symmetry && !parts)
     throw InputError("field " + field.name() + " declares no rotational symmetry: CircleFieldModel::Construction::symmetry "
                      "needs the exact field of an axisymmetric magnet");
-  construction_ = how;
   order_ = order;
+  build(field, parts, full_vector, how);
+  // automatic: the symmetrized models only where the field's symmetric part explains it at every node.
+  if (automatic && how == Construction::symmetrized && !(node_residual_max_T_ <= kSymmetrizedMaxResidual * amplitude_T_))
+    build(field, parts, full_vector, Construction::axis_aligned);
+}
+
+void CircleFieldModel::build(const FieldSource& field, const std::optional<FieldSource::AxisymmetricParts>& parts,
+                             bool full_vector, Construction how) {
+  construction_ = how;
+  exps_.clear();
+  coef_x_.resize(0, 0);
+  coef_y_.resize(0, 0);
+  node_residual_.resize(0, 0);
+  node_residual_max_T_ = 0;
+  const int order = order_;
   // 1. Monomials of total degree <= order in the scaled displacement u = e/reach.
   for (int a = 0; a <= order; ++a)
     for (int b = 0; a + b <= order; ++b)
@@ -128,17 +156,32 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
     sphi[std::size_t(j)] = std::sin(phi);
   }
   const bool turned = how != Construction::axis_aligned;
+  // Stencil point p turned by (c, s) about the node at (cn, sn) on the circle.
+  auto turned_point = [&](double cn, double sn, double c, double s, int p) {
+    const double ex = stencil[std::size_t(p)].x() * reach_xy_mm_, ey = stencil[std::size_t(p)].y() * reach_xy_mm_;
+    return Eigen::Vector3d(r0_mm_ * cn + c * ex - s * ey, r0_mm_ * sn + s * ex + c * ey,
+                           plane_z_mm_ + stencil[std::size_t(p)].z() * reach_z_mm_);
+  };
   auto stencil_point = [&](int j, int p) {
     const double c = turned ? cphi[std::size_t(j)] : 1.0, s = turned ? sphi[std::size_t(j)] : 0.0;
-    const double ex = stencil[std::size_t(p)].x() * reach_xy_mm_, ey = stencil[std::size_t(p)].y() * reach_xy_mm_;
-    return Eigen::Vector3d(r0_mm * cphi[std::size_t(j)] + c * ex - s * ey, r0_mm * sphi[std::size_t(j)] + s * ex + c * ey,
-                           plane_z_mm + stencil[std::size_t(p)].z() * reach_z_mm_);
+    return turned_point(cphi[std::size_t(j)], sphi[std::size_t(j)], c, s, p);
   };
 
   // 4. Local fits G[c] (T x nodes, in the stencil's coordinates) of every component c.
   std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(C));
   fit_residual_T_ = 0;
-  if (how != Construction::symmetry) {
+  if (how == Construction::symmetry) {
+    Eigen::Matrix3Xd pts(3, P);
+    for (int p = 0; p < P; ++p) pts.col(p) = stencil_point(0, p);
+    G = symmetry_fits(*parts, pts, fit, full_vector, field.name(), cphi, sphi);
+  } else if (how == Construction::symmetrized) {
+    Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(P) * kSymmetrizedAzimuths);
+    for (int l = 0; l < kSymmetrizedAzimuths; ++l) {
+      const double a = 2.0 * kPi * l / kSymmetrizedAzimuths, ca = std::cos(a), sa = std::sin(a);
+      for (int p = 0; p < P; ++p) pts.col(static_cast<Eigen::Index>(l) * P + p) = turned_point(ca, sa, ca, sa, p);
+    }
+    G = symmetrized_fits(sample(field, pts, full_vector, field.name()), fit, full_vector, cphi, sphi);
+  } else {
     Eigen::Matrix3Xd pts(3, static_cast<Eigen::Index>(P) * nodes_);
     for (int j = 0; j < nodes_; ++j)
       for (int p = 0; p < P; ++p) pts.col(static_cast<Eigen::Index>(j) * P + p) = stencil_point(j, p);
@@ -150,10 +193,6 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
       G[std::size_t(c)] = fit(samples, resid);
       fit_residual_T_ = std::max(fit_residual_T_, resid.cwiseAbs().maxCoeff());
     }
-  } else {
-    Eigen::Matrix3Xd pts(3, P);
-    for (int p = 0; p < P; ++p) pts.col(p) = stencil_point(0, p);
-    G = symmetry_fits(*parts, pts, fit, full_vector, field.name(), cphi, sphi);
   }
 
   // 5. Coefficients in the frame's displacement (turned stencils), 6. exact node values.
@@ -161,12 +200,69 @@ CircleFieldModel::CircleFieldModel(const FieldSource& field, double r0_mm, doubl
   for (int c = 0; c < C; ++c) *out[std::size_t(c)] = G[std::size_t(c)];
   if (turned) to_frame_coefficients(stencil, G, cphi, sphi);
   center_T_ = coef_.row(0).transpose();
+  if (how == Construction::symmetrized) node_residuals(field, full_vector, cphi, sphi);
   double re = 0, im = 0;
   for (int j = 0; j < nodes_; ++j) {
     re += center_T_[j] * cphi[std::size_t(j)];
     im += center_T_[j] * sphi[std::size_t(j)];
   }
   amplitude_T_ = 2.0 / nodes_ * std::hypot(re, im);
+}
+
+// The field at every node minus the model's (symmetric part's) value there; center_T_ the field's own Bz.
+void CircleFieldModel::node_residuals(const FieldSource& field, bool full_vector, const std::vector<double>& cphi,
+                                      const std::vector<double>& sphi) {
+  const int C = full_vector ? 3 : 1;
+  Eigen::Matrix3Xd pts(3, nodes_);
+  for (int j = 0; j < nodes_; ++j) pts.col(j) = Eigen::Vector3d(r0_mm_ * cphi[std::size_t(j)], r0_mm_ * sphi[std::size_t(j)], plane_z_mm_);
+  const Eigen::MatrixXd S = sample(field, pts, full_vector, field.name());  // rows Bz (, Bx, By)
+  const Eigen::MatrixXd* coef[3] = {&coef_, &coef_x_, &coef_y_};
+  node_residual_.resize(C, nodes_);
+  for (int c = 0; c < C; ++c) node_residual_.row(c) = S.row(c) - coef[c]->row(0);
+  node_residual_max_T_ = node_residual_.cwiseAbs().maxCoeff();
+  center_T_ = S.row(0).transpose();
+}
+
+// The symmetric part of any field from its samples on node 0's turned stencil turned to K azimuths a_l:
+// D_l = Rz(-a_l) B(Rz(a_l) (node 0 + e)) is, for a field of the form B(Rz(a) p) = Rz(a) B(p; Rz(-a) M),
+// cos(a_l) P + sin(a_l) Q + Z (B linear in M); P, Q, Z are its least-squares parts over the azimuths
+// (their first angular harmonic and mean), fitted once, and node j takes cos(phi_j) P + sin(phi_j) Q + Z
+// turned by phi_j (as symmetry_fits).
+std::vector<Eigen::MatrixXd> CircleFieldModel::symmetrized_fits(const Eigen::MatrixXd& S, const StencilFit& fit,
+                                                                bool full_vector, const std::vector<double>& cphi,
+                                                                const std::vector<double>& sphi) {
+  const int T = terms(), C = full_vector ? 3 : 1, K = kSymmetrizedAzimuths;
+  const Eigen::Index P = S.cols() / K;
+  std::array<Eigen::MatrixXd, 3> part;  // P x C each: the samples of P, Q, Z (components Bz, Bx, By)
+  for (auto& q : part) q = Eigen::MatrixXd::Zero(P, C);
+  for (int l = 0; l < K; ++l) {
+    const double a = 2.0 * kPi * l / K, ca = std::cos(a), sa = std::sin(a);
+    Eigen::MatrixXd D = S.middleCols(static_cast<Eigen::Index>(l) * P, P).transpose();  // P x C
+    if (full_vector) {  // turn the in-plane components back by -a
+      const Eigen::VectorXd bx = D.col(1);
+      D.col(1) = ca * bx + sa * D.col(2);
+      D.col(2) = -sa * bx + ca * D.col(2);
+    }
+    part[0] += (2.0 / K) * ca * D;
+    part[1] += (2.0 / K) * sa * D;
+    part[2] += (1.0 / K) * D;
+  }
+  std::array<Eigen::MatrixXd, 3> F, R;
+  for (int k = 0; k < 3; ++k) {
+    F[std::size_t(k)].resize(T, C);
+    R[std::size_t(k)].resize(P, C);
+    for (int c = 0; c < C; ++c) {
+      const Eigen::VectorXd col = part[std::size_t(k)].col(c);
+      Eigen::MatrixXd resid;
+      F[std::size_t(k)].col(c) = fit(col, resid);
+      R[std::size_t(k)].col(c) = resid;
+    }
+  }
+  return combine_parts(F, R, full_vector, cphi, sphi, [&](int j, double* w) {
+    w[0] = cphi[std::size_t(j)];
+    w[1] = sphi[std::size_t(j)];
+    w[2] = 1.0;
+  });
 }
 
 // B(Rz(a) p; M) = Rz(a) B(p; Rz(-a) M) and B = sum_k m_k B_k: node 0's stencil, sampled once per
@@ -195,11 +291,27 @@ std::vector<Eigen::MatrixXd> CircleFieldModel::symmetry_fits(const FieldSource::
       R[std::size_t(k)].col(c) = resid;
     }
   }
+  return combine_parts(F, R, full_vector, cphi, sphi, [&](int j, double* w) {
+    const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
+    w[0] = cj * m.x() + sj * m.y();  // Rz(-phi_j) m
+    w[1] = -sj * m.x() + cj * m.y();
+    w[2] = m.z();
+  });
+}
+
+std::vector<Eigen::MatrixXd> CircleFieldModel::combine_parts(const std::array<Eigen::MatrixXd, 3>& F,
+                                                             const std::array<Eigen::MatrixXd, 3>& R, bool full_vector,
+                                                             const std::vector<double>& cphi,
+                                                             const std::vector<double>& sphi,
+                                                             const std::function<void(int, double*)>& weights) {
+  const int T = terms(), C = full_vector ? 3 : 1;
+  const Eigen::Index P = R[0].rows();
   std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(C));
   for (int c = 0; c < C; ++c) G[std::size_t(c)].resize(T, nodes_);
   for (int j = 0; j < nodes_; ++j) {
     const double cj = cphi[std::size_t(j)], sj = sphi[std::size_t(j)];
-    const double w[3] = {cj * m.x() + sj * m.y(), -sj * m.x() + cj * m.y(), m.z()};  // Rz(-phi_j) m
+    double w[3];
+    weights(j, w);
     Eigen::MatrixXd Fj = Eigen::MatrixXd::Zero(T, C), Rj = Eigen::MatrixXd::Zero(P, C);
     for (int k = 0; k < 3; ++k) {
       if (w[k] == 0.0) continue;

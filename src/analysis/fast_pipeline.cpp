@@ -22,6 +22,7 @@ thread_local long t_bounded_pp = 0;  // pp_bounded's successes on this thread (F
 
 long FastPipeline::bounded_pp_count() { return t_bounded_pp; }
 
+
 FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm,
                            const CircleFieldModel* axial, double elevation_deg)
     : model_(model), arrays_(arrays), magnet_height_mm_(magnet_height_mm), axial_(axial), elevation_deg_(elevation_deg) {
@@ -57,7 +58,11 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
     sin_theta_[m] = std::sin(2.0 * kPi * m / N);
   }
   using C = CircleFieldModel::Construction;
-  if (model.construction() == C::symmetry && (!axial_ || axial_->construction() == C::symmetry)) {
+  const auto banded = [](const CircleFieldModel* m) {
+    return !m || m->construction() == C::symmetry || m->construction() == C::symmetrized;
+  };
+  residual_ = model.has_node_residual() || (axial_ && axial_->has_node_residual());
+  if (banded(&model) && banded(axial_)) {
     for (int M = 24; M < N; ++M)
       if (N % M == 0) {
         coarse_ = M;
@@ -92,6 +97,99 @@ FastPipeline::FastPipeline(const CircleFieldModel& model, const std::vector<Prob
       channel_weights_(i, static_cast<Eigen::Index>(2 * a)) += arrays_[a].w_cos[k];
       channel_weights_(i, static_cast<Eigen::Index>(2 * a + 1)) += arrays_[a].w_sin[k];
     }
+  if (residual_) asymmetry_tables();
+}
+
+void FastPipeline::asymmetry_tables() {
+  // Node j = (probe's angle index - m) mod N of the model's node residual, component c, into the channels:
+  // table(m, col) = sum_i channel_weights_(i, col) d_c(node of probe i at theta_m).
+  const int N = model_.nodes(), C = model_.full_vector() ? 3 : 1;
+  const auto P = static_cast<Eigen::Index>(angle_index_.size());
+  asym_probe_max_T_.assign(angle_index_.size(), 0.0);
+  const CircleFieldModel* models[2] = {&model_, axial_};
+  for (int k = 0; k < 2; ++k) {
+    const CircleFieldModel* md = models[k];
+    const bool has = md && md->has_node_residual();
+    double dmax = 0;  // the largest |d| (vector) over the nodes: a bound on |n . d| for every probe
+    for (int j = 0; has && j < N; ++j) {
+      double d2 = 0;
+      for (int c = 0; c < C; ++c) d2 += md->node_residual_T(c, j) * md->node_residual_T(c, j);
+      dmax = std::max(dmax, std::sqrt(d2));
+    }
+    for (double& v : asym_probe_max_T_) v += dmax;
+    for (int c = 0; c < 3; ++c) {
+      Eigen::MatrixXd& tab = asym_tables_[std::size_t(k)][std::size_t(c)];
+      tab = Eigen::MatrixXd::Zero(N, channel_weights_.cols());
+      for (int m = 0; has && c < C && m < N; ++m)
+        for (Eigen::Index i = 0; i < P; ++i) {
+          int j = angle_index_[std::size_t(i)] - m;
+          if (j < 0) j += N;
+          tab.row(m) += md->node_residual_T(c, j) * channel_weights_.row(i);
+        }
+    }
+    // |n . (dC_c + i dS_c)_c| <= sqrt(sum_c |dC_c + i dS_c|^2) for a unit n (Cauchy-Schwarz): per array.
+    asym_channel_max_[std::size_t(k)].assign(arrays_.size(), 0.0);
+    for (std::size_t a = 0; a < arrays_.size(); ++a)
+      for (int m = 0; m < N; ++m) {
+        double v2 = 0;
+        for (const Eigen::MatrixXd& tab : asym_tables_[std::size_t(k)])
+          v2 += tab(m, Eigen::Index(2 * a)) * tab(m, Eigen::Index(2 * a)) +
+                tab(m, Eigen::Index(2 * a + 1)) * tab(m, Eigen::Index(2 * a + 1));
+        asym_channel_max_[std::size_t(k)][a] = std::max(asym_channel_max_[std::size_t(k)][a], std::sqrt(v2));
+      }
+  }
+}
+
+void FastPipeline::asymmetry(const MountKinematics* K, double ce, double se, double scale, bool probes,
+                             Asymmetry& out) const {
+  const int N = model_.nodes();
+  const auto P = static_cast<Eigen::Index>(angle_index_.size());
+  out.K = K;
+  out.w[0] = scale * (axial_ ? ce : 1.0);
+  out.w[1] = scale * (axial_ ? se : 0.0);
+  out.probe_max_T.resize(angle_index_.size());
+  for (std::size_t i = 0; i < angle_index_.size(); ++i) out.probe_max_T[i] = std::abs(scale) * asym_probe_max_T_[i];
+  out.channel_max.assign(arrays_.size(), 0.0);
+  for (std::size_t a = 0; a < arrays_.size(); ++a)
+    for (int k = 0; k < 2; ++k) out.channel_max[a] += std::abs(out.w[k]) * asym_channel_max_[std::size_t(k)][a];
+  out.probes.resize(probes ? N : 0, P);
+  const CircleFieldModel* models[2] = {&model_, axial_};
+  const int C = model_.full_vector() ? 3 : 1;
+  for (int m = 0; probes && m < N; ++m) {
+    const Eigen::Vector3d n = asym_normal(out, m);
+    const double nc[3] = {n.z(), n.x(), n.y()};  // the residuals' component order: Bz, Bx, By
+    for (Eigen::Index i = 0; i < P; ++i) {
+      int j = angle_index_[std::size_t(i)] - m;
+      if (j < 0) j += N;
+      double b = 0;
+      for (int k = 0; k < 2; ++k)
+        if (models[k] && models[k]->has_node_residual())
+          for (int c = 0; c < C; ++c) b += out.w[k] * nc[c] * models[k]->node_residual_T(c, j);
+      out.probes(m, i) = b;
+    }
+  }
+}
+
+Eigen::Vector3d FastPipeline::asym_normal(const Asymmetry& as, int m) const {
+  return as.K ? as.K->direction_to_magnet(as.K->n_fixed, cos_theta_[std::size_t(m)], sin_theta_[std::size_t(m)])
+              : Eigen::Vector3d::UnitZ();
+}
+
+std::complex<double> FastPipeline::asym_channel(const Asymmetry& as, const Eigen::Vector3d& n, int m,
+                                                std::size_t a) const {
+  const double nc[3] = {n.z(), n.x(), n.y()};
+  const auto ic = static_cast<Eigen::Index>(2 * a);
+  double dC = 0, dS = 0;
+  for (int k = 0; k < 2; ++k) {
+    if (as.w[k] == 0.0) continue;
+    for (int c = 0; c < 3; ++c) {
+      if (nc[c] == 0.0) continue;
+      const Eigen::MatrixXd& tab = asym_tables_[std::size_t(k)][std::size_t(c)];
+      dC += as.w[k] * nc[c] * tab(m, ic);
+      dS += as.w[k] * nc[c] * tab(m, ic + 1);
+    }
+  }
+  return {dC, dS};
 }
 
 void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& full) const {
@@ -106,23 +204,42 @@ void FastPipeline::interpolate(const Eigen::MatrixXd& coarse, Eigen::MatrixXd& f
 
 void FastPipeline::finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain,
                           std::vector<Eigen::VectorXd>& eps_deg, std::vector<double>* peak_T, PpTrack* track,
-                          std::vector<UnitAngles>* psi, std::vector<double>* peak_hi_T) const {
+                          std::vector<UnitAngles>* psi, std::vector<double>* peak_hi_T, const Asymmetry* asym) const {
   const int N = model_.nodes();
   const std::size_t A = arrays_.size();
   thread_local Eigen::MatrixXd cs;  // the channels of every array at every node: C in column 2a, S in 2a + 1
   if (R.rows() != N && (!peak_T || peak_hi_T)) {
     // No field window, or only its bounds: the channels are linear in the readings, so form them at the M
     // coarse nodes and interpolate 2 per array instead of every distinct probe.
-    if (peak_T) peak_bounds(R, *peak_T, *peak_hi_T);
+    if (peak_T) {
+      peak_bounds(R, *peak_T, *peak_hi_T);
+      for (std::size_t i = 0; asym && i < peak_T->size(); ++i) {  // |b + r| within |b| -+ max |r|
+        (*peak_T)[i] = std::max(0.0, (*peak_T)[i] - asym->probe_max_T[i] * (1.0 + 1e-12));
+        (*peak_hi_T)[i] += asym->probe_max_T[i] * (1.0 + 1e-12);
+      }
+    }
     thread_local Eigen::MatrixXd cs_coarse;
     cs_coarse.noalias() = R.lazyProduct(channel_weights_);  // (tiny: no blocked product)
-    if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track)) return;
+    if (track && medium_ > 0 && pp_bounded(cs_coarse, chain, *track, asym)) return;
     interpolate(cs_coarse, cs);
+    for (int m = 0; asym && m < N; ++m) {  // the field's asymmetry at the nominal nodes (symmetrized models)
+      const Eigen::Vector3d n = asym_normal(*asym, m);
+      for (std::size_t a = 0; a < A; ++a) {
+        const std::complex<double> d = asym_channel(*asym, n, m, a);
+        cs(m, static_cast<Eigen::Index>(2 * a)) += d.real();
+        cs(m, static_cast<Eigen::Index>(2 * a + 1)) += d.imag();
+      }
+    }
   } else {
     thread_local Eigen::MatrixXd full;
     const Eigen::MatrixXd* Rn = &R;
     if (R.rows() != N) {
       interpolate(R, full);
+      Rn = &full;
+    }
+    if (asym) {  // the field's asymmetry at the nominal nodes (symmetrized models)
+      if (Rn != &full) full = R;
+      full += asym->probes;
       Rn = &full;
     }
     if (peak_T) {
@@ -169,9 +286,34 @@ void FastPipeline::peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo
   }
 }
 
+std::complex<double> FastPipeline::w_at(int m, const std::vector<double>& Wr, const std::vector<double>& Wi,
+                                        int kmin) const {
+  const int N = model_.nodes(), nk = static_cast<int>(Wr.size());
+  const double qc = cos_theta_[std::size_t(m)], qs = sin_theta_[std::size_t(m)];
+  double ar = Wr[std::size_t(nk - 1)], ai = Wi[std::size_t(nk - 1)];
+  for (int j = nk - 2; j >= 0; --j) {
+    const double nr = ar * qc - ai * qs + Wr[std::size_t(j)];
+    ai = ar * qs + ai * qc + Wi[std::size_t(j)];
+    ar = nr;
+  }
+  const int i0 = static_cast<int>(((static_cast<long>(kmin) * m) % N + N) % N);  // e^{i kmin theta_m}
+  const double c0 = cos_theta_[std::size_t(i0)], s0 = sin_theta_[std::size_t(i0)];
+  return {ar * c0 - ai * s0, ar * s0 + ai * c0};
+}
+
+void FastPipeline::asym_on_grid(const Asymmetry& as, int K, std::vector<std::complex<double>>& out) const {
+  const int s = model_.nodes() / K;
+  out.resize(static_cast<std::size_t>(K) * arrays_.size());
+  for (int p = 0; p < K; ++p) {
+    const Eigen::Vector3d n = asym_normal(as, p * s);
+    for (std::size_t a = 0; a < arrays_.size(); ++a) out[std::size_t(p) * arrays_.size() + a] = asym_channel(as, n, p * s, a);
+  }
+}
+
 bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain,
-                              PpTrack& track) const {
+                              PpTrack& track, const Asymmetry* asym) const {
   using cd = std::complex<double>;
+  if (asym && !chain.ideal) return false;  // (the chain would act on the asymmetry too)
   const int N = model_.nodes(), M = coarse_, K = medium_, s = N / K;
   const int kmin = -(M / 2) - 1, kmax = M / 2 - 1, nk = kmax - kmin + 1;  // the frequencies of w
   const ComplexDft& dft_m = ComplexDft::of(M);  // unscaled (probe/trig_interpolation.hpp)
@@ -184,6 +326,8 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
   std::vector<double> lo(arrays_.size()), hi(arrays_.size());  // (the track is set once every array is done)
   Wr.resize(static_cast<std::size_t>(nk));
   Wi.resize(static_cast<std::size_t>(nk));
+  thread_local std::vector<cd> asym_grid;  // the asymmetry's part of every array's channels on the K-node grid
+  if (asym) asym_on_grid(*asym, K, asym_grid);
   for (std::size_t a = 0; a < arrays_.size(); ++a) {
     for (int j = 0; j < M; ++j) {
       double C = cs_coarse(j, static_cast<Eigen::Index>(2 * a)), S = cs_coarse(j, static_cast<Eigen::Index>(2 * a + 1));
@@ -196,6 +340,12 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
     const double A = std::sqrt(W0.real() * W0.real() + W0.imag() * W0.imag());
     if (!(A > 0)) return false;
     const cd rot = std::conj(W0) / A;
+    // Symmetrized models: w + r_m at node m, r_m = (dC + i dS) e^{-i theta_m} rot (the asymmetry's part of
+    // the channels), |r_m| <= dmax, so |arg(w + r) - arg w| <= asin(dmax / |w|) <= asin(dmax / (A - E)).
+    const auto r_at = [&](int m) {
+      return asym_channel(*asym, asym_normal(*asym, m), m, a) * cd(cos_theta_[std::size_t(m)], -sin_theta_[std::size_t(m)]) * rot;
+    };
+    const double dmax = asym ? asym->channel_max[a] : 0.0;
     double E = 0, D1 = 0, D2 = 0;
     for (int q = -(M / 2); q <= M / 2; ++q) {
       cd v = Z[std::size_t((q % M + M) % M)] * rot / double(M);
@@ -212,10 +362,12 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
     }
     // |w| >= Re w >= A - E on the whole circle, so |eps - mean| <= 30 deg and the bounds below hold.
     const double lo_w = A - E;
-    if (!(lo_w > 0.5 * A)) return false;
+    if (!(lo_w - dmax > 0.5 * A)) return false;
     const double F2 = D2 / lo_w + (D1 / lo_w) * (D1 / lo_w);  // |f''| for f = arg w
     const double h = 2.0 * kPi / K;
-    const double delta = F2 * h * h / 8.0;  // f above the chord of an interval of length h at most this
+    // f above the chord of an interval of length h at most this (twice the asymmetry's bound added: at
+    // the ends and inside)
+    const double delta = F2 * h * h / 8.0 + 2.0 * std::asin(dmax / lo_w);
     if (!(delta < 0.1)) return false;
     const double td = std::tan(delta);
     // w on the K-node grid (every s-th node): its coefficients folded modulo K, one inverse FFT.
@@ -226,6 +378,9 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
     t.resize(static_cast<std::size_t>(K));
     double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
     for (int p = 0; p < K; ++p) {
+      if (asym)
+        wp[std::size_t(p)] += asym_grid[std::size_t(p) * arrays_.size() + a] *
+                              cd(cos_theta_[std::size_t(p * s)], -sin_theta_[std::size_t(p * s)]) * rot;
       t[std::size_t(p)] = wp[std::size_t(p)].imag() / wp[std::size_t(p)].real();
       t_lo = std::min(t_lo, t[std::size_t(p)]);
       t_hi = std::max(t_hi, t[std::size_t(p)]);
@@ -238,17 +393,9 @@ bool FastPipeline::pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChai
       if (std::max(ta, tb) < T_hi && std::min(ta, tb) > T_lo) continue;
       for (int i = 1; i < s; ++i) {
         const int m = p * s + i;
-        const double qc = cos_theta_[std::size_t(m)], qs = sin_theta_[std::size_t(m)];
-        double ar = Wr[std::size_t(nk - 1)], ai = Wi[std::size_t(nk - 1)];
-        for (int j = nk - 2; j >= 0; --j) {
-          const double nr = ar * qc - ai * qs + Wr[std::size_t(j)];
-          ai = ar * qs + ai * qc + Wi[std::size_t(j)];
-          ar = nr;
-        }
-        const int i0 = static_cast<int>(((static_cast<long>(kmin) * m) % N + N) % N);  // e^{i kmin theta_m}
-        const double c0 = cos_theta_[std::size_t(i0)], s0 = sin_theta_[std::size_t(i0)];
-        const double re = ar * c0 - ai * s0, im = ar * s0 + ai * c0;
-        const double tm = im / re;
+        cd wm = w_at(m, Wr, Wi, kmin);
+        if (asym) wm += r_at(m);
+        const double tm = wm.imag() / wm.real();
         t_lo = std::min(t_lo, tm);
         t_hi = std::max(t_hi, tm);
       }
@@ -388,7 +535,10 @@ void FastPipeline::eps_tilted(const Mount& mt, const SignalChain::Applied& chain
       R(r, static_cast<Eigen::Index>(i)) = Bn;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  if (!residual_) return finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  thread_local Asymmetry asym;  // symmetrized models: n . (the field's asymmetry) at the nominal nodes
+  asymmetry(&K, ce, se, env ? env->br_scale : 1.0, coarse_ == 0 || (peak_T && !peak_hi_T), asym);
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T, &asym);
 }
 
 void FastPipeline::eps(const Mount& mt, std::vector<Eigen::VectorXd>& eps_deg) const {
@@ -456,7 +606,10 @@ void FastPipeline::eps_mount(const Mount& mt, const SignalChain::Applied& chain,
       R(r, static_cast<Eigen::Index>(i)) = b;
     }
   }
-  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  if (!residual_) return finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T);
+  thread_local Asymmetry asym;  // symmetrized models: the field's asymmetry (Bz) at the nominal nodes
+  asymmetry(nullptr, ce, se, env ? env->br_scale : 1.0, coarse_ == 0 || (peak_T && !peak_hi_T), asym);
+  finish(R, chain, eps_deg, peak_T, track, psi, peak_hi_T, &asym);
 }
 
 namespace {

@@ -1,6 +1,8 @@
 // FastPipeline: the angle error of several probe arrays at once, read from a CircleFieldModel
 // (the surrogate of the radius scan, analysis/radius_scan.hpp: why and how).
 #pragma once
+#include <array>
+#include <complex>
 #include <cstddef>
 #include <vector>
 
@@ -37,13 +39,15 @@ class FastPipeline {
   // (exact: B is linear in M).
   FastPipeline(const CircleFieldModel& model, const std::vector<ProbeArray>& arrays, double magnet_height_mm = defaults::kMagnetHeight_mm,
                const CircleFieldModel* axial = nullptr, double elevation_deg = 0.0);
-  // Readings interpolated in theta: with symmetry-built models (model.construction() == symmetry, and
-  // the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
+  // Readings interpolated in theta: with symmetry-built models (model.construction() == symmetry or
+  // symmetrized, and the axial model's too) every probe reading is a trigonometric polynomial of degree <= 11 in theta
   // (degree 4 in the displacement, whose coordinates are degree 1 in theta; the node coefficients
   // degree <= 6 in the node angle; the normal degree 1; the environment adds constants). The readings
   // are then evaluated at M = coarse_steps() nodes (the smallest divisor of N that is >= 24, so every
   // degree <= 11 is resolved: 24 of 360) and interpolated exactly (up to round-off) to the N nodes; otherwise
   // (coarse_steps() == 0) every node is evaluated. The model's construction chooses, nothing else.
+  // symmetrized models: the interpolated readings of their symmetric part plus, at every node, the node
+  // residual at each probe's nominal node (n . residual for tilted mounts; CircleFieldModel::symmetrized).
   int coarse_steps() const { return coarse_; }
   // Evaluate every node even for symmetry-built models (the reference the interpolation is tested against).
   void evaluate_every_node() { coarse_ = 0; }
@@ -108,6 +112,29 @@ class FastPipeline {
   const CircleFieldModel* axial_ = nullptr;     // axial-magnetization model (elevation in the box)
   double elevation_deg_ = 0;                    // nominal elevation (with axial_)
   int coarse_ = 0;                              // M: readings at M nodes, interpolated (0: every node)
+  bool residual_ = false;                       // symmetrized models: their node residuals are added
+  // The node residuals of symmetrized models in the channels: per model (field, axial) and component
+  // (Bz, Bx, By), N x 2 arrays(): sum over the distinct probes of channel weight x the residual at the
+  // probe's nominal node at theta_m. asym_channel_max_: per model and array, a bound on the modulus of
+  // n . (C, S part) for any unit n; asym_probe_max_T_: per distinct probe, a bound on |n . residual|.
+  std::array<std::array<Eigen::MatrixXd, 3>, 2> asym_tables_;
+  std::array<std::vector<double>, 2> asym_channel_max_;
+  std::vector<double> asym_probe_max_T_;
+  void asymmetry_tables();
+  // One case's asymmetry (symmetrized models): K, the tilted mount's kinematics (nullptr: untilted, n =
+  // z); w, the weights of the field and axial models' residuals (the elevation's cos, sin times the
+  // environment's Br scale); probes (only when asked): every distinct probe's part at every node;
+  // probe_max_T, channel_max: bounds on a probe's and an array's (C, S) part.
+  struct Asymmetry {
+    const MountKinematics* K = nullptr;
+    double w[2] = {1.0, 0.0};
+    Eigen::MatrixXd probes;
+    std::vector<double> probe_max_T, channel_max;
+  };
+  void asymmetry(const MountKinematics* K, double ce, double se, double scale, bool probes, Asymmetry& out) const;
+  // The probes' normal at theta_m (magnet frame) and the asymmetry's part of array a's (C, S) there.
+  Eigen::Vector3d asym_normal(const Asymmetry& as, int m) const;
+  std::complex<double> asym_channel(const Asymmetry& as, const Eigen::Vector3d& n, int m, std::size_t a) const;
   int medium_ = 0;                              // K: pp_bounded's grid (a divisor of N, >= 3 M)
   SpeedChain speed_;                            // the turning encoder (static by default)
   Eigen::MatrixXd channel_weights_;             // distinct probes x 2 arrays: C, S of each array
@@ -149,10 +176,11 @@ class FastPipeline {
                   const EnvReadings* env = nullptr, PpTrack* track = nullptr,
                   std::vector<UnitAngles>* psi = nullptr, std::vector<double>* peak_hi_T = nullptr) const;
   // From the readings R (rows: every node, or the M coarse nodes, then interpolated; columns: the
-  // distinct probes): peak_T, and eps or the PpTrack of every array.
+  // distinct probes): peak_T, and eps or the PpTrack of every array. asym (symmetrized models): the
+  // field's asymmetry at the nominal nodes, added to the channels (or readings) at every node.
   void finish(const Eigen::MatrixXd& R, const SignalChain::Applied& chain, std::vector<Eigen::VectorXd>& eps_deg,
               std::vector<double>* peak_T, PpTrack* track, std::vector<UnitAngles>* psi,
-              std::vector<double>* peak_hi_T = nullptr) const;
+              std::vector<double>* peak_hi_T = nullptr, const Asymmetry* asym = nullptr) const;
   // Bounds on every distinct probe's peak |reading| over the N nodes from its M coarse readings R (columns):
   // lo = the largest coarse |reading|, hi = lo + D2 h^2 / 8, with 1e-12 relative margins (eps_field_bounds).
   void peak_bounds(const Eigen::MatrixXd& R, std::vector<double>& lo_T, std::vector<double>& hi_T) const;
@@ -168,7 +196,15 @@ class FastPipeline {
   // two of them, h apart, f exceeds the larger end value by at most F2 h^2 / 8, so only the intervals
   // that could hold the max or the min are evaluated node by node. The same pp as the N-node pass up to
   // round-off. false (nothing done) where the bound is weak: A - E <= A / 2 or F2 h^2 / 8 >= 0.1 rad.
-  bool pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain, PpTrack& track) const;
+  // asym (symmetrized models): its part of the channels added at every node evaluated, its bound
+  // widening delta (an ideal chain only).
+  bool pp_bounded(const Eigen::MatrixXd& cs_coarse, const SignalChain::Applied& chain, PpTrack& track,
+                  const Asymmetry* asym = nullptr) const;
+  // pp_bounded's w at node m from its coefficients Wr + i Wi of the frequencies kmin, kmin + 1, ...
+  // (Horner in e^{i theta}).
+  std::complex<double> w_at(int m, const std::vector<double>& Wr, const std::vector<double>& Wi, int kmin) const;
+  // The asymmetry's part of every array's channels on pp_bounded's K-node grid (row p, array a: p A + a).
+  void asym_on_grid(const Asymmetry& as, int K, std::vector<std::complex<double>>& out) const;
   // The PpTrack at node m from the channels C[a], S[a] of every array.
   void track_channels(int m, std::vector<double>& C, std::vector<double>& S, const SignalChain::Applied& chain,
                       PpTrack& track) const;

@@ -68,11 +68,13 @@ std::vector<KeySpec> RadiusScanOptions::keys() {
       int_key("radius.seed", 1, 0, 4000000000000000000L, "Monte Carlo base seed"),
       int_key("radius.fast_steps", 360, 16, 100000, "theta samples per turn of the surrogate pipeline"),
       int_key("radius.surrogate_order", 4, 2, 4, "degree of the local field polynomials of the surrogate"),
-      string_key("radius.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry"},
+      string_key("radius.surrogate_build", "automatic", {"automatic", "axis_aligned", "symmetry", "symmetrized"},
                  "how the surrogate's node models are built: symmetry (the exact field's rotational symmetry: 2-3 "
-                 "fits; readings at 24 theta, interpolated exactly; exact field only) or axis_aligned (a direct fit "
-                 "per node; p99 moves at the fit-residual level between the two); automatic: symmetry for a field "
-                 "that declares it (the exact field), axis_aligned for the others"),
+                 "fits; readings at 24 theta, interpolated exactly; exact field only), symmetrized (the symmetric "
+                 "part of any field from 12 azimuths, read as with symmetry, plus the field's own asymmetry at the "
+                 "nodes) or axis_aligned (a direct fit per node; p99 moves at the fit-residual level between them); "
+                 "automatic: symmetry for a field that declares it (the exact field), symmetrized for the others "
+                 "whose asymmetry at the nodes is within 1e-4 of the Bz amplitude (an FE solve), else axis_aligned"),
       int_key("radius.validate_radii", 4, 0, 1000, "radii checked against the direct pipeline"),
       int_key("radius.validate_samples", 4, 0, 100000, "MC samples checked per validation radius"),
       real_key("radius.band_rel", 0.05, 0, 10, "", "near-optimal band: total_p99 within (1 + this) of the best"),
@@ -295,6 +297,7 @@ struct RadiusModels {
   std::unique_ptr<FastPipeline> fast;
   double amplitude_T = 0;  // Bz amplitude of the configured field on the circle
   double fit_residual_T = 0;
+  double node_residual_rel = 0;  // symmetrized models: the asymmetry at the nodes over the Bz amplitude
 
   RadiusModels(const FieldSource& field, const RadiusScanOptions& opt, double r0, const std::vector<ProbeArray>& arrays) {
     const auto [reach_xy, reach_z] = model_reach_mm(opt, r0);
@@ -309,6 +312,7 @@ struct RadiusModels {
       fast = std::make_unique<FastPipeline>(*model, arrays, opt.magnet_height_mm);
       amplitude_T = model->amplitude_T();
       fit_residual_T = model->fit_residual_T();
+      node_residual_rel = model->node_residual_max_T() / model->amplitude_T();
       return;
     }
     // B(al) = cos(al) B_diametric + sin(al) B_axial (check_field_serves_box: the exact field).
@@ -546,6 +550,10 @@ void run_radius_scan(const FieldSource& field, const std::string& spec, const Ra
     const RadiusModels models(field, opt, r0, opt.arrays);
     const FastPipeline& fast = *models.fast;
     info.max_fit_residual_T = std::max(info.max_fit_residual_T, models.fit_residual_T);
+    info.max_node_residual_rel = std::max(info.max_node_residual_rel, models.node_residual_rel);
+    const std::string build = CircleFieldModel::construction_name(models.model->construction());
+    if (info.builds.empty() || info.builds.back().first != build) info.builds.emplace_back(build, 0);
+    ++info.builds.back().second;
     info.t_models_s += seconds_since(t0);
 
     // 2. Spectra cases, corners and Monte Carlo samples through the surrogate.

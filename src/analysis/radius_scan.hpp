@@ -62,9 +62,11 @@ struct RadiusScanOptions {
   int fast_steps = 360;                 // theta samples N of the surrogate pipeline
   int surrogate_order = 4;              // polynomial degree of the local field models (4: ~10x more accurate than 3 at ~1.3x the cost)
   // How the local field models are built (radius.surrogate_build): automatic (the default: symmetry for
-  // the exact field, direct fits for the others), axis_aligned (direct fits) or symmetry (the exact field's
-  // rotational symmetry, the exact field only; the pipeline then interpolates the readings in theta:
-  // FastPipeline::coarse_steps).
+  // the exact field, symmetrized for the others where their asymmetry at the nodes is small, as an FE
+  // solution's, else direct fits), axis_aligned (direct fits), symmetry (the exact field's rotational
+  // symmetry, the exact field only) or symmetrized (any field's symmetric part plus its asymmetry at the
+  // nodes); with symmetry and symmetrized the pipeline interpolates the readings in theta
+  // (FastPipeline::coarse_steps). CircleFieldModel::Construction says how each is built.
   CircleFieldModel::Construction surrogate_build = CircleFieldModel::Construction::automatic;
   ToleranceBox box;                     // mounting tolerance box (half-widths, mm; tilts deg; chain, elevation)
   double magnet_height_mm = defaults::kMagnetHeight_mm;  // L (magnet-tilt pivot and reach)
@@ -142,6 +144,11 @@ struct FieldScanInfo {
   double bz_peak_T = 0;
   bool peak_at_edge = false;       // the maximum is at the first/last scanned radius
   double max_fit_residual_T = 0;   // largest surrogate fit residual over the radii
+  // How the surrogate's node models were built at each radius (CircleFieldModel::Construction: radii
+  // per construction, in the order automatic chose them), and for symmetrized models the largest
+  // asymmetry at the nodes relative to the Bz amplitude over the radii.
+  std::vector<std::pair<std::string, int>> builds;
+  double max_node_residual_rel = 0;
   double t_models_s = 0, t_cases_s = 0, t_validate_s = 0;  // wall time per stage
 };
 

@@ -502,6 +502,25 @@ void summary_field_artefacts(std::ostringstream& md, const RadiusScanResult& r, 
   }
 }
 
+// How each field's node models were built (radius.surrogate_build, CircleFieldModel::Construction).
+void summary_builds(std::ostringstream& md, const RadiusScanResult& r) {
+  md << "Node models (`radius.surrogate_build`):";
+  for (const auto& f : r.fields) {
+    md << " " << f.field << ":";
+    for (std::size_t i = 0; i < f.builds.size(); ++i)
+      md << (i ? "," : "") << " " << f.builds[i].first << " (" << f.builds[i].second << " radii)";
+    md << ";";
+  }
+  md << " symmetry: from the exact field's rotational symmetry; symmetrized: the field's symmetric part from "
+        "12 azimuths plus its own asymmetry at the nodes (each reading takes it at its nominal node, so an ideal "
+        "mount reads the field itself); axis_aligned: a direct fit per node.";
+  for (const auto& f : r.fields)
+    if (f.max_node_residual_rel > 0)
+      md << " The " << f.field << " field's asymmetry at the nodes is at most " << fmt_sig(f.max_node_residual_rel, 2)
+         << " of its Bz amplitude.";
+  md << "\n\n";
+}
+
 // How fast and how accurate: the surrogate.
 void summary_surrogate(std::ostringstream& md, const RadiusScanResult& r, const RadiusScanOptions& opt) {
   md << "## How fast and how accurate: the surrogate\n\n";
@@ -525,6 +544,7 @@ void summary_surrogate(std::ostringstream& md, const RadiusScanResult& r, const 
                   "field-model part [deg]", "max fit residual [uT]"},
                  vt)
      << "\n";
+  summary_builds(md, r);
   md << "The 'theta-grid part' compares the direct pipeline at " << opt.fast_steps << " and " << opt.direct_steps
      << " theta samples (peak-to-peak resolution alone); the 'field-model part' compares the surrogate with the direct "
         "pipeline on the same " << opt.fast_steps << " samples (the local polynomials alone). A large fit residual "

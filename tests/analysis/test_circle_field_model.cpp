@@ -108,8 +108,10 @@ TEST_CASE("circle field model: the symmetry build needs a source that declares i
   CHECK_FALSE(linear.axisymmetric_parts().has_value());
   CHECK_THROWS_AS(CircleFieldModel(linear, 1.0, kPlaneZ, 36, 0.3, 0.2, 4, false, Construction::symmetry), InputError);
   const CircleFieldModel automatic(linear, 1.0, kPlaneZ, 36, 0.3, 0.2, 4, false, Construction::automatic);
-  CHECK(automatic.construction() == Construction::axis_aligned);
-  CHECK(automatic.field_evaluations() == 36 * 125);
+  // Bz = k x is the first harmonic exactly: automatic takes the symmetrized build, with no asymmetry.
+  CHECK(automatic.construction() == Construction::symmetrized);
+  CHECK(automatic.field_evaluations() == CircleFieldModel::kSymmetrizedAzimuths * 125 + 36);
+  CHECK(automatic.node_residual_max_T() < 1e-15);
 }
 
 // The Monte Carlo writes sample i's result to row i and reduces nothing across threads: the pp of every
@@ -345,4 +347,173 @@ TEST_CASE("fast pipeline at a speed agrees with the direct pipeline", "[analysis
       CHECK(psi[a].sin_psi[m] == Approx(std::sin(out)).margin(1e-12));
     }
   }
+}
+
+namespace {
+// The exact field with a pattern that breaks its rotational symmetry as a D_16 mesh does (an FE
+// solution's artefact harmonics 16 k +- 1): Bz + rel 0.05 T cos(15 phi), Bx and By unchanged; declares
+// no symmetry.
+class PatternedField final : public FieldSource {
+ public:
+  PatternedField(const Magnet& m, double rel) : exact_(m), rel_(rel) {}
+  std::string name() const override { return "patterned"; }
+  Vec3 B_T(const Vec3& p) const override {
+    Vec3 b = exact_.B_T(p);
+    b.z() += rel_ * 0.05 * std::cos(15.0 * std::atan2(p.y(), p.x()));
+    return b;
+  }
+  double Bz_T(const Vec3& p) const override { return B_T(p).z(); }
+  using FieldSource::B_T;
+  using FieldSource::Bz_T;
+
+ private:
+  AnalyticField exact_;
+  double rel_;
+};
+}  // namespace
+
+// The symmetrized build: node 0's turned stencil at 12 azimuths, projected onto cos, sin and the mean.
+// The pattern's harmonic in the samples (15 = 3 mod 12) does not fold onto them, so
+// the model's coefficients must equal the symmetry-built model of the exact field up to round-off
+// (1e-12 T, as symmetry against rotated), and its node residual is the pattern at the nodes exactly.
+// automatic takes it while the residual is within 1e-4 of the amplitude and direct fits beyond.
+TEST_CASE("circle field model: the symmetrized build is the symmetric part plus the asymmetry at the nodes",
+          "[analysis][physics]") {
+  const Magnet mag;
+  const AnalyticField exact(mag);
+  const bool full = GENERATE(false, true);
+  CAPTURE(full);
+  const int N = 72;
+  const double r0 = 1.7, reach_xy = 0.35, reach_z = 0.3, rel = 2e-5;
+  const PatternedField field(mag, rel);
+  const CircleFieldModel sym(exact, r0, kPlaneZ, N, reach_xy, reach_z, 4, full, Construction::symmetry);
+  const CircleFieldModel model(field, r0, kPlaneZ, N, reach_xy, reach_z, 4, full, Construction::automatic);
+  REQUIRE(model.construction() == Construction::symmetrized);
+  CHECK(model.field_evaluations() == CircleFieldModel::kSymmetrizedAzimuths * 125 + N);
+  REQUIRE(model.has_node_residual());
+  CHECK_FALSE(sym.has_node_residual());
+  const double d_sym = max_model_diff_T(model, sym, 20, 9);
+  CAPTURE(d_sym);
+  CHECK(d_sym < 1e-12);
+  double worst = 0, largest = 0;
+  for (int j = 0; j < N; ++j) {
+    const double phi = 2 * kPi * j / N;
+    const Vec3 p(r0 * std::cos(phi), r0 * std::sin(phi), kPlaneZ);
+    CHECK(model.node_bz_T(j) == field.Bz_T(p));  // the field itself at the node (the same point)
+    const double pattern = field.Bz_T(p) - exact.Bz_T(p);
+    worst = std::max(worst, std::abs(model.node_residual_T(0, j) - pattern));
+    largest = std::max(largest, std::abs(pattern));
+    if (full) CHECK(std::abs(model.node_residual_T(1, j)) + std::abs(model.node_residual_T(2, j)) < 1e-12);
+  }
+  CAPTURE(worst, largest);
+  CHECK(worst < 1e-12);
+  CHECK(largest > 1e-8);  // the pattern is there to be kept
+  CHECK(std::abs(model.amplitude_T() - sym.amplitude_T()) < 1e-3 * sym.amplitude_T());
+
+  // A pattern of 1e-3 of 0.05 T: automatic falls back to direct fits.
+  const PatternedField strong(mag, 1e-3);
+  const CircleFieldModel fallback(strong, r0, kPlaneZ, N, reach_xy, reach_z, 4, full, Construction::automatic);
+  CHECK(fallback.construction() == Construction::axis_aligned);
+  CHECK_FALSE(fallback.has_node_residual());
+  // Asked for, the symmetrized build serves it all the same.
+  CHECK(CircleFieldModel(strong, r0, kPlaneZ, N, reach_xy, reach_z, 4, full, Construction::symmetrized).construction() ==
+        Construction::symmetrized);
+}
+
+// The pipeline on a symmetrized model against the direct pipeline on the patterned field itself, at
+// random mounts (eccentric, tilted), 360 theta each. The model omits only how the pattern changes with
+// the displacement: at most dB = max |pattern(node + e) - pattern(node)| over the reach (sampled here) per
+// probe reading, so eps moves by at most sum_k (|w_cos,k| + |w_sin,k|) dB / |(C, S)| rad, and pp by twice
+// that, on top of the local polynomials' own error, which the same pipeline on the exact field's symmetry
+// model measures (its pp against the direct pipeline on the exact field). pp_bounded with the asymmetry
+// added equals the pass over every node (1e-10 deg), and eps_field_bounds brackets eps_field's window.
+TEST_CASE("fast pipeline: a symmetrized model reproduces the direct pipeline within the pattern's variation",
+          "[analysis][cross-check]") {
+  const Magnet mag;
+  const AnalyticField exact(mag);
+  const double rel = 2e-4, r0 = 2.1, L = mag.height_mm;  // rel: 10x a D_16 FE mesh's artefact, to see it
+  const PatternedField field(mag, rel);
+  ToleranceBox box;
+  box.sx_mm = box.sy_mm = box.dx_mm = box.dy_mm = 0.1;
+  box.dz_mm = 0.2;
+  box.tilt_x_deg = box.tilt_y_deg = box.magnet_tilt_deg = 0.5;
+  const CircleFieldModel model(field, r0, kPlaneZ, 360, 0.45, 0.3, 4, true, Construction::symmetrized);
+  const CircleFieldModel sym(exact, r0, kPlaneZ, 360, 0.45, 0.3, 4, true, Construction::symmetry);
+  const std::vector<ProbeArray> arrays = {ProbeArray::parse("two"), ProbeArray::parse("diff4"), ProbeArray::parse("ring:8")};
+  const FastPipeline fast(model, arrays, L), fast_exact(sym, arrays, L);
+  FastPipeline every(model, arrays, L);
+  every.evaluate_pp_on_every_node();
+  REQUIRE(fast.coarse_steps() == 24);
+  // dB: the pattern's largest change over the reach, sampled around a few nodes.
+  double dB = 0;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int j = 0; j < 360; j += 7)
+    for (int k = 0; k < 40; ++k) {
+      const double phi = 2 * kPi * j / 360;
+      const Vec3 p0(r0 * std::cos(phi), r0 * std::sin(phi), kPlaneZ);
+      const Vec3 p = p0 + Vec3(unit(rng) * 0.45, unit(rng) * 0.45, unit(rng) * 0.3);
+      dB = std::max(dB, std::abs((field.Bz_T(p) - exact.Bz_T(p)) - (field.Bz_T(p0) - exact.Bz_T(p0))));
+    }
+  std::vector<ToleranceCase> cases = monte_carlo_cases(box, 16, 31);
+  ToleranceBox flat = box;
+  flat.tilt_x_deg = flat.tilt_y_deg = flat.magnet_tilt_deg = 0;
+  for (const auto& c : monte_carlo_cases(flat, 8, 32)) cases.push_back(c);
+  long bounded = 0;
+  for (const auto& c : cases) {
+    double pf[3], pe[3], px[3], pv[3];
+    const long before = FastPipeline::bounded_pp_count();
+    fast.pp(c, pf);
+    bounded += FastPipeline::bounded_pp_count() > before;
+    every.pp(c, pv);
+    fast_exact.pp(c, px);
+    fast.pp_atan2(c, pe);
+    std::vector<Eigen::VectorXd> e;
+    double lo_lo[3], lo_hi[3], hi_lo[3], hi_hi[3], fmin[3], fmax[3];
+    fast.eps_field_bounds(c, e, lo_lo, lo_hi, hi_lo, hi_hi);
+    fast.eps_field(c, e, fmin, fmax);
+    for (std::size_t a = 0; a < arrays.size(); ++a) {
+      ProbeSetup setup;
+      setup.array = arrays[a];
+      setup.r0_mm = r0;
+      setup.plane_z_mm = kPlaneZ;
+      setup.steps = 360;
+      setup.magnet_height_mm = L;
+      const double direct = error_spectrum(field, setup, c.mount).pp_deg;
+      const double direct_exact = error_spectrum(exact, setup, c.mount).pp_deg;
+      double wsum = 0;
+      for (std::size_t k = 0; k < arrays[a].size(); ++k) wsum += std::abs(arrays[a].w_cos[k]) + std::abs(arrays[a].w_sin[k]);
+      double C = 0, S = 0;  // |(C, S)| of the ideal mount at theta = 0 (half of it: a floor over the turn and the box)
+      for (std::size_t k = 0; k < arrays[a].size(); ++k) {
+        const double b = deg_to_rad(arrays[a].angle_deg[k]);
+        const double bz = exact.Bz_T(Vec3(r0 * std::cos(b), r0 * std::sin(b), kPlaneZ));
+        C += arrays[a].w_cos[k] * bz;
+        S += arrays[a].w_sin[k] * bz;
+      }
+      const double amp = std::hypot(C, S);
+      const double bound = std::abs(px[a] - direct_exact) + 2.0 * rad_to_deg(wsum * dB / (0.5 * amp));
+      CAPTURE(a, c.mount.tilted(), pf[a], direct, px[a], direct_exact, bound, dB);
+      CHECK(std::abs(pf[a] - direct) <= bound);
+      CHECK(std::abs(pf[a] - pv[a]) <= 1e-10);
+      CHECK(std::abs(pf[a] - pe[a]) <= 1e-10);
+      CHECK(lo_lo[a] < fmin[a]);
+      CHECK(fmin[a] < lo_hi[a]);
+      CHECK(hi_lo[a] < fmax[a]);
+      CHECK(fmax[a] < hi_hi[a]);
+    }
+  }
+  CHECK(bounded >= static_cast<long>(cases.size()) / 2);
+  // The pattern shows: the ideal mount's pp is that of the direct pipeline (the field at the nodes).
+  double p0[3];
+  fast.pp(ToleranceCase{Mount{}, SignalChain{}, 0.0}, p0);
+  ProbeSetup setup;
+  setup.array = arrays[0];
+  setup.r0_mm = r0;
+  setup.plane_z_mm = kPlaneZ;
+  setup.steps = 360;
+  setup.magnet_height_mm = L;
+  const double ideal = error_spectrum(field, setup, Mount{}).pp_deg;
+  CAPTURE(p0[0], ideal);
+  CHECK(ideal > 1e-3);
+  CHECK(std::abs(p0[0] - ideal) <= 1e-9);
 }
