@@ -268,12 +268,29 @@ Eigen::Matrix3Xd FieldEvaluator::B_T(const Eigen::Matrix3Xd& p) const {
   const Eigen::Index n_chunks = (p.cols() + kBatchChunk - 1) / kBatchChunk;
 #pragma omp parallel for schedule(dynamic, 1)
   for (Eigen::Index chunk = 0; chunk < n_chunks; ++chunk) {
-    int previous = -1;  // warm start: the cell of the chunk's previous point
+    // The chunk's last kRecent hits: point, cell, squared length of the cell's first edge.
+    std::array<Eigen::Vector3d, kRecent> recent_p;
+    std::array<int, kRecent> recent_cell;
+    std::array<double, kRecent> recent_h2;
+    int n_recent = 0;
     for (Eigen::Index i = chunk * kBatchChunk; i < std::min(p.cols(), (chunk + 1) * kBatchChunk); ++i) {
-      const auto hit = locator_.locate(Eigen::Vector3d(p.col(i)), previous);
+      const Eigen::Vector3d x = p.col(i);
+      int start = -1;
+      double best = 0;
+      for (int r = 0; r < std::min(n_recent, static_cast<int>(kRecent)); ++r) {
+        const double d2 = (x - recent_p[static_cast<size_t>(r)]).squaredNorm();
+        if (d2 <= 4.0 * recent_h2[static_cast<size_t>(r)] && (start < 0 || d2 < best)) {
+          start = recent_cell[static_cast<size_t>(r)];
+          best = d2;
+        }
+      }
+      const auto hit = locator_.locate(x, start);
       if (hit) {
         B.col(i) = sol_.B_in_cell(hit->cell, hit->L);
-        previous = hit->cell;
+        const size_t slot = static_cast<size_t>(n_recent++ % kRecent);
+        recent_p[slot] = x;
+        recent_cell[slot] = hit->cell;
+        recent_h2[slot] = (sol_.points_mm.col(sol_.cell_dofs(1, hit->cell)) - sol_.points_mm.col(sol_.cell_dofs(0, hit->cell))).squaredNorm();
       } else {
         B.col(i).setConstant(std::nan(""));
 #pragma omp critical

@@ -134,10 +134,11 @@ class FieldEvaluator {
   // psi (T*mm) at p (mm); nullopt outside the mesh.
   std::optional<double> psi_Tmm(const Eigen::Vector3d& p_mm) const;
   // B at 3xN points; throws InputError naming the first point outside the mesh. Parallel over
-  // fixed chunks of kBatchChunk consecutive points; inside a chunk each point's walk starts in the
-  // previous point's cell (probe paths are consecutive points). Equal to B_T point by point.
+  // fixed chunks of kBatchChunk consecutive points; inside a chunk a point's walk starts in the cell
+  // of the nearest of the chunk's last kRecent points when that one lies within about one cell size
+  // (probe paths: the same probe one step earlier), else cold. Equal to B_T point by point.
   Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
-  static constexpr int kBatchChunk = 256;
+  static constexpr int kBatchChunk = 256, kRecent = 32;
   // B at every cell centroid (3 x n_cells).
   Eigen::Matrix3Xd B_cell_centroids() const;
 
