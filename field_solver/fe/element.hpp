@@ -38,6 +38,18 @@ inline Eigen::Vector4d barycentric(const TetGeometry& g, const Eigen::Vector3d& 
   return {1.0 - l.sum(), l[0], l[1], l[2]};
 }
 
+// Barycentric coordinates of p (mm) in the tet with vertex ids v, without the rest of TetGeometry:
+// the same arithmetic as barycentric(tet_geometry(nodes, v), p), so the same bits.
+template <class Nodes, class Ids>
+Eigen::Vector4d barycentric(const Nodes& nodes, const Ids& v, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d x0 = nodes.col(v[0]);
+  Eigen::Matrix3d J;
+  for (int k = 0; k < 3; ++k) J.col(k) = nodes.col(v[k + 1]) - x0;
+  const Eigen::Matrix3d Jinv = J.inverse();
+  const Eigen::Vector3d l = Jinv * (p - x0);
+  return {1.0 - l.sum(), l[0], l[1], l[2]};
+}
+
 // P1/P2 Lagrange basis of a simplex with V vertices at barycentric point L: N[0..V) the vertex
 // functions, then (order 2) N[V + e] = 4 L_a L_b of each edge e = (a, b) of `edges`.
 template <int V, int E, class Bary>

@@ -63,10 +63,16 @@ Eigen::Vector3d source_H_T(const AnalyticField& source, const Eigen::Vector3d& x
 Eigen::Vector3d reduced_B(const AnalyticField& source, double mu_r, const Eigen::Vector3d& x_mm,
                           const Eigen::Vector3d& grad_phi);
 
-// Point location in a tetrahedral mesh: a uniform bucket grid of cell
-// centroids gives a nearby start cell, then a visibility walk across faces
-// (neighbour opposite the most negative barycentric coordinate) reaches the
-// containing cell. O(n) memory; walks are a few steps.
+// Point location in a tetrahedral mesh. A start cell near p comes from a
+// bucket grid of cell centroids that is refined where the cells are small: a
+// uniform top grid (about 2 cells per bucket) and, inside every top bucket
+// holding more than kRefineAbove cells, a nested grid over that bucket (again
+// about 2 cells per bucket), so that on a graded mesh the start lies about one
+// local cell size from p. A visibility walk across faces (neighbour opposite
+// the most negative barycentric coordinate) then reaches a containing cell. A
+// point on a shared face, edge or vertex (within the tolerance) is given to
+// the lowest-numbered cell that contains it, so the hit does not depend on
+// where the walk started (cold or warm start, thread count). O(n) memory.
 class PointLocator {
  public:
   // nodes: 3 x n vertices (mm); tets: first 4 rows of cell_dofs (vertex ids).
@@ -76,16 +82,44 @@ class PointLocator {
     Eigen::Vector4d L;  // barycentric coordinates in that cell
   };
   // The cell containing p (mm) within a tolerance, or nullopt outside the mesh.
-  std::optional<Hit> locate(const Eigen::Vector3d& p_mm, int start_cell = -1) const;
+  // start_cell >= 0: a warm start (e.g. the previous point's cell); a walk
+  // that does not arrive within a few steps restarts from start_near(p).
+  // cells_visited (optional): the number of cells whose barycentric
+  // coordinates were computed.
+  std::optional<Hit> locate(const Eigen::Vector3d& p_mm, int start_cell = -1, int* cells_visited = nullptr) const;
+  // The cold start: a cell whose centroid lies in the (nested) bucket of p or the nearest non-empty one.
+  int start_near(const Eigen::Vector3d& p_mm) const;
+  int num_cells() const { return static_cast<int>(tets_.cols()); }
+  // A barycentric coordinate >= kInsideTol counts as inside (p on a face, edge or vertex belongs to every cell there).
+  static constexpr double kInsideTol = -1e-10;
+  // Top buckets with more cells than this get a nested grid.
+  static constexpr int kRefineAbove = 8;
 
  private:
-  int start_near(const Eigen::Vector3d& p) const;
+  // A uniform grid of buckets over a box; CSR lists of the cells whose centroid lies in each bucket.
+  struct BucketGrid {
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), size = Eigen::Vector3d::Ones();
+    Eigen::Vector3i dims = Eigen::Vector3i::Ones();
+    std::vector<int> start, cells;
+    // Grid over [lo, hi] with about 2 of the cells `ids` (centroids cen) per bucket, at most max_dim per axis.
+    void build(const Eigen::Matrix3Xd& cen, const std::vector<int>& ids, const Eigen::Vector3d& lo,
+               const Eigen::Vector3d& hi, int max_dim);
+    Eigen::Vector3i index_of(const Eigen::Vector3d& p) const;  // clamped to the grid
+    long bucket(const Eigen::Vector3i& ijk) const { return (static_cast<long>(ijk[2]) * dims[1] + ijk[1]) * dims[0] + ijk[0]; }
+    // The first cell of p's bucket, else of the nearest non-empty bucket (growing shells); -1 if empty.
+    int first_near(const Eigen::Vector3d& p) const;
+  };
+  enum class Walk { found, outside, gave_up };
+  Walk walk(const Eigen::Vector3d& p, int t, int max_steps, Hit& hit, int& visited) const;
+  // hit (a cell containing p) replaced by the lowest-numbered cell containing p, searched across the
+  // faces p lies on.
+  Hit lowest_containing(const Eigen::Vector3d& p, Hit hit, int& visited) const;
   const Eigen::Matrix3Xd& nodes_;
   Eigen::Matrix4Xi tets_;       // vertex ids
   Eigen::Matrix4Xi neighbour_;  // cell across the face opposite vertex k, -1 on the boundary
-  Eigen::Vector3d lo_, cell_size_;
-  Eigen::Vector3i dims_;
-  std::vector<int> bucket_start_, bucket_cells_;  // CSR: cells whose centroid lies in each bucket
+  BucketGrid top_;
+  std::vector<int> nested_of_;      // per top bucket: index into nested_, -1 if none
+  std::vector<BucketGrid> nested_;  // grids inside the crowded top buckets
 };
 
 // B from a solution at points, with locate + evaluate.
@@ -99,8 +133,12 @@ class FieldEvaluator {
   std::optional<Eigen::Vector3d> B_T(const Eigen::Vector3d& p_mm) const;
   // psi (T*mm) at p (mm); nullopt outside the mesh.
   std::optional<double> psi_Tmm(const Eigen::Vector3d& p_mm) const;
-  // B at 3xN points (parallel); throws InputError naming the first point outside the mesh.
+  // B at 3xN points; throws InputError naming the first point outside the mesh. Parallel over
+  // fixed chunks of kBatchChunk consecutive points; inside a chunk a point's walk starts in the cell
+  // of the nearest of the chunk's last kRecent points when that one lies within about one cell size
+  // (probe paths: the same probe one step earlier), else cold. Equal to B_T point by point.
   Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const;
+  static constexpr int kBatchChunk = 256, kRecent = 32;
   // B at every cell centroid (3 x n_cells).
   Eigen::Matrix3Xd B_cell_centroids() const;
 

@@ -1,5 +1,6 @@
 #include "field_solver/field_io/fem_field.hpp"
 
+#include <string>
 #include <utility>
 
 #include "core/errors.hpp"
@@ -20,5 +21,15 @@ Vec3 FemField::B_T(const Vec3& p) const {
                      ") mm lies outside the FE mesh");
   return *b;
 }
+
+Eigen::Matrix3Xd FemField::B_T(const Eigen::Matrix3Xd& p) const {
+  try {
+    return evaluator_->B_T(p);
+  } catch (const InputError& e) {
+    throw InputError(std::string("fem field: ") + e.what());
+  }
+}
+
+Eigen::VectorXd FemField::Bz_T(const Eigen::Matrix3Xd& p) const { return B_T(p).row(2).transpose(); }
 
 }  // namespace magenc

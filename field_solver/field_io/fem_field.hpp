@@ -19,7 +19,12 @@ class FemField final : public FieldSource {
   std::string name() const override { return "fem"; }
   // B (T) at p (mm, magnet frame); InputError outside the mesh.
   Vec3 B_T(const Vec3& p_mm) const override;
+  // Batches (3xN points, mm): FieldEvaluator::B_T's chunked walks with warm starts, the same values as
+  // point by point; InputError naming the first point outside the mesh.
+  Eigen::Matrix3Xd B_T(const Eigen::Matrix3Xd& p_mm) const override;
+  Eigen::VectorXd Bz_T(const Eigen::Matrix3Xd& p_mm) const override;
   using FieldSource::B_T;
+  using FieldSource::Bz_T;
   int order() const { return evaluator_->solution().order; }
   const fem::FieldEvaluator& evaluator() const { return *evaluator_; }
 
