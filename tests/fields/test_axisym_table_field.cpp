@@ -64,7 +64,7 @@ TEST_CASE("axisymmetric table field equals the exact field within 1e-12", "[fiel
 TEST_CASE("axisymmetric table field serves points near the magnet directly", "[fields][regression]") {
   const auto exact = std::make_shared<AnalyticField>(Magnet{});
   const AxisymmetricTableField table(exact, 0.02, 7, 1e-12);
-  for (const Vec3& p : {Vec3(2.03, 0.1, 1.0), Vec3(0.5, 0.5, 2.005), Vec3(1.0, 0.2, 0.0)}) {
+  for (const Vec3& p : {Vec3(2.01, 0.1, 1.0), Vec3(0.5, 0.5, 2.005), Vec3(1.0, 0.2, 0.0)}) {
     CHECK(table.B_T(p) == exact->B_T(p));
     CHECK(table.Bz_T(p) == exact->Bz_T(p));
   }
