@@ -166,9 +166,10 @@ Eigen::Matrix3Xd probe_paths_at_rad(const ProbeSetup& setup, const Mount& mount,
   Eigen::Matrix3Xd p(3, M * K);
   if (normals) normals->resize(3, M * K);
   for (Eigen::Index m = 0; m < M; ++m) {
-    const Eigen::Vector3d n = normals ? kin.direction_to_magnet(kin.n_fixed, theta_rad[m]) : Eigen::Vector3d();
+    const double c = std::cos(theta_rad[m]), s = std::sin(theta_rad[m]);  // once per theta, for every probe
+    const Eigen::Vector3d n = normals ? kin.direction_to_magnet(kin.n_fixed, c, s) : Eigen::Vector3d();
     for (Eigen::Index k = 0; k < K; ++k) {
-      p.col(m * K + k) = kin.point_to_magnet(fixed[static_cast<std::size_t>(k)], theta_rad[m]);
+      p.col(m * K + k) = kin.point_to_magnet(fixed[static_cast<std::size_t>(k)], c, s);
       if (normals) normals->col(m * K + k) = n;
     }
   }

@@ -2,16 +2,35 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
+
+#include <omp.h>
 
 #include "analysis/sensor_noise.hpp"
 #include "analysis/sweep.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "fields/axisym_table_field.hpp"
 #include "fields/field_factory.hpp"
 #include "probe/spectrum.hpp"
 
 namespace magenc {
+
+namespace {
+// Parallel over independent fits: each runs on one thread, its own parallel regions nested inside and so
+// serial (max active levels 1 for the scope; restored after).
+class OuterParallelScope {
+ public:
+  OuterParallelScope() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(1); }
+  ~OuterParallelScope() { omp_set_max_active_levels(levels_); }
+  OuterParallelScope(const OuterParallelScope&) = delete;
+  OuterParallelScope& operator=(const OuterParallelScope&) = delete;
+
+ private:
+  int levels_;
+};
+}  // namespace
 
 std::vector<double> table_values(const ModelState& base, const std::vector<std::pair<std::string, double>>& set) {
   std::vector<double> v;
@@ -42,6 +61,38 @@ CurveInput synthetic_curve(const FieldSource& field, const ModelState& base, con
   return c;
 }
 
+namespace {
+// One fitted case into the round trip's counts: per variable, within 2 sigma (also at an equally good
+// alternative minimum), not identifiable, |error| and sigma.
+void tally_case(const DiagnosisResult& r, const std::vector<double>& truth, double zero_deg,
+                const std::vector<std::string>& vars, RoundTripResult& res, std::vector<std::vector<double>>& abs_err,
+                std::vector<std::vector<double>>& sig) {
+  for (std::size_t j = 0; j < vars.size(); ++j) {
+    const ParamValue* pv = nullptr;
+    for (const auto& p : r.params)
+      if (p.json_name == vars[j]) pv = &p;
+    if (!pv) continue;
+    const double t = vars[j] == "zero_offset_deg" ? zero_deg : truth[fit_parameter_index(vars[j])];
+    if (std::find(r.not_identifiable.begin(), r.not_identifiable.end(), vars[j]) != r.not_identifiable.end()) {
+      ++res.params[j].not_identifiable;
+      continue;
+    }
+    if (!std::isfinite(pv->sigma)) continue;
+    ++res.params[j].fitted;
+    const double e = std::abs(pv->value - t);
+    if (e <= 2.0 * pv->sigma) ++res.params[j].within_2sigma;
+    bool any = e <= 2.0 * pv->sigma;
+    const auto fi = std::find(r.free.begin(), r.free.end(), vars[j]) - r.free.begin();
+    for (const auto& alt : r.alternatives)
+      if (fi < static_cast<long>(alt.values.size()) && std::abs(alt.values[fi] - t) <= 2.0 * pv->sigma) any = true;
+    if (any) ++res.params[j].within_2sigma_any;
+    if (!r.alternatives.empty()) ++res.params[j].ambiguous;
+    abs_err[j].push_back(e);
+    sig[j].push_back(pv->sigma);
+  }
+}
+}  // namespace
+
 RoundTripResult run_round_trip(const FieldSource& field, const ModelState& base, const RoundTripOptions& opts) {
   RoundTripResult res;
   res.array = base.setup.array.name;
@@ -68,53 +119,54 @@ RoundTripResult run_round_trip(const FieldSource& field, const ModelState& base,
   for (std::size_t j = 0; j < vars.size(); ++j) res.params[j].json_name = vars[j];
   std::vector<double> rms;
   double total_s = 0;
-  // 2. Cases.
-  for (int k = 0; k < opts.cases; ++k) {
+  // 2. Cases: the truths, zero offsets and synthetic curves drawn in case order from one stream (serial),
+  // then the fits, one case per thread (each fit runs serially inside: its own parallel regions are
+  // nested), then the tallies in case order. The same numbers as fitting the cases one after the other.
+  struct Case {
+    std::vector<double> truth;
+    double zero_deg = 0;
+    std::vector<CurveInput> curves;
+    DiagnosisResult r;
+    bool ok = false;
+  };
+  std::vector<Case> cases(static_cast<std::size_t>(std::max(opts.cases, 0)));
+  for (auto& c : cases) {
     std::vector<std::pair<std::string, double>> set;
     for (const auto& n : opts.randomized) set.push_back({n, uni(rng) * opts.range_scale * fit_parameter(n).scale});
-    const std::vector<double> truth = table_values(base, set);
+    c.truth = table_values(base, set);
     SyntheticOptions so = opts.synth;
     so.zero_deg = uni(rng) * opts.max_zero_deg;
-    const std::vector<CurveInput> curves{synthetic_curve(field, base, truth, so, rng)};
-    DiagnosisOptions d;
-    d.free = free;
-    d.starts = opts.starts;
-    d.fd_step = opts.fd_step;
-    d.seed = opts.seed + static_cast<unsigned>(k);
+    c.zero_deg = so.zero_deg;
+    c.curves = {synthetic_curve(field, base, c.truth, so, rng)};
+  }
+  {
+    const OuterParallelScope outer;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < opts.cases; ++k) {
+      Case& c = cases[static_cast<std::size_t>(k)];
+      DiagnosisOptions d;
+      d.free = free;
+      d.starts = opts.starts;
+      d.fd_step = opts.fd_step;
+      d.seed = opts.seed + static_cast<unsigned>(k);
+      try {
+        c.r = diagnose_curves(field, c.curves, d);
+        c.ok = true;
+      } catch (const std::exception&) {
+        c.ok = false;
+      }
+    }
+  }
+  for (const Case& c : cases) {
     ++res.cases;
-    DiagnosisResult r;
-    try {
-      r = diagnose_curves(field, curves, d);
-    } catch (const std::exception&) {
+    if (!c.ok) {
       ++res.failed;
       continue;
     }
-    total_s += r.fit_seconds;
-    res.max_fit_s = std::max(res.max_fit_s, r.fit_seconds);
-    rms.push_back(r.residual_rms_deg);
-    for (std::size_t j = 0; j < vars.size(); ++j) {
-      const ParamValue* pv = nullptr;
-      for (const auto& p : r.params)
-        if (p.json_name == vars[j]) pv = &p;
-      if (!pv) continue;
-      const double t = vars[j] == "zero_offset_deg" ? so.zero_deg : truth[fit_parameter_index(vars[j])];
-      if (std::find(r.not_identifiable.begin(), r.not_identifiable.end(), vars[j]) != r.not_identifiable.end()) {
-        ++res.params[j].not_identifiable;
-        continue;
-      }
-      if (!std::isfinite(pv->sigma)) continue;
-      ++res.params[j].fitted;
-      const double e = std::abs(pv->value - t);
-      if (e <= 2.0 * pv->sigma) ++res.params[j].within_2sigma;
-      bool any = e <= 2.0 * pv->sigma;
-      const auto fi = std::find(r.free.begin(), r.free.end(), vars[j]) - r.free.begin();
-      for (const auto& alt : r.alternatives)
-        if (fi < static_cast<long>(alt.values.size()) && std::abs(alt.values[fi] - t) <= 2.0 * pv->sigma) any = true;
-      if (any) ++res.params[j].within_2sigma_any;
-      if (!r.alternatives.empty()) ++res.params[j].ambiguous;
-      abs_err[j].push_back(e);
-      sig[j].push_back(pv->sigma);
-    }
+    total_s += c.r.fit_seconds;
+    res.max_fit_s = std::max(res.max_fit_s, c.r.fit_seconds);
+    rms.push_back(c.r.residual_rms_deg);
+    tally_case(c.r, c.truth, c.zero_deg, vars, res, abs_err, sig);
   }
   const auto median = [](std::vector<double> v) {
     if (v.empty()) return std::nan("");
@@ -262,6 +314,34 @@ void example_fit(const FieldSource& field, const ModelState& base, const RoundTr
   res.example_fit = diagnose_curves(field, res.example_curves, d);
 }
 
+// The anomaly experiments of every array (constructed curves on the exact field). Every (array,
+// experiment) is independent: one per thread, kept in order.
+std::vector<std::pair<std::string, Experiment>> anomalies(const Config& cfg, const std::vector<std::string>& arrays,
+                                                          const FieldSource& field, const SyntheticOptions& synth,
+                                                          unsigned seed) {
+  const std::vector<ExperimentSpec> specs = anomaly_experiments();
+  std::vector<std::pair<std::string, Experiment>> done(arrays.size() * specs.size());
+  std::vector<std::exception_ptr> err(done.size());
+  const OuterParallelScope outer;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < static_cast<int>(done.size()); ++k) {
+    const std::string& a = arrays[static_cast<std::size_t>(k) / specs.size()];
+    const ExperimentSpec& spec = specs[static_cast<std::size_t>(k) % specs.size()];
+    try {
+      const ModelState base{Mount::from_config(cfg), probe_setup_from_config(cfg, a, "study.arrays")};
+      SyntheticOptions so = synth;
+      so.zero_deg = spec.zero_deg;
+      done[static_cast<std::size_t>(k)] = {a, run_experiment(field, base, spec.title, spec.target_label, spec.truth,
+                                                             spec.candidates, so, seed)};
+    } catch (...) {
+      err[static_cast<std::size_t>(k)] = std::current_exception();
+    }
+  }
+  for (const auto& e : err)
+    if (e) std::rethrow_exception(e);
+  return done;
+}
+
 }  // namespace
 
 DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr& fem_or_null) {
@@ -273,7 +353,11 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
     FieldSourcePtr field;
     int cases;
   };
-  std::vector<Src> sources{{"exact", make_field_source("analytic", cfg), static_cast<int>(cfg.integer("roundtrip.cases"))}};
+  // The exact field through its (r, z) tables (roundtrip.exact_tables; fields/axisym_table_field.hpp: within
+  // 1e-12 of the quadrature, which it calls only to build the tables and near the magnet).
+  FieldSourcePtr exact = make_field_source("analytic", cfg);
+  if (cfg.flag("roundtrip.exact_tables")) exact = std::make_shared<AxisymmetricTableField>(exact);
+  std::vector<Src> sources{{"exact", exact, static_cast<int>(cfg.integer("roundtrip.cases"))}};
   if (fem_or_null)
     sources.push_back({"fem:" + cfg.str("fem_field.dir"), fem_or_null, static_cast<int>(cfg.integer("roundtrip.fem_cases"))});
   RoundTripOptions rt;
@@ -339,16 +423,7 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
     }
 
   // 3. Anomalies (constructed curves on the exact field).
-  if (cfg.flag("anomalies.enabled"))
-    for (const auto& a : arrays) {
-      const ModelState base{Mount::from_config(cfg), probe_setup_from_config(cfg, a, "study.arrays")};
-      for (const auto& spec : anomaly_experiments()) {
-        SyntheticOptions so = rt.synth;
-        so.zero_deg = spec.zero_deg;
-        res.anomalies.push_back({a, run_experiment(*sources.front().field, base, spec.title, spec.target_label,
-                                                   spec.truth, spec.candidates, so, rt.seed)});
-      }
-    }
+  if (cfg.flag("anomalies.enabled")) res.anomalies = anomalies(cfg, arrays, *sources.front().field, rt.synth, rt.seed);
   return res;
 }
 
