@@ -33,6 +33,9 @@ scripts/install_deps.sh
 scripts/build.sh
 BIN=build/bin
 mkdir -p output/logs
+# Two lanes share the cores: OpenMP threads waiting at a barrier sleep instead of spinning (the results do
+# not depend on it; about 7 % less CPU for the whole run, docs/benchmarks.md).
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 t_start=$SECONDS
 # step NAME COMMAND...: runs COMMAND with its output in output/logs/NAME.log; prints its time or its log's tail.
 step() {

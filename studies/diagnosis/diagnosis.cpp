@@ -39,6 +39,8 @@ std::vector<KeySpec> study_keys() {
       real_key("roundtrip.max_zero_deg", 0.5, 0, 180, "deg", "random encoder zero offset in +- this"),
       int_key("roundtrip.starts", 3, 1, 100, "fit starts per case"),
       int_key("roundtrip.all_free_cases", 5, 0, 10000, "cases fitted with every parameter free (identifiability)"),
+      int_key("roundtrip.all_free_starts", 1, 1, 100,
+              "fit starts per case with every parameter free (each runs to the iteration cap in the flat valley)"),
       bool_key("roundtrip.exact_tables", true,
                "exact field from (r, z) tables of its parts, within 1e-12 of the quadrature (false: the quadrature at every point)"),
       bool_key("anomalies.enabled", true, "run the constructed-curve experiments"),

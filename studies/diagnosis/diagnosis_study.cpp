@@ -286,9 +286,10 @@ namespace {
 
 // Every parameter free on `cases` round trips: per parameter "`name` k/n", how often it was not identifiable.
 std::vector<std::string> all_free_flags(const FieldSource& field, const ModelState& base, const RoundTripOptions& o,
-                                        int cases) {
+                                        int cases, int starts) {
   RoundTripOptions oa = o;
   oa.cases = cases;
+  oa.starts = starts;
   oa.free.clear();
   for (const auto& p : fit_parameters()) oa.free.push_back(p.name);
   const RoundTripResult ra = run_round_trip(field, base, oa);
@@ -414,7 +415,9 @@ DiagnosisStudyResult run_diagnosis_study(const Config& cfg, const FieldSourcePtr
       // Every parameter free on a few cases: what one curve cannot identify.
       // (exact field only: thirteen free parameters on an FE field take minutes per fit)
       const int nall = src.label == "exact" ? static_cast<int>(cfg.integer("roundtrip.all_free_cases")) : 0;
-      if (nall > 0) res.all_free.push_back({src.label + " `" + a + "`", all_free_flags(*src.field, base, o, nall)});
+      res.all_free_starts = static_cast<int>(cfg.integer("roundtrip.all_free_starts"));
+      if (nall > 0)
+        res.all_free.push_back({src.label + " `" + a + "`", all_free_flags(*src.field, base, o, nall, res.all_free_starts)});
       // One example fit (the report plots it).
       if (!example_done) {
         example_fit(*src.field, base, o, res);

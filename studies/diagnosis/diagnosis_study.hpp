@@ -119,6 +119,7 @@ struct DiagnosisStudyResult {
   std::vector<RoundTripResult> trips;   // per field source, then per array
   // "<field> `<array>`" -> "`name` k/n" per parameter: cases reported not identifiable with every parameter free
   std::vector<std::pair<std::string, std::vector<std::string>>> all_free;
+  int all_free_starts = 1;  // fit starts per all-free case
   std::vector<std::pair<std::string, Experiment>> anomalies;  // array -> experiment
   // One example fit (first field, first array), plotted by the report.
   std::vector<CurveInput> example_curves;

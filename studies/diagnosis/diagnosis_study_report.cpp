@@ -88,7 +88,10 @@ std::string diagnosis_study_summary(const DiagnosisStudyResult& res) {
   if (!res.all_free.empty()) {
     md << "## Every parameter free: what one curve cannot identify\n\nCases in which each parameter was reported "
           "not identifiable (confounded with others, or sigma above its typical size) when all "
-       << fit_parameters().size() << " table parameters and the zero offset are free:\n\n";
+       << fit_parameters().size() << " table parameters and the zero offset are free (" << res.all_free_starts
+       << " fit start" << (res.all_free_starts == 1 ? "" : "s")
+       << " per case, `roundtrip.all_free_starts`; such a fit stops at its iteration cap in a flat valley, so a "
+          "count below n/n moves by a case or two with the starts or the round-off):\n\n";
     for (const auto& [k, v] : res.all_free) {
       md << "- " << k << ": ";
       for (std::size_t i = 0; i < v.size(); ++i) md << (i ? ", " : "") << v[i];
