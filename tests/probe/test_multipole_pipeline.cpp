@@ -18,6 +18,17 @@
 using namespace magenc;
 
 namespace {
+
+// The five offsets (sx, sy, dx, dy, dz) drawn from u, in that order.
+Mount random_offsets(std::mt19937_64& rng, std::uniform_real_distribution<double>& u) {
+  Mount mt;
+  mt.sx_mm = u(rng);
+  mt.sy_mm = u(rng);
+  mt.dx_mm = u(rng);
+  mt.dy_mm = u(rng);
+  mt.dz_mm = u(rng);
+  return mt;
+}
 Magnet small_ring(int p, MagnetPattern pattern = MagnetPattern::AxialMultipole) {
   Magnet m;
   m.pattern = pattern;
@@ -61,12 +72,7 @@ double engine_vs_direct(const Magnet& m, int steps, int mounts, double box, unsi
   std::uniform_real_distribution<double> u(-box, box);
   double worst = 0;
   for (int i = 0; i < mounts; ++i) {
-    Mount mt;
-    mt.sx_mm = u(rng);
-    mt.sy_mm = u(rng);
-    mt.dx_mm = u(rng);
-    mt.dy_mm = u(rng);
-    mt.dz_mm = u(rng);
+    const Mount mt = random_offsets(rng, u);
     std::vector<Eigen::VectorXd> eps;
     engine.eps(mt, eps);
     for (std::size_t a = 0; a < arrays.size(); ++a) {
@@ -200,12 +206,7 @@ TEST_CASE("multipole engine reads a nonius pair with cross-talk as the direct pi
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-0.07, 0.07);
   for (int i = 0; i < 3; ++i) {
-    Mount mt;
-    mt.sx_mm = u(rng);
-    mt.sy_mm = u(rng);
-    mt.dx_mm = u(rng);
-    mt.dy_mm = u(rng);
-    mt.dz_mm = u(rng);
+    const Mount mt = random_offsets(rng, u);
     const NoniusResult direct = nonius_reading(*both, head, second, mt);
     std::vector<Eigen::VectorXd> a, b;
     e_master.eps(mt, a);
